@@ -1,0 +1,43 @@
+# Shared target conventions: warnings on every project target, optional sanitizers,
+# the source and config folders known to tests and programs.
+
+add_library(rbcp_warnings INTERFACE)
+target_compile_options(rbcp_warnings INTERFACE -Wall -Wextra -Wpedantic -Wno-unused-parameter)
+if(RBCP_SANITIZE)
+  target_compile_options(rbcp_warnings INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer)
+  target_link_options(rbcp_warnings INTERFACE -fsanitize=address,undefined)
+endif()
+add_library(rbcp::warnings ALIAS rbcp_warnings)
+
+# rbcp_add_library(NAME <name> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# A module library with include/ as its public include folder, aliased rbcp::<name>.
+function(rbcp_add_library)
+  cmake_parse_arguments(A "" "NAME" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  if(A_SOURCES)
+    add_library(rbcp_${A_NAME} STATIC ${A_SOURCES})
+    target_include_directories(rbcp_${A_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_link_libraries(rbcp_${A_NAME} PUBLIC ${A_PUBLIC_DEPS} PRIVATE rbcp::warnings ${A_PRIVATE_DEPS})
+    set_target_properties(rbcp_${A_NAME} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  else()
+    add_library(rbcp_${A_NAME} INTERFACE)
+    target_include_directories(rbcp_${A_NAME} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_link_libraries(rbcp_${A_NAME} INTERFACE ${A_PUBLIC_DEPS})
+  endif()
+  add_library(rbcp::${A_NAME} ALIAS rbcp_${A_NAME})
+endfunction()
+
+# rbcp_add_test(NAME <name> SOURCES ... DEPS ... [LABELS ...])
+# A gtest executable registered with ctest; RBCP_SOURCE_DIR points at the checkout so tests
+# can read config/ and test data, RBCP_BIN_DIR at the built programs.
+function(rbcp_add_test)
+  cmake_parse_arguments(A "" "NAME" "SOURCES;DEPS;LABELS" ${ARGN})
+  if(NOT RBCP_BUILD_TESTS)
+    return()
+  endif()
+  add_executable(${A_NAME} ${A_SOURCES})
+  target_link_libraries(${A_NAME} PRIVATE ${A_DEPS} GTest::gtest_main rbcp::warnings)
+  target_compile_definitions(${A_NAME} PRIVATE
+    RBCP_SOURCE_DIR="${CMAKE_SOURCE_DIR}" RBCP_BIN_DIR="${CMAKE_BINARY_DIR}/bin")
+  set_target_properties(${A_NAME} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  gtest_discover_tests(${A_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${A_LABELS}")
+endfunction()
