@@ -1,0 +1,73 @@
+#include "rbcp/equilibrium/support_polygon.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "rbcp/core/error.h"
+
+namespace rbcp {
+namespace {
+
+double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+}
+
+double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double s = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + s * ab - p).norm();
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d> pts) {
+  // Andrew's monotone chain; drops collinear and duplicate points.
+  std::sort(pts.begin(), pts.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  if (pts.size() < 3) return pts;
+  std::vector<Eigen::Vector2d> hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && Cross(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && Cross(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    hull[k++] = pts[i];
+  }
+  hull.resize(k - 1);  // the last point repeats the first
+  return hull;
+}
+
+double SupportPolygonMargin(const std::vector<Eigen::Vector3d>& feet_W, const Eigen::Vector3d& com_W) {
+  if (feet_W.empty()) throw InputError("support polygon: expected at least one foot, got none");
+  std::vector<Eigen::Vector2d> xy;
+  xy.reserve(feet_W.size());
+  for (const auto& f : feet_W) xy.emplace_back(f.x(), f.y());
+  const std::vector<Eigen::Vector2d> hull = ConvexHull2d(std::move(xy));
+  const Eigen::Vector2d p(com_W.x(), com_W.y());
+  if (hull.size() == 1) return -(hull[0] - p).norm();
+  if (hull.size() == 2) return -SegmentDistance(p, hull[0], hull[1]);
+  double dist = std::numeric_limits<double>::infinity();
+  bool inside = true;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d& b = hull[(i + 1) % hull.size()];
+    if (Cross(a, b, p) < 0.0) inside = false;  // right of a counter-clockwise edge
+    dist = std::min(dist, SegmentDistance(p, a, b));
+  }
+  return inside ? dist : -dist;
+}
+
+double SupportPolygonMargin(const std::vector<ContactPoint>& contacts, const Eigen::Vector3d& com_W) {
+  std::vector<Eigen::Vector3d> feet;
+  feet.reserve(contacts.size());
+  for (const auto& c : contacts) feet.push_back(c.position);
+  return SupportPolygonMargin(feet, com_W);
+}
+
+}  // namespace rbcp

@@ -1,0 +1,79 @@
+#include "rbcp/equilibrium/support_polygon.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rbcp/core/error.h"
+
+namespace rbcp {
+namespace {
+
+// Feet in leg order LF, RF, LH, RH (not a cyclic order), at different heights.
+std::vector<Eigen::Vector3d> Rectangle() {
+  return {{0.3, 0.2, 0.1}, {0.3, -0.2, 0.0}, {-0.3, 0.2, -0.05}, {-0.3, -0.2, 0.2}};
+}
+
+TEST(SupportPolygon, RectangleMarginsByHand) {
+  const auto feet = Rectangle();
+  EXPECT_NEAR(SupportPolygonMargin(feet, {0.0, 0.0, 0.5}), 0.2, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {0.25, 0.0, 0.5}), 0.05, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {0.1, -0.15, 0.5}), 0.05, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {0.3, 0.0, 0.5}), 0.0, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {0.4, 0.0, 0.5}), -0.1, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {0.4, 0.3, 0.5}), -std::sqrt(0.02), 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {-0.5, -0.2, 0.0}), -0.2, 1e-12);
+}
+
+TEST(SupportPolygon, TriangleMarginsByHand) {
+  const std::vector<Eigen::Vector3d> feet = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_NEAR(SupportPolygonMargin(feet, {0.25, 0.25, 1}), 0.25, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {0.4, 0.4, 1}), 0.2 / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {1, 1, 1}), -1.0 / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(feet, {-0.3, -0.4, 1}), -0.5, 1e-12);
+  // Same triangle given clockwise.
+  const std::vector<Eigen::Vector3d> cw = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}};
+  EXPECT_NEAR(SupportPolygonMargin(cw, {0.25, 0.25, 1}), 0.25, 1e-12);
+}
+
+TEST(SupportPolygon, ThreeStanceFeetOfFour) {
+  // LH swings: the support triangle is LF, RF, RH; its diagonal runs from RH to LF.
+  const auto all = Rectangle();
+  const std::vector<Eigen::Vector3d> stance = {all[0], all[1], all[3]};
+  // Distance from (x, y) to the diagonal through RH (-0.3, -0.2) and LF (0.3, 0.2).
+  auto to_diagonal = [](double x, double y) { return std::abs(0.4 * x - 0.6 * y) / std::hypot(0.6, 0.4); };
+  EXPECT_NEAR(SupportPolygonMargin(stance, {0.1, -0.05, 0.4}), std::min({to_diagonal(0.1, -0.05), 0.15, 0.2}), 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(stance, {0.0, 0.0, 0.4}), 0.0, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(stance, {-0.1, 0.05, 0.4}), -to_diagonal(-0.1, 0.05), 1e-12);
+}
+
+TEST(SupportPolygon, DegenerateStances) {
+  const std::vector<Eigen::Vector3d> line = {{0, 0, 0}, {1, 0, 0}, {0.5, 0, 0.2}};
+  EXPECT_NEAR(SupportPolygonMargin(line, {0.5, 0.0, 1}), 0.0, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(line, {0.5, 0.3, 1}), -0.3, 1e-12);
+  EXPECT_NEAR(SupportPolygonMargin(line, {1.3, -0.4, 1}), -0.5, 1e-12);
+  const std::vector<Eigen::Vector3d> point = {{1, 1, 0}, {1, 1, 0.3}};
+  EXPECT_NEAR(SupportPolygonMargin(point, {1.3, 1.4, 0}), -0.5, 1e-12);
+  EXPECT_THROW(SupportPolygonMargin(std::vector<Eigen::Vector3d>{}, {0, 0, 0}), InputError);
+}
+
+TEST(SupportPolygon, HullDropsInteriorAndCollinearPoints) {
+  const auto hull = ConvexHull2d({{0, 0}, {2, 0}, {1, 0}, {2, 2}, {0, 2}, {1, 1}, {0, 1}, {2, 2}});
+  ASSERT_EQ(hull.size(), 4u);
+  double area2 = 0.0;  // positive for counter-clockwise
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const auto& a = hull[i];
+    const auto& b = hull[(i + 1) % hull.size()];
+    area2 += a.x() * b.y() - a.y() * b.x();
+  }
+  EXPECT_NEAR(area2, 8.0, 1e-12);
+}
+
+TEST(SupportPolygon, ContactOverloadUsesPositions) {
+  std::vector<ContactPoint> contacts;
+  for (const auto& p : Rectangle()) contacts.push_back({p, Eigen::Vector3d::UnitZ()});
+  EXPECT_NEAR(SupportPolygonMargin(contacts, {0.25, 0.0, 0.5}), 0.05, 1e-12);
+}
+
+}  // namespace
+}  // namespace rbcp
