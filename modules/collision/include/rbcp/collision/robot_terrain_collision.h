@@ -1,0 +1,120 @@
+#pragma once
+/// Collision checking of the ANYmal collision primitives against a terrain mesh and against
+/// themselves. Broad phase: a uniform xy grid over the terrain triangles (cell height bounds,
+/// triangle bounds, each triangle's plane against the primitive's extent along its normal).
+/// Narrow phase: FCL's primitive-triangle and primitive-primitive tests (libccd GJK/MPR). No FCL
+/// type leaks out of this header.
+///
+/// Terrain: the mesh is treated as the boundary of a solid (closed, outward-wound elements such as
+/// the scenario boxes; elements may overlap). A robot shape collides when it touches a terrain
+/// triangle or lies entirely inside the solid. Inside-ness is the winding number of a vertical ray
+/// cast upwards from the shape's centre (each upward-facing triangle crossed above counts +1, each
+/// downward-facing one -1), so overlapping elements count as one solid. For an open surface
+/// (a terrain patch without underside) this reads as "below an upward-facing surface".
+///
+/// Feet in contact: a stance foot stands on the terrain, so its sphere may sink into it by up to
+/// `foot_tolerance` (the planning contact point lies on the sphere along the shank axis, so a
+/// shank tilted by an angle a from the surface normal sinks the sphere by r (1 - cos a)). It is
+/// checked as a sphere shrunk by foot_tolerance about the same centre: exact "penetration depth
+/// <= foot_tolerance" while the centre is outside the terrain; a centre inside is a collision.
+/// The default 15 mm admits shank tilts up to ~59 degrees from the normal on a plane.
+/// The adapter tube of a stance leg is checked without its last `adapter_exclusion` metres next to
+/// the foot (the tube ends inside the foot sphere and dips below the contact plane as soon as the
+/// shank tilts more than ~27 degrees from the normal; without its last 2 cm, beyond ~62 degrees).
+/// Shanks, thighs and hips are always checked, and swing legs are checked whole.
+///
+/// Self-collision: shapes of different legs against each other, and leg shapes against trunk
+/// shapes. Not checked: pairs within one leg, a leg's <LEG>_HIP link against the trunk (they
+/// share the HAA joint), and the leg-trunk pairs that already overlap in
+/// the reference standing configuration (primitives that overlap by construction, e.g. the
+/// thigh's upper protector around the HAA actuator); SelfCollisionExclusions() lists them.
+///
+/// Thread safety and cost: every query is const and keeps its scratch space per thread, so one
+/// instance may be shared by several threads. Once warm, the library allocates nothing per query
+/// itself; FCL's libccd narrow phase allocates two small objects per box or cylinder test that
+/// passes the broad phase, and a report naming a shape copies the name.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rbcp/core/leg.h"
+#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/robot/robot_model.h"
+
+namespace rbcp {
+
+/// Outcome of a collision query. When several shapes collide, the first in checking order is
+/// reported. Terrain: trunk shapes, then the legs LF, RF, LH, RH, each from hip to foot, in the
+/// order of RobotModel::CollisionShapes(). Self: for each leg in turn, its shapes against the
+/// trunk's, then against each later leg's.
+struct CollisionReport {
+  bool collision = false;
+  std::string first_shape;  ///< URDF collision name of the robot shape (the link name if unnamed)
+  /// "terrain", or for self-collision the other robot shape's name (e.g. "LH_shank").
+  std::string obstacle;
+  /// Depth [m] of the deepest contact FCL reports between the two (the shortest translation
+  /// separating the shape from one terrain triangle or from the other shape). For a stance foot,
+  /// the depth of the full sphere. For a shape enclosed by the terrain: the vertical distance from
+  /// its centre up to the nearest upward-facing terrain triangle above it.
+  double penetration = 0.0;
+};
+
+/// Tolerances of the stance legs (see the file comment).
+struct CollisionOptions {
+  double foot_tolerance = 0.015;    ///< [m] penetration allowed to the foot sphere of a stance leg, in [0, radius)
+  double adapter_exclusion = 0.02;  ///< [m] length of a stance leg's adapter tube not checked next to the foot
+  /// Fill CollisionReport::penetration. Measuring the depth costs a second FCL pass on colliding
+  /// queries (gathering every contact of the shape); planners that only need yes/no turn it off
+  /// and get penetration == 0.
+  bool measure_penetration = true;
+};
+
+class RobotTerrainCollision {
+ public:
+  /// Builds the terrain bounding-volume hierarchy and the robot's collision primitives once.
+  /// Copies what it needs from `robot`; neither argument must outlive the object.
+  /// Throws InputError when the terrain mesh is invalid (ValidateMesh), when a leg lacks a sphere
+  /// on its <LEG>_FOOT link or a cylinder on its <LEG>_ADAPTER link, or when an option is out of range.
+  RobotTerrainCollision(const RobotModel& robot, const TriangleMesh& terrain, const CollisionOptions& options = {});
+  ~RobotTerrainCollision();
+  RobotTerrainCollision(RobotTerrainCollision&&) noexcept;
+  RobotTerrainCollision& operator=(RobotTerrainCollision&&) noexcept;
+  RobotTerrainCollision(const RobotTerrainCollision&) = delete;
+  RobotTerrainCollision& operator=(const RobotTerrainCollision&) = delete;
+
+  /// Whole robot (trunk and four legs) at base pose base_W (base frame in world) and joints q
+  /// against the terrain. feet_in_contact[Index(leg)] marks stance legs (foot tolerance applies).
+  CollisionReport CheckRobot(const Eigen::Isometry3d& base_W, const JointVector& q,
+                             const std::array<bool, kNumLegs>& feet_in_contact) const;
+
+  /// One leg's shapes (hip, thigh, shank, adapter, foot) against the terrain.
+  CollisionReport CheckLeg(Leg leg, const Eigen::Isometry3d& base_W, const Eigen::Vector3d& q_leg,
+                           bool foot_in_contact) const;
+
+  /// The trunk (the base link's shapes) against the terrain.
+  CollisionReport CheckTrunk(const Eigen::Isometry3d& base_W) const;
+
+  /// Self-collision: leg against leg (different legs) and leg against trunk, with the exclusions
+  /// listed by SelfCollisionExclusions(). Independent of the base pose.
+  CollisionReport CheckSelf(const JointVector& q) const;
+
+  /// True when the world point p_W lies inside the terrain solid (vertical-ray winding number > 0).
+  bool InsideTerrain(const Eigen::Vector3d& p_W) const;
+
+  /// Leg-trunk shape pairs (leg shape name, trunk shape name) that CheckSelf does not test
+  /// because they overlap in the reference configuration; HIP-trunk pairs are not listed.
+  std::vector<std::pair<std::string, std::string>> SelfCollisionExclusions() const;
+
+  const CollisionOptions& Options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rbcp
