@@ -1,0 +1,143 @@
+#pragma once
+/// Root (trunk) path planning: a kinodynamic bidirectional RRT (built on OMPL's planner
+/// framework) over root position and velocity whose states must satisfy the reachability
+/// condition, followed by random-shortcut smoothing.
+///
+/// States are (position, velocity) of the base in the world frame; yaw follows the horizontal
+/// velocity (see YawModel). Trees are extended with the time-optimal double-integrator steering
+/// all the way to a sample, keeping the valid prefix (start tree) or suffix (goal tree). Every
+/// steered piece lasts a multiple of `time_step` and is validated at every multiple of
+/// time_step / validation_substeps, so the states of the final path at every multiple of
+/// time_step from its start are states that were validated.
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/core/yaml_reader.h"
+#include "rbcp/root_planner/convex_polytope.h"
+#include "rbcp/root_planner/double_integrator.h"
+#include "rbcp/root_planner/reachability_checker.h"
+#include "rbcp/root_planner/root_path.h"
+#include "rbcp/root_planner/trunk_shape.h"
+
+namespace rbcp {
+
+class RobotModel;
+
+/// Parameters of root planning (config/root_planner.yaml).
+struct RootPlannerConfig {
+  /// Folder of the leg ROMs (LF.obj, RF.obj, LH.obj, RH.obj), as written in the file (relative
+  /// to the configuration folder unless absolute), and the shapes read from it.
+  std::string rom_folder = "robots/anymal_b_roms";
+  std::array<ConvexPolytope, kNumLegs> roms;
+  TrunkShapeConfig trunk;
+  double surface_depth = 0.005;  ///< [m] contact surfaces become prisms this deep
+
+  KinodynamicLimits limits{{0.3, 1.0}, {0.3, 5.0}};
+  YawModel yaw{0.3};
+  /// [rad/s] the yaw may change by at most this rate times the interval between validation
+  /// samples (keeps the trunk from swinging round when it speeds up against its rest yaw).
+  double max_yaw_rate = 15.0;
+
+  double time_step = 0.05;       ///< [s] steering durations are multiples of it; output sampling step
+  int validation_substeps = 2;   ///< states are validated every time_step / validation_substeps
+
+  /// Sampler: a point on a contact surface (area-weighted with this probability, otherwise a
+  /// surface chosen uniformly), raised by the nominal base height plus a uniform offset.
+  double area_weighted_probability = 0.3;
+  double height_offset_min = -0.05;  ///< [m]
+  double height_offset_max = 0.05;   ///< [m]
+  /// Probability of a zero sampled velocity; otherwise horizontal velocity with a uniform
+  /// direction and a speed uniform in [0, horizontal v_max], vertical velocity zero.
+  double zero_velocity_probability = 0.3;
+  int sample_attempts = 20;          ///< a sample is redrawn until valid, at most this often
+  /// An invalid sample is first moved vertically, at most this often: up while the trunk
+  /// collides, down while a leg reaches no surface (first by repair_step [m], then halving).
+  int repair_moves = 8;
+  double repair_step = 0.03;
+  double bounds_margin = 0.5;        ///< [m] the state space extends this far beyond the surfaces
+
+  int shortcut_iterations = 100;     ///< random-shortcut iterations after a path is found
+  double max_piece_duration = 50.0;  ///< [s] longer steered pieces are rejected
+
+  /// Reads the keys of config/root_planner.yaml (strict) and the ROMs of rom_folder, resolved
+  /// against config_dir when relative. Throws InputError.
+  static RootPlannerConfig Load(const YamlMap& map, const std::string& config_dir);
+  /// Load() on a file.
+  static RootPlannerConfig LoadFile(const std::string& path, const std::string& config_dir);
+  /// The first out-of-range parameter as "'key': expected X, got Y", or empty when valid.
+  std::string Problem() const;
+};
+
+enum class RootPlanStatus {
+  kOk,            ///< a path was found
+  kStartInvalid,  ///< the start state violates the reachability condition (reason says how)
+  kGoalInvalid,   ///< the goal state violates it
+  kTimeout,       ///< no path within the time budget
+};
+
+/// "ok", "start_invalid", "goal_invalid", "timeout".
+std::string ToString(RootPlanStatus status);
+
+/// One planning query. Positions are base positions in the world frame [m]; yaw [rad].
+struct RootPlanRequest {
+  PointState start;              ///< start position and velocity
+  double start_yaw = 0.0;
+  Eigen::Vector3d goal = Eigen::Vector3d::Zero();  ///< goal position, reached at rest
+  double goal_yaw = 0.0;
+  unsigned seed = 1;             ///< same seed and inputs, same path (when found within the budget)
+  double time_budget_s = 1.0;    ///< wall-clock budget of the whole query [s]
+};
+
+/// The answer to a query.
+struct RootPlanResult {
+  RootPlanStatus status = RootPlanStatus::kTimeout;
+  std::string reason;                  ///< empty when ok
+  RootPath path;                       ///< the smoothed path (empty unless ok)
+  std::vector<RootPathSample> samples; ///< the path every time_step, and its end
+  double planning_time_s = 0.0;        ///< wall-clock time of the whole query [s]
+  double search_time_s = 0.0;          ///< of which the RRT search [s]
+  double duration_before_shortcut_s = 0.0;  ///< duration of the RRT path [s]
+  int iterations = 0;                  ///< RRT iterations
+  int tree_states = 0;                 ///< states in both trees at the end
+  long validity_checks = 0;            ///< reachability tests (search, sampling, shortcut)
+  bool ok() const { return status == RootPlanStatus::kOk; }
+};
+
+/// Plans root paths for one robot. Holds no per-terrain state: Plan() builds the reachability
+/// checker for the terrain it is given. Thread-compatible (one Plan at a time per instance).
+class RootPlanner {
+ public:
+  /// Throws InputError if the config is out of range (RootPlannerConfig::Problem).
+  RootPlanner(const RobotModel& robot, RootPlannerConfig config);
+
+  /// Base position standing on the terrain at xy: the highest terrain point below plus the
+  /// robot's nominal base height; nullopt when there is no terrain at xy.
+  std::optional<Eigen::Vector3d> StandingPosition(const TriangleMesh& terrain, const Eigen::Vector2d& xy) const;
+
+  /// Plans from the request's start to its goal over `terrain` with the given contact surfaces.
+  RootPlanResult Plan(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
+                      const RootPlanRequest& request) const;
+  /// Same, from rest at start_W to rest at goal_W.
+  RootPlanResult Plan(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
+                      const Eigen::Vector3d& start_W, double start_yaw, const Eigen::Vector3d& goal_W, double goal_yaw,
+                      unsigned seed, double time_budget_s) const;
+
+  /// A reachability checker for a terrain with this planner's ROMs and trunk shape.
+  ReachabilityChecker MakeChecker(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces) const;
+
+  const RootPlannerConfig& config() const { return config_; }
+  double NominalBaseHeight() const { return nominal_base_height_; }
+
+ private:
+  RootPlannerConfig config_;
+  ConvexPolytope trunk_;
+  double nominal_base_height_ = 0.0;
+};
+
+}  // namespace rbcp

@@ -1,0 +1,332 @@
+#include "rbcp/root_planner/reachability_checker.h"
+
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/narrowphase/collision.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <unordered_map>
+
+#include "rbcp/core/error.h"
+
+namespace rbcp {
+namespace {
+
+std::shared_ptr<fcl::Convexd> MakeConvex(const std::vector<Eigen::Vector3d>& vertices,
+                                         const std::vector<std::vector<int>>& faces) {
+  auto v = std::make_shared<std::vector<fcl::Vector3d>>(vertices.begin(), vertices.end());
+  auto f = std::make_shared<std::vector<int>>();
+  for (const auto& face : faces) {
+    f->push_back(static_cast<int>(face.size()));
+    f->insert(f->end(), face.begin(), face.end());
+  }
+  auto convex = std::make_shared<fcl::Convexd>(v, static_cast<int>(faces.size()), f);
+  convex->computeLocalAABB();
+  return convex;
+}
+
+std::shared_ptr<fcl::Convexd> MakeConvex(const ConvexPolytope& poly) {
+  std::vector<std::vector<int>> faces;
+  faces.reserve(poly.triangles.size());
+  for (const auto& t : poly.triangles) faces.push_back({t[0], t[1], t[2]});
+  return MakeConvex(poly.vertices, faces);
+}
+
+// Axis-aligned box (centre, half extents) of a shape's local box moved by (R, p).
+struct Aabb {
+  Eigen::Vector3d lo;
+  Eigen::Vector3d hi;
+  bool Overlaps(const Aabb& o) const { return (lo.array() <= o.hi.array()).all() && (o.lo.array() <= hi.array()).all(); }
+};
+
+Aabb Bounds(const std::vector<Eigen::Vector3d>& points) {
+  Aabb box{Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
+           Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity())};
+  for (const auto& p : points) {
+    box.lo = box.lo.cwiseMin(p);
+    box.hi = box.hi.cwiseMax(p);
+  }
+  return box;
+}
+
+Aabb Moved(const Aabb& local, const Eigen::Matrix3d& R, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d center = R * (0.5 * (local.lo + local.hi)) + p;
+  const Eigen::Vector3d half = R.cwiseAbs() * (0.5 * (local.hi - local.lo));
+  return {center - half, center + half};
+}
+
+Eigen::Matrix3d YawRotation(double yaw) { return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
+
+}  // namespace
+
+bool ReachabilityReport::Valid() const {
+  if (trunk_collision) return false;
+  return std::all_of(leg_surface.begin(), leg_surface.end(), [](int s) { return s >= 0; });
+}
+
+std::string ReachabilityReport::Reason() const {
+  std::ostringstream os;
+  if (trunk_collision) os << "trunk collides with the terrain";
+  std::string legs;
+  for (Leg leg : kAllLegs) {
+    if (!LegInReach(leg)) legs += (legs.empty() ? "" : ", ") + std::string(LegName(leg));
+  }
+  if (!legs.empty()) os << (trunk_collision ? "; " : "") << "no contact surface in reach of " << legs;
+  return os.str();
+}
+
+struct ReachabilityChecker::Impl {
+  struct Surface {
+    std::shared_ptr<fcl::Convexd> geometry;
+    std::unique_ptr<fcl::CollisionObjectd> object;
+    Aabb box;
+  };
+  struct Rom {
+    std::shared_ptr<fcl::Convexd> geometry;
+    std::unique_ptr<fcl::CollisionObjectd> object;
+    Aabb local_box;
+  };
+
+  Aabb terrain_box;
+  std::shared_ptr<fcl::Convexd> trunk_geometry;
+  std::unique_ptr<fcl::CollisionObjectd> trunk;
+  Aabb trunk_local_box;
+  std::array<Rom, kNumLegs> roms;
+  std::vector<Surface> surfaces;
+  std::array<int, kNumLegs> last_surface{{-1, -1, -1, -1}};
+  long queries = 0;
+
+  // Vertical-ray lookup of the terrain triangles: non-vertical triangles by xy grid cell.
+  double cell = 0.1;
+  std::vector<std::array<Eigen::Vector3d, 3>> ray_triangles;
+  std::vector<double> ray_normal_z;
+  std::unordered_map<std::uint64_t, std::vector<int>> grid;
+  // Every terrain triangle as a flat convex shape with its bounding box, listed by xy grid cell:
+  // the trunk is tested (GJK) only against triangles whose boxes overlap its own.
+  std::vector<Aabb> triangle_boxes;
+  std::vector<std::shared_ptr<fcl::Convexd>> triangle_geometries;
+  std::vector<std::unique_ptr<fcl::CollisionObjectd>> triangle_objects;
+  std::unordered_map<std::uint64_t, std::vector<int>> box_grid;
+  std::vector<long> triangle_stamp;  // last query that tested each triangle
+  long stamp = 0;
+
+  static std::uint64_t Key(long ix, long iy) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
+  }
+  long CellIndex(double x) const { return static_cast<long>(std::floor(x / cell)); }
+
+  void BuildBoxGrid(const TriangleMesh& mesh) {
+    for (std::size_t t = 0; t < mesh.NumTriangles(); ++t) {
+      const std::vector<Eigen::Vector3d> corners = {mesh.Corner(t, 0), mesh.Corner(t, 1), mesh.Corner(t, 2)};
+      const Aabb box = Bounds(corners);
+      const int index = static_cast<int>(triangle_boxes.size());
+      triangle_boxes.push_back(box);
+      // A flat convex (both faces) per triangle: convex-convex tests need no per-query fitting.
+      triangle_geometries.push_back(MakeConvex(corners, {{0, 1, 2}, {0, 2, 1}}));
+      triangle_objects.push_back(std::make_unique<fcl::CollisionObjectd>(triangle_geometries.back()));
+      triangle_objects.back()->computeAABB();
+      for (long ix = CellIndex(box.lo.x()); ix <= CellIndex(box.hi.x()); ++ix) {
+        for (long iy = CellIndex(box.lo.y()); iy <= CellIndex(box.hi.y()); ++iy) box_grid[Key(ix, iy)].push_back(index);
+      }
+    }
+    triangle_stamp.assign(triangle_boxes.size(), -1);
+  }
+
+  // Exact test of the placed trunk against the terrain triangles whose boxes overlap `box`.
+  bool TrunkTouchesTriangles(const Aabb& box) {
+    ++stamp;
+    for (long ix = CellIndex(box.lo.x()); ix <= CellIndex(box.hi.x()); ++ix) {
+      for (long iy = CellIndex(box.lo.y()); iy <= CellIndex(box.hi.y()); ++iy) {
+        const auto it = box_grid.find(Key(ix, iy));
+        if (it == box_grid.end()) continue;
+        for (int index : it->second) {
+          const std::size_t i = static_cast<std::size_t>(index);
+          if (triangle_stamp[i] == stamp) continue;
+          triangle_stamp[i] = stamp;
+          if (!triangle_boxes[i].Overlaps(box)) continue;
+          fcl::CollisionRequestd request;
+          fcl::CollisionResultd result;
+          if (fcl::collide(trunk.get(), triangle_objects[i].get(), request, result) > 0) return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  void BuildRayGrid(const TriangleMesh& mesh) {
+    for (std::size_t t = 0; t < mesh.NumTriangles(); ++t) {
+      const Eigen::Vector3d n = mesh.AreaNormal(t);
+      const double norm = n.norm();
+      if (norm <= 0.0 || std::abs(n.z()) < 1e-9 * norm) continue;
+      const int index = static_cast<int>(ray_triangles.size());
+      ray_triangles.push_back({mesh.Corner(t, 0), mesh.Corner(t, 1), mesh.Corner(t, 2)});
+      ray_normal_z.push_back(n.z() / norm);
+      double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+      for (const auto& c : ray_triangles.back()) {
+        x0 = std::min(x0, c.x());
+        x1 = std::max(x1, c.x());
+        y0 = std::min(y0, c.y());
+        y1 = std::max(y1, c.y());
+      }
+      for (long ix = CellIndex(x0); ix <= CellIndex(x1); ++ix) {
+        for (long iy = CellIndex(y0); iy <= CellIndex(y1); ++iy) grid[Key(ix, iy)].push_back(index);
+      }
+    }
+  }
+
+  // True when p lies inside a solid of the terrain: the nearest surface straight above faces up
+  // (its underside is seen from inside), or the nearest one straight below faces down.
+  bool InsideTerrain(const Eigen::Vector3d& p) const {
+    const auto it = grid.find(Key(CellIndex(p.x()), CellIndex(p.y())));
+    if (it == grid.end()) return false;
+    double above = std::numeric_limits<double>::infinity();
+    double below = -std::numeric_limits<double>::infinity();
+    double above_nz = 0.0;
+    double below_nz = 0.0;
+    for (int index : it->second) {
+      const auto& tri = ray_triangles[static_cast<std::size_t>(index)];
+      const Eigen::Vector2d a = tri[0].head<2>(), b = tri[1].head<2>(), c = tri[2].head<2>();
+      const Eigen::Vector2d q = p.head<2>();
+      const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+      if (std::abs(det) < 1e-18) continue;
+      const double u = ((q - a).x() * (c - a).y() - (q - a).y() * (c - a).x()) / det;
+      const double v = ((b - a).x() * (q - a).y() - (b - a).y() * (q - a).x()) / det;
+      if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
+      const double z = tri[0].z() + u * (tri[1].z() - tri[0].z()) + v * (tri[2].z() - tri[0].z());
+      const double nz = ray_normal_z[static_cast<std::size_t>(index)];
+      if (z >= p.z() && z < above) {
+        above = z;
+        above_nz = nz;
+      }
+      if (z < p.z() && z > below) {
+        below = z;
+        below_nz = nz;
+      }
+    }
+    return above_nz > 0.0 || below_nz < 0.0;
+  }
+
+  bool TrunkCollides(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) {
+    const Aabb box = Moved(trunk_local_box, R, p);
+    if (InsideTerrain(p)) return true;
+    if (!box.Overlaps(terrain_box)) return false;
+    trunk->setTransform(R, p);
+    trunk->computeAABB();
+    return TrunkTouchesTriangles(box);
+  }
+
+  bool Touches(Rom& rom, const Aabb& box, int surface) {
+    const Surface& s = surfaces[static_cast<std::size_t>(surface)];
+    if (!box.Overlaps(s.box)) return false;
+    fcl::CollisionRequestd request;
+    fcl::CollisionResultd result;
+    return fcl::collide(rom.object.get(), s.object.get(), request, result) > 0;
+  }
+
+  // Index of a surface the leg's ROM intersects, or -1. The surface found last time is tried
+  // first: along a path the same surface usually stays in reach.
+  int LegSurface(Leg leg, const Eigen::Matrix3d& R, const Eigen::Vector3d& p) {
+    const std::size_t l = static_cast<std::size_t>(Index(leg));
+    Rom& rom = roms[l];
+    const Aabb box = Moved(rom.local_box, R, p);
+    rom.object->setTransform(R, p);
+    rom.object->computeAABB();
+    const int last = last_surface[l];
+    if (last >= 0 && Touches(rom, box, last)) return last;
+    for (int s = 0; s < static_cast<int>(surfaces.size()); ++s) {
+      if (s != last && Touches(rom, box, s)) {
+        last_surface[l] = s;
+        return s;
+      }
+    }
+    return -1;
+  }
+};
+
+ReachabilityChecker::ReachabilityChecker(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
+                                         const std::array<ConvexPolytope, kNumLegs>& roms, const ConvexPolytope& trunk,
+                                         double surface_depth)
+    : impl_(std::make_unique<Impl>()) {
+  const std::string problem = ValidateMesh(terrain);
+  if (!problem.empty()) throw InputError("reachability checker: expected a valid terrain mesh, got: " + problem);
+  if (!(surface_depth > 0.0)) throw InputError("reachability checker: expected a surface depth > 0 m");
+  Impl& m = *impl_;
+  m.terrain_box = Bounds(terrain.vertices);
+  m.BuildRayGrid(terrain);
+  m.BuildBoxGrid(terrain);
+
+  m.trunk_geometry = MakeConvex(trunk);
+  m.trunk = std::make_unique<fcl::CollisionObjectd>(m.trunk_geometry);
+  m.trunk_local_box = Bounds(trunk.vertices);
+  for (Leg leg : kAllLegs) {
+    const std::size_t l = static_cast<std::size_t>(Index(leg));
+    m.roms[l].geometry = MakeConvex(roms[l]);
+    m.roms[l].object = std::make_unique<fcl::CollisionObjectd>(m.roms[l].geometry);
+    m.roms[l].local_box = Bounds(roms[l].vertices);
+  }
+  m.surfaces.reserve(surfaces.size());
+  for (std::size_t i = 0; i < surfaces.size(); ++i) {
+    const AffordanceSurface& s = surfaces[i];
+    const int n = static_cast<int>(s.vertices.size());
+    if (n < 3 || !(std::abs(s.normal.norm() - 1.0) < 1e-6)) {
+      throw InputError("reachability checker: surface " + std::to_string(i) +
+                       ": expected a polygon of at least 3 vertices with a unit normal");
+    }
+    // Prism: the polygon on top, the same polygon surface_depth below, side quads.
+    std::vector<Eigen::Vector3d> prism;
+    for (const auto& v : s.vertices) prism.push_back(v);
+    for (const auto& v : s.vertices) prism.push_back(v - surface_depth * s.normal);
+    std::vector<std::vector<int>> faces;
+    std::vector<int> top, bottom;
+    for (int k = 0; k < n; ++k) {
+      top.push_back(k);
+      bottom.push_back(2 * n - 1 - k);
+      const int k1 = (k + 1) % n;
+      faces.push_back({k, n + k, n + k1, k1});
+    }
+    faces.push_back(top);
+    faces.push_back(bottom);
+    Impl::Surface surface;
+    surface.geometry = MakeConvex(prism, faces);
+    surface.object = std::make_unique<fcl::CollisionObjectd>(surface.geometry);
+    surface.object->computeAABB();
+    surface.box = Bounds(prism);
+    m.surfaces.push_back(std::move(surface));
+  }
+}
+
+ReachabilityChecker::~ReachabilityChecker() = default;
+ReachabilityChecker::ReachabilityChecker(ReachabilityChecker&&) noexcept = default;
+ReachabilityChecker& ReachabilityChecker::operator=(ReachabilityChecker&&) noexcept = default;
+
+bool ReachabilityChecker::IsValid(const Eigen::Vector3d& p_W, double yaw) {
+  Impl& m = *impl_;
+  ++m.queries;
+  const Eigen::Matrix3d R = YawRotation(yaw);
+  for (Leg leg : kAllLegs) {
+    if (m.LegSurface(leg, R, p_W) < 0) return false;
+  }
+  return !m.TrunkCollides(R, p_W);
+}
+
+ReachabilityReport ReachabilityChecker::Check(const Eigen::Vector3d& p_W, double yaw) {
+  Impl& m = *impl_;
+  ++m.queries;
+  const Eigen::Matrix3d R = YawRotation(yaw);
+  ReachabilityReport report;
+  report.trunk_collision = m.TrunkCollides(R, p_W);
+  for (Leg leg : kAllLegs) report.leg_surface[static_cast<std::size_t>(Index(leg))] = m.LegSurface(leg, R, p_W);
+  return report;
+}
+
+bool ReachabilityChecker::TrunkCollides(const Eigen::Vector3d& p_W, double yaw) {
+  return impl_->TrunkCollides(YawRotation(yaw), p_W);
+}
+
+long ReachabilityChecker::Queries() const { return impl_->queries; }
+std::size_t ReachabilityChecker::NumSurfaces() const { return impl_->surfaces.size(); }
+
+}  // namespace rbcp

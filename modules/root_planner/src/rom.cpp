@@ -1,0 +1,196 @@
+#include "rbcp/root_planner/rom.h"
+
+#include <fcl/narrowphase/collision.h>
+
+#include <memory>
+#include <random>
+#include <sstream>
+
+#include "rbcp/core/error.h"
+#include "rbcp/robot/robot_model.h"
+
+namespace rbcp {
+namespace {
+
+std::shared_ptr<fcl::CollisionGeometryd> MakeGeometry(const CollisionShape& shape) {
+  switch (shape.kind) {
+    case CollisionShape::Kind::kBox:
+      return std::make_shared<fcl::Boxd>(shape.box_size.x(), shape.box_size.y(), shape.box_size.z());
+    case CollisionShape::Kind::kCylinder:
+      return std::make_shared<fcl::Cylinderd>(shape.radius, shape.length);
+    case CollisionShape::Kind::kSphere:
+      return std::make_shared<fcl::Sphered>(shape.radius);
+  }
+  RBCP_CHECK(false, "unknown collision shape kind");
+}
+
+// Collision primitives of one leg against the trunk's, for the self-collision test.
+class LegTrunkCollision {
+ public:
+  LegTrunkCollision(const RobotModel& robot, Leg leg) : robot_(robot), leg_(leg) {
+    const std::string hip_link = std::string(LegName(leg)) + "_HIP";
+    const auto& shapes = robot.CollisionShapes();
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+      const CollisionShape& s = shapes[i];
+      if (!s.leg) {
+        trunk_.push_back(Entry{i, std::make_unique<fcl::CollisionObjectd>(MakeGeometry(s))});
+      } else if (*s.leg == leg && s.link != hip_link) {
+        // The hip link turns about the HAA axis fixed to the trunk: it is adjacent, not checked.
+        leg_shapes_.push_back(Entry{i, std::make_unique<fcl::CollisionObjectd>(MakeGeometry(s))});
+      }
+    }
+    // Pairs overlapping in the reference configuration overlap by design of the primitives.
+    const JointVector q_ref = robot.ReferenceConfiguration();
+    Place(q_ref);
+    for (std::size_t a = 0; a < leg_shapes_.size(); ++a) {
+      for (std::size_t b = 0; b < trunk_.size(); ++b) {
+        if (!Collide(a, b)) pairs_.emplace_back(a, b);
+      }
+    }
+  }
+
+  bool Collides(const Eigen::Vector3d& q_leg) {
+    JointVector q = robot_.ReferenceConfiguration();
+    SetLegJoints(q, leg_, q_leg);
+    Place(q);
+    for (const auto& [a, b] : pairs_) {
+      if (Collide(a, b)) return true;
+    }
+    return false;
+  }
+
+ private:
+  struct Entry {
+    std::size_t shape;
+    std::unique_ptr<fcl::CollisionObjectd> object;
+  };
+
+  void Place(const JointVector& q) {
+    robot_.LinkPoses(q, &poses_);
+    const auto& shapes = robot_.CollisionShapes();
+    for (auto* list : {&trunk_, &leg_shapes_}) {
+      for (auto& e : *list) {
+        const CollisionShape& s = shapes[e.shape];
+        const Eigen::Isometry3d pose = poses_[static_cast<std::size_t>(s.link_index)] * s.pose_link;
+        e.object->setTransform(pose.rotation(), pose.translation());
+        e.object->computeAABB();
+      }
+    }
+  }
+
+  bool Collide(std::size_t a, std::size_t b) const {
+    const auto& oa = *leg_shapes_[a].object;
+    const auto& ob = *trunk_[b].object;
+    if (!oa.getAABB().overlap(ob.getAABB())) return false;
+    fcl::CollisionRequestd request;
+    fcl::CollisionResultd result;
+    return fcl::collide(&oa, &ob, request, result) > 0;
+  }
+
+  const RobotModel& robot_;
+  Leg leg_;
+  std::vector<Entry> trunk_;
+  std::vector<Entry> leg_shapes_;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs_;
+  std::vector<Eigen::Isometry3d> poses_;
+};
+
+}  // namespace
+
+RomGenerationConfig RomGenerationConfig::Load(const YamlMap& map) {
+  RomGenerationConfig c;
+  c.samples = map.Int("samples");
+  if (c.samples < 100) map.Fail("samples", "expected at least 100, got " + std::to_string(c.samples));
+  const int seed = map.Int("seed");
+  if (seed < 0) map.Fail("seed", "expected a non-negative integer, got " + std::to_string(seed));
+  c.seed = static_cast<std::uint64_t>(seed);
+  c.max_triangles = map.Int("max_triangles");
+  if (c.max_triangles < 4) map.Fail("max_triangles", "expected at least 4, got " + std::to_string(c.max_triangles));
+  c.tolerance = map.Double("tolerance");
+  if (!(c.tolerance >= 0.0)) map.Fail("tolerance", "expected a length >= 0 m, got " + std::to_string(c.tolerance));
+  c.scale = map.Double("scale");
+  if (!(c.scale > 0.0 && c.scale <= 1.0)) map.Fail("scale", "expected a factor in (0, 1], got " + std::to_string(c.scale));
+  const std::string center = map.String("scale_center");
+  if (center == "centroid") {
+    c.scale_center = ScaleCenter::kCentroid;
+  } else if (center == "hip") {
+    c.scale_center = ScaleCenter::kHip;
+  } else {
+    map.Fail("scale_center", "expected 'centroid' or 'hip', got '" + center + "'");
+  }
+  c.reject_self_collisions = map.Bool("reject_self_collisions");
+  map.RejectUnknownKeys();
+  return c;
+}
+
+RomGenerationConfig RomGenerationConfig::LoadFile(const std::string& path) { return Load(YamlMap::LoadFile(path)); }
+
+std::vector<std::string> RomGenerationConfig::Describe() const {
+  std::ostringstream scale_text;
+  scale_text << scale;
+  std::ostringstream tolerance_text;
+  tolerance_text << tolerance;
+  return {"samples: " + std::to_string(samples),
+          "seed: " + std::to_string(seed),
+          "max_triangles: " + std::to_string(max_triangles),
+          "tolerance: " + tolerance_text.str(),
+          "scale: " + scale_text.str(),
+          std::string("scale_center: ") + (scale_center == ScaleCenter::kCentroid ? "centroid" : "hip"),
+          std::string("reject_self_collisions: ") + (reject_self_collisions ? "true" : "false")};
+}
+
+std::vector<Eigen::Vector3d> SampleFootPositions(const RobotModel& robot, Leg leg, const RomGenerationConfig& config,
+                                                 RomGenerationReport* report) {
+  // One generator per leg, derived from the seed and the leg, so each leg's shape depends only
+  // on its own parameters.
+  std::seed_seq seq{static_cast<std::uint32_t>(config.seed & 0xffffffffu), static_cast<std::uint32_t>(config.seed >> 32),
+                    static_cast<std::uint32_t>(Index(leg))};
+  std::mt19937_64 rng(seq);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const Eigen::Vector3d lo = robot.LegLowerBounds(leg);
+  const Eigen::Vector3d hi = robot.LegUpperBounds(leg);
+  std::unique_ptr<LegTrunkCollision> collision;
+  if (config.reject_self_collisions) collision = std::make_unique<LegTrunkCollision>(robot, leg);
+  std::vector<Eigen::Vector3d> feet;
+  feet.reserve(static_cast<std::size_t>(config.samples));
+  int rejected = 0;
+  for (int i = 0; i < config.samples; ++i) {
+    Eigen::Vector3d q;
+    for (int j = 0; j < 3; ++j) q[j] = lo[j] + unit(rng) * (hi[j] - lo[j]);
+    if (collision && collision->Collides(q)) {
+      ++rejected;
+      continue;
+    }
+    feet.push_back(robot.FootPosition(leg, q));
+  }
+  if (report != nullptr) {
+    report->accepted_samples = static_cast<int>(feet.size());
+    report->rejected_samples = rejected;
+  }
+  return feet;
+}
+
+ConvexPolytope GenerateRom(const RobotModel& robot, Leg leg, const RomGenerationConfig& config,
+                           RomGenerationReport* report) {
+  RomGenerationReport local;
+  const std::vector<Eigen::Vector3d> feet = SampleFootPositions(robot, leg, config, &local);
+  const ConvexPolytope full = ConvexHull(feet);
+  local.full_hull_triangles = static_cast<int>(full.triangles.size());
+  local.full_hull_volume = full.Volume();
+  const ConvexPolytope simplified = SimplifiedConvexHull(full.vertices, config.max_triangles, config.tolerance);
+  local.simplified_volume = simplified.Volume();
+  const Eigen::Vector3d center =
+      config.scale_center == RomGenerationConfig::ScaleCenter::kCentroid ? simplified.Centroid() : robot.HipPosition(leg);
+  if (report != nullptr) *report = local;
+  return simplified.Scaled(config.scale, center);
+}
+
+std::string RomPath(const std::string& folder, Leg leg) { return folder + "/" + std::string(LegName(leg)) + ".obj"; }
+
+std::array<ConvexPolytope, kNumLegs> LoadRoms(const std::string& folder) {
+  std::array<ConvexPolytope, kNumLegs> roms;
+  for (Leg leg : kAllLegs) roms[static_cast<std::size_t>(Index(leg))] = LoadConvexObj(RomPath(folder, leg));
+  return roms;
+}
+
+}  // namespace rbcp

@@ -1,0 +1,332 @@
+#include "rbcp/root_planner/root_planner.h"
+
+#include <ompl/base/PlannerTerminationCondition.h>
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/goals/GoalState.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include "kinodynamic_birrt.h"
+#include "rbcp/core/error.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/root_planner/rom.h"
+#include "rbcp/scenario/scenario.h"
+
+namespace rbcp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+
+std::string Text(double x) {
+  std::ostringstream os;
+  os << x;
+  return os.str();
+}
+
+AxisLimits LoadAxis(const YamlMap& map) {
+  AxisLimits axis;
+  axis.v_max = map.Double("v_max");
+  axis.a_max = map.Double("a_max");
+  map.RejectUnknownKeys();
+  return axis;
+}
+
+// The rest yaw that gives the yaw `yaw` at velocity v (the yaw model inverted): the direction r
+// with w v/|v| + (1 - w) e(r) parallel to e(yaw). When the speed is at or above the blend speed,
+// or no such r exists, the yaw itself.
+double RestYawFor(const YawModel& model, const Eigen::Vector3d& v, double yaw) {
+  const Eigen::Vector2d vxy = v.head<2>();
+  const double speed = vxy.norm();
+  const double x = std::min(1.0, speed / model.blend_speed);
+  const double w = x * x * (3.0 - 2.0 * x);
+  if (speed <= 0.0 || w >= 1.0) return WrapAngle(yaw);
+  const Eigen::Vector2d e(std::cos(yaw), std::sin(yaw));
+  const Eigen::Vector2d d = vxy / speed;
+  // |lambda e - w d| = 1 - w with lambda > 0.
+  const double c = e.dot(d);
+  const double disc = w * w * c * c - w * w + (1.0 - w) * (1.0 - w);
+  if (disc < 0.0) return WrapAngle(yaw);
+  const double lambda = w * c + std::sqrt(disc);
+  if (lambda <= 0.0) return WrapAngle(yaw);
+  const Eigen::Vector2d r = (lambda * e - w * d) / (1.0 - w);
+  return std::atan2(r.y(), r.x());
+}
+
+// Random shortcut: replaces the part between two grid times by one steered piece when that is
+// valid and shorter. The first attempt spans the whole path.
+RootPath Shortcut(RootPath path, const detail::KinodynamicMotionValidator& validator, int iterations,
+                  std::uint64_t seed, const ompl::base::PlannerTerminationCondition& ptc) {
+  std::mt19937_64 rng(seed);
+  const double h = validator.Settings().time_step;
+  for (int it = 0; it < iterations && !ptc(); ++it) {
+    const double T = path.Duration();
+    const long n = std::lround(T / h);
+    if (n < 2) break;
+    long a = 0;
+    long b = n;
+    if (it > 0) {
+      a = std::uniform_int_distribution<long>(0, n - 2)(rng);
+      b = std::uniform_int_distribution<long>(a + 2, n)(rng);
+    }
+    const double t1 = static_cast<double>(a) * h;
+    const double t2 = b == n ? T : static_cast<double>(b) * h;
+    const RootPathSample s1 = path.Sample(t1);
+    const RootPathSample s2 = path.Sample(t2);
+    auto piece = validator.Steer(PointState{s1.p, s1.v}, s1.rest_yaw, PointState{s2.p, s2.v}, s2.rest_yaw);
+    if (!piece || piece->Duration() >= (t2 - t1) - 0.5 * h) continue;
+    if (!validator.IsValid(*piece)) continue;
+    RootPath shorter(path.Yaw());
+    const RootPath before = path.Part(0.0, t1);
+    const RootPath after = path.Part(t2, T);
+    for (const auto& s : before.Segments()) shorter.Append(s);
+    if (piece->Duration() > 0.0) shorter.Append(*piece);
+    for (const auto& s : after.Segments()) shorter.Append(s);
+    path = std::move(shorter);
+  }
+  return path;
+}
+
+}  // namespace
+
+std::string ToString(RootPlanStatus status) {
+  switch (status) {
+    case RootPlanStatus::kOk: return "ok";
+    case RootPlanStatus::kStartInvalid: return "start_invalid";
+    case RootPlanStatus::kGoalInvalid: return "goal_invalid";
+    case RootPlanStatus::kTimeout: return "timeout";
+  }
+  return "unknown";
+}
+
+RootPlannerConfig RootPlannerConfig::Load(const YamlMap& map, const std::string& config_dir) {
+  RootPlannerConfig c;
+  c.rom_folder = map.String("rom_folder");
+  c.trunk = TrunkShapeConfig::Load(map.Map("trunk"));
+  c.surface_depth = map.Double("surface_depth");
+  const YamlMap limits = map.Map("limits");
+  c.limits.horizontal = LoadAxis(limits.Map("horizontal"));
+  c.limits.vertical = LoadAxis(limits.Map("vertical"));
+  limits.RejectUnknownKeys();
+  c.yaw.blend_speed = map.Double("yaw_blend_speed");
+  c.max_yaw_rate = map.Double("max_yaw_rate");
+  c.time_step = map.Double("time_step");
+  c.validation_substeps = map.Int("validation_substeps");
+  const YamlMap sampler = map.Map("sampler");
+  c.area_weighted_probability = sampler.Double("area_weighted_probability");
+  const Eigen::Vector2d offsets = sampler.Vector2("height_offset");
+  c.height_offset_min = offsets[0];
+  c.height_offset_max = offsets[1];
+  c.zero_velocity_probability = sampler.Double("zero_velocity_probability");
+  c.sample_attempts = sampler.Int("attempts");
+  c.repair_moves = sampler.Int("repair_moves");
+  c.repair_step = sampler.Double("repair_step");
+  c.bounds_margin = sampler.Double("bounds_margin");
+  sampler.RejectUnknownKeys();
+  c.shortcut_iterations = map.Int("shortcut_iterations");
+  c.max_piece_duration = map.Double("max_piece_duration");
+  map.RejectUnknownKeys();
+  const std::string problem = c.Problem();
+  if (!problem.empty()) map.Fail("", problem);
+  const std::string folder = (!c.rom_folder.empty() && c.rom_folder[0] == '/') ? c.rom_folder : config_dir + "/" + c.rom_folder;
+  c.roms = LoadRoms(folder);
+  return c;
+}
+
+RootPlannerConfig RootPlannerConfig::LoadFile(const std::string& path, const std::string& config_dir) {
+  return Load(YamlMap::LoadFile(path), config_dir);
+}
+
+std::string RootPlannerConfig::Problem() const {
+  const std::string trunk_problem = trunk.Problem();
+  if (!trunk_problem.empty()) return "trunk: " + trunk_problem;
+  if (!(surface_depth > 0.0)) return "'surface_depth': expected a depth > 0 m, got " + Text(surface_depth);
+  if (!(limits.horizontal.v_max > 0.0 && limits.horizontal.a_max > 0.0)) {
+    return "'limits.horizontal': expected v_max > 0 and a_max > 0, got " + Text(limits.horizontal.v_max) + ", " +
+           Text(limits.horizontal.a_max);
+  }
+  if (!(limits.vertical.v_max >= 0.0 && limits.vertical.a_max >= 0.0) ||
+      (limits.vertical.a_max > 0.0) != (limits.vertical.v_max > 0.0)) {
+    return "'limits.vertical': expected v_max, a_max both > 0 (z moves) or both 0 (z fixed), got " +
+           Text(limits.vertical.v_max) + ", " + Text(limits.vertical.a_max);
+  }
+  if (!(yaw.blend_speed > 0.0)) return "'yaw_blend_speed': expected a speed > 0 m/s, got " + Text(yaw.blend_speed);
+  if (!(max_yaw_rate > 0.0)) return "'max_yaw_rate': expected a rate > 0 rad/s, got " + Text(max_yaw_rate);
+  if (!(time_step > 0.0)) return "'time_step': expected a duration > 0 s, got " + Text(time_step);
+  if (validation_substeps < 1) return "'validation_substeps': expected at least 1, got " + std::to_string(validation_substeps);
+  if (!(area_weighted_probability >= 0.0 && area_weighted_probability <= 1.0)) {
+    return "'sampler.area_weighted_probability': expected a probability in [0, 1], got " + Text(area_weighted_probability);
+  }
+  if (!(height_offset_min <= height_offset_max)) {
+    return "'sampler.height_offset': expected [min, max] with min <= max, got [" + Text(height_offset_min) + ", " +
+           Text(height_offset_max) + "]";
+  }
+  if (!(zero_velocity_probability >= 0.0 && zero_velocity_probability <= 1.0)) {
+    return "'sampler.zero_velocity_probability': expected a probability in [0, 1], got " + Text(zero_velocity_probability);
+  }
+  if (sample_attempts < 1) return "'sampler.attempts': expected at least 1, got " + std::to_string(sample_attempts);
+  if (repair_moves < 0) return "'sampler.repair_moves': expected at least 0, got " + std::to_string(repair_moves);
+  if (!(repair_step > 0.0)) return "'sampler.repair_step': expected a length > 0 m, got " + Text(repair_step);
+  if (!(bounds_margin >= 0.0)) return "'sampler.bounds_margin': expected a length >= 0 m, got " + Text(bounds_margin);
+  if (shortcut_iterations < 0) return "'shortcut_iterations': expected at least 0, got " + std::to_string(shortcut_iterations);
+  if (!(max_piece_duration > time_step)) {
+    return "'max_piece_duration': expected more than time_step, got " + Text(max_piece_duration);
+  }
+  return "";
+}
+
+RootPlanner::RootPlanner(const RobotModel& robot, RootPlannerConfig config)
+    : config_(std::move(config)), nominal_base_height_(robot.NominalBaseHeight()) {
+  const std::string problem = config_.Problem();
+  if (!problem.empty()) throw InputError("root planner config: " + problem);
+  for (const auto& rom : config_.roms) {
+    if (rom.triangles.size() < 4) throw InputError("root planner config: expected four leg ROMs, got an empty shape");
+  }
+  trunk_ = MakeTrunkShape(config_.trunk);
+}
+
+std::optional<Eigen::Vector3d> RootPlanner::StandingPosition(const TriangleMesh& terrain, const Eigen::Vector2d& xy) const {
+  const std::optional<double> height = TerrainHeightAt(terrain, xy);
+  if (!height) return std::nullopt;
+  return Eigen::Vector3d(xy.x(), xy.y(), *height + nominal_base_height_);
+}
+
+ReachabilityChecker RootPlanner::MakeChecker(const TriangleMesh& terrain,
+                                             const std::vector<AffordanceSurface>& surfaces) const {
+  return ReachabilityChecker(terrain, surfaces, config_.roms, trunk_, config_.surface_depth);
+}
+
+RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
+                                 const Eigen::Vector3d& start_W, double start_yaw, const Eigen::Vector3d& goal_W,
+                                 double goal_yaw, unsigned seed, double time_budget_s) const {
+  RootPlanRequest request;
+  request.start.p = start_W;
+  request.start_yaw = start_yaw;
+  request.goal = goal_W;
+  request.goal_yaw = goal_yaw;
+  request.seed = seed;
+  request.time_budget_s = time_budget_s;
+  return Plan(terrain, surfaces, request);
+}
+
+RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
+                                 const RootPlanRequest& request) const {
+  namespace ob = ompl::base;
+  const Clock::time_point t0 = Clock::now();
+  if (!request.start.p.allFinite() || !request.start.v.allFinite() || !request.goal.allFinite() ||
+      !std::isfinite(request.start_yaw) || !std::isfinite(request.goal_yaw)) {
+    throw InputError("root plan request: expected finite start and goal, got a non-finite value");
+  }
+  if (!(request.time_budget_s > 0.0)) {
+    throw InputError("root plan request: expected a time budget > 0 s, got " + Text(request.time_budget_s));
+  }
+  RootPlanResult result;
+  auto done = [&](RootPlanStatus status, std::string reason) {
+    result.status = status;
+    result.reason = std::move(reason);
+    result.planning_time_s = Seconds(t0);
+    return result;
+  };
+
+  const KinodynamicLimits& limits = config_.limits;
+  PointState start = request.start;
+  PointState goal{request.goal, Eigen::Vector3d::Zero()};
+  if (limits.VerticalFixed()) goal.p.z() = start.p.z();
+  for (int i = 0; i < 3; ++i) {
+    const double v_max = limits.VerticalFixed() && i == 2 ? 0.0 : limits.Axis(i).v_max;
+    if (std::abs(start.v[i]) > v_max + 1e-9) {
+      return done(RootPlanStatus::kStartInvalid, "start velocity " + Text(start.v[i]) + " m/s along axis " +
+                                                     std::to_string(i) + " exceeds the bound " + Text(v_max) + " m/s");
+    }
+  }
+  if (surfaces.empty()) return done(RootPlanStatus::kStartInvalid, "no contact surfaces");
+
+  ReachabilityChecker checker = MakeChecker(terrain, surfaces);
+  const double rest_start = RestYawFor(config_.yaw, start.v, request.start_yaw);
+  const double rest_goal = WrapAngle(request.goal_yaw);
+  const ReachabilityReport start_report = checker.Check(start.p, config_.yaw.Yaw(start.v.head<2>(), rest_start));
+  if (!start_report.Valid()) return done(RootPlanStatus::kStartInvalid, "start: " + start_report.Reason());
+  const ReachabilityReport goal_report = checker.Check(goal.p, rest_goal);
+  if (!goal_report.Valid()) return done(RootPlanStatus::kGoalInvalid, "goal: " + goal_report.Reason());
+
+  // OMPL problem: the state space bounds cover the surfaces (raised to standing height), the
+  // start and the goal, with a margin.
+  Eigen::Vector3d lo = start.p.cwiseMin(goal.p);
+  Eigen::Vector3d hi = start.p.cwiseMax(goal.p);
+  for (const auto& s : surfaces) {
+    for (const auto& v : s.vertices) {
+      const Eigen::Vector3d raised = v + Eigen::Vector3d(0.0, 0.0, nominal_base_height_);
+      lo = lo.cwiseMin(raised + Eigen::Vector3d(0.0, 0.0, config_.height_offset_min));
+      hi = hi.cwiseMax(raised + Eigen::Vector3d(0.0, 0.0, config_.height_offset_max));
+    }
+  }
+  lo -= Eigen::Vector3d::Constant(config_.bounds_margin);
+  hi += Eigen::Vector3d::Constant(config_.bounds_margin);
+  auto space = std::make_shared<detail::RootStateSpace>(limits);
+  space->SetPositionBounds(lo, hi);
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  auto validity = std::make_shared<detail::ReachabilityValidityChecker>(si, &checker, config_.yaw);
+  si->setStateValidityChecker(validity);
+  detail::SteeringSettings steering{limits, config_.yaw, config_.time_step, config_.validation_substeps,
+                                    config_.max_piece_duration, config_.max_yaw_rate};
+  auto validator = std::make_shared<detail::KinodynamicMotionValidator>(si, validity.get(), steering);
+  si->setMotionValidator(validator);
+  si->setup();
+
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+  ob::ScopedState<> start_state(si);
+  detail::RootStateSpace::Set(start_state.get(), start, rest_start);
+  ob::ScopedState<> goal_state(si);
+  detail::RootStateSpace::Set(goal_state.get(), goal, rest_goal);
+  pdef->addStartState(start_state);
+  auto goal_region = std::make_shared<ob::GoalState>(si);
+  goal_region->setState(goal_state);
+  goal_region->setThreshold(1e-6);
+  pdef->setGoal(goal_region);
+
+  detail::SamplerSettings sampler;
+  sampler.standing_height = nominal_base_height_;
+  sampler.area_weighted_probability = config_.area_weighted_probability;
+  sampler.height_offset_min = config_.height_offset_min;
+  sampler.height_offset_max = config_.height_offset_max;
+  sampler.zero_velocity_probability = config_.zero_velocity_probability;
+  sampler.attempts = config_.sample_attempts;
+  sampler.repair_moves = config_.repair_moves;
+  sampler.repair_step = config_.repair_step;
+  sampler.rest_yaw = rest_start;
+  sampler.vertical_fixed = limits.VerticalFixed();
+  sampler.fixed_height = start.p.z();
+  auto planner = std::make_shared<detail::KinodynamicBiRrt>(si, validator.get(), sampler, &surfaces, validity.get(),
+                                                            &checker, request.seed);
+  planner->setProblemDefinition(pdef);
+  planner->setup();
+
+  const double remaining = request.time_budget_s - Seconds(t0);
+  const ob::PlannerTerminationCondition ptc = ob::timedPlannerTerminationCondition(std::max(0.0, remaining));
+  const Clock::time_point search_start = Clock::now();
+  const ob::PlannerStatus status = planner->solve(ptc);
+  result.search_time_s = Seconds(search_start);
+  result.iterations = planner->Stats().iterations;
+  result.tree_states = planner->Stats().start_tree_states + planner->Stats().goal_tree_states;
+  if (status != ob::PlannerStatus::EXACT_SOLUTION || !pdef->hasExactSolution()) {
+    result.validity_checks = checker.Queries();
+    return done(RootPlanStatus::kTimeout, "no path found within the time budget of " + Text(request.time_budget_s) +
+                                              " s (" + std::to_string(result.iterations) + " iterations, " +
+                                              std::to_string(result.tree_states) + " tree states)");
+  }
+  const auto* found = pdef->getSolutionPath()->as<detail::RootTrajectoryPath>();
+  result.duration_before_shortcut_s = found->Path().Duration();
+  result.path = Shortcut(found->Path(), *validator, config_.shortcut_iterations,
+                         static_cast<std::uint64_t>(request.seed) * 0x9E3779B97F4A7C15ULL + 1, ptc);
+  result.samples = result.path.SampleEvery(config_.time_step);
+  result.validity_checks = checker.Queries();
+  return done(RootPlanStatus::kOk, "");
+}
+
+}  // namespace rbcp

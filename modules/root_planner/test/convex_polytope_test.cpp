@@ -1,0 +1,140 @@
+#include "rbcp/root_planner/convex_polytope.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+#include "rbcp/core/error.h"
+#include "rbcp/root_planner/trunk_shape.h"
+
+namespace rbcp {
+namespace {
+
+std::vector<Eigen::Vector3d> CubeCorners(double side, const Eigen::Vector3d& center) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 8; ++i) {
+    points.push_back(center + 0.5 * side * Eigen::Vector3d((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1));
+  }
+  return points;
+}
+
+void ExpectOutwardAndConvex(const ConvexPolytope& poly) {
+  const Eigen::Vector3d c = poly.Centroid();
+  EXPECT_LT(poly.PlaneDistance(c), 0.0);
+  for (const auto& t : poly.triangles) {
+    const Eigen::Vector3d& a = poly.vertices[static_cast<std::size_t>(t[0])];
+    const Eigen::Vector3d n =
+        (poly.vertices[static_cast<std::size_t>(t[1])] - a).cross(poly.vertices[static_cast<std::size_t>(t[2])] - a);
+    EXPECT_GT(n.dot(a - c), 0.0);
+    for (const auto& v : poly.vertices) EXPECT_LE(n.normalized().dot(v - a), 1e-9);
+  }
+}
+
+TEST(ConvexHullTest, CubeWithInteriorPoints) {
+  auto points = CubeCorners(2.0, {1.0, -1.0, 0.5});
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u(-0.9, 0.9);
+  for (int i = 0; i < 100; ++i) points.push_back(Eigen::Vector3d(1.0, -1.0, 0.5) + Eigen::Vector3d(u(rng), u(rng), u(rng)));
+  const ConvexPolytope hull = ConvexHull(points);
+  EXPECT_EQ(hull.vertices.size(), 8u);
+  EXPECT_EQ(hull.triangles.size(), 12u);
+  EXPECT_NEAR(hull.Volume(), 8.0, 1e-12);
+  EXPECT_TRUE(hull.Centroid().isApprox(Eigen::Vector3d(1.0, -1.0, 0.5), 1e-12));
+  ExpectOutwardAndConvex(hull);
+  const auto [lo, hi] = hull.Bounds();
+  EXPECT_TRUE(lo.isApprox(Eigen::Vector3d(0.0, -2.0, -0.5)));
+  EXPECT_TRUE(hi.isApprox(Eigen::Vector3d(2.0, 0.0, 1.5)));
+  const ConvexPolytope half = hull.Scaled(0.5, hull.Centroid());
+  EXPECT_NEAR(half.Volume(), 1.0, 1e-12);
+}
+
+TEST(ConvexHullTest, RejectsFlatOrTooFewPoints) {
+  EXPECT_THROW(ConvexHull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), InputError);
+  EXPECT_THROW(ConvexHull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.5, 0}}), InputError);
+}
+
+TEST(SimplifiedConvexHullTest, BoundedTrianglesInsideTheFullHull) {
+  std::mt19937_64 rng(2);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d d(n(rng), n(rng), n(rng));
+    points.push_back(d.normalized().cwiseProduct(Eigen::Vector3d(0.5, 0.3, 0.4)));
+  }
+  const ConvexPolytope full = ConvexHull(points);
+  ASSERT_GT(full.triangles.size(), 1000u);
+  const ConvexPolytope simple = SimplifiedConvexHull(points, 200, 0.0);
+  EXPECT_LE(simple.triangles.size(), 200u);
+  EXPECT_GE(simple.triangles.size(), 150u);
+  ExpectOutwardAndConvex(simple);
+  // An inner approximation made of input points, close in volume.
+  for (const auto& v : simple.vertices) EXPECT_LE(full.PlaneDistance(v), 1e-9);
+  EXPECT_LE(simple.Volume(), full.Volume());
+  EXPECT_GT(simple.Volume(), 0.9 * full.Volume());
+  // A loose tolerance stops earlier.
+  const ConvexPolytope coarse = SimplifiedConvexHull(points, 200, 0.05);
+  EXPECT_LT(coarse.triangles.size(), simple.triangles.size());
+  for (const auto& p : points) EXPECT_LE(coarse.PlaneDistance(p), 0.05 + 1e-9);
+  // Deterministic.
+  const ConvexPolytope again = SimplifiedConvexHull(points, 200, 0.0);
+  ASSERT_EQ(again.vertices.size(), simple.vertices.size());
+  for (std::size_t i = 0; i < again.vertices.size(); ++i) EXPECT_EQ(again.vertices[i], simple.vertices[i]);
+}
+
+TEST(ObjTest, RoundTripAndValidation) {
+  const ConvexPolytope hull = ConvexHull(CubeCorners(0.3, {0.1, 0.2, -0.3}));
+  const std::string path = ::testing::TempDir() + "/rbcp_cube.obj";
+  SaveObj(hull, path, {"a cube", "second line"});
+  const ConvexPolytope loaded = LoadConvexObj(path);
+  ASSERT_EQ(loaded.vertices.size(), hull.vertices.size());
+  ASSERT_EQ(loaded.triangles, hull.triangles);
+  for (std::size_t i = 0; i < hull.vertices.size(); ++i) EXPECT_EQ(loaded.vertices[i], hull.vertices[i]);
+
+  // A face turned inside out is not a convex polytope with outward faces.
+  ConvexPolytope flipped = hull;
+  std::swap(flipped.triangles[0][1], flipped.triangles[0][2]);
+  SaveObj(flipped, path);
+  EXPECT_THROW(LoadConvexObj(path), InputError);
+  {
+    std::ofstream bad(path);
+    bad << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n";
+  }
+  EXPECT_THROW(LoadConvexObj(path), InputError);
+  {
+    std::ofstream bad(path);
+    bad << "v 0 0 zero\n";
+  }
+  EXPECT_THROW(LoadConvexObj(path), InputError);
+  std::remove(path.c_str());
+  EXPECT_THROW(LoadConvexObj(path), InputError);
+}
+
+TEST(TrunkShapeTest, BoxWithKeel) {
+  const TrunkShapeConfig config;
+  const ConvexPolytope trunk = MakeTrunkShape(config);
+  EXPECT_EQ(trunk.vertices.size(), 12u);
+  const auto [lo, hi] = trunk.Bounds();
+  EXPECT_NEAR(lo.z(), -0.325, 1e-12);
+  EXPECT_NEAR(hi.z(), 0.24, 1e-12);
+  EXPECT_NEAR(lo.x(), -0.30, 1e-12);
+  EXPECT_NEAR(hi.y(), 0.165, 1e-12);
+  // Box volume plus the trapezoidal keel prism: (0.6 + 0.1) / 2 * 0.175 * 0.33.
+  EXPECT_NEAR(trunk.Volume(), 0.6 * 0.33 * 0.39 + 0.5 * (0.6 + 0.1) * 0.175 * 0.33, 1e-12);
+  // The keel bottom is flat over x in [-0.05, 0.05]; under the front the box bottom is at -0.15.
+  EXPECT_LE(trunk.PlaneDistance({0.0, 0.0, -0.32}), 0.0);
+  EXPECT_GT(trunk.PlaneDistance({0.28, 0.0, -0.2}), 0.0);
+  EXPECT_LE(trunk.PlaneDistance({0.28, 0.0, -0.14}), 0.0);
+  ExpectOutwardAndConvex(trunk);
+
+  TrunkShapeConfig bad = config;
+  bad.keel_bottom_z = -0.1;
+  EXPECT_FALSE(bad.Problem().empty());
+  bad = config;
+  bad.box_max.y() = -0.2;
+  EXPECT_FALSE(bad.Problem().empty());
+}
+
+}  // namespace
+}  // namespace rbcp

@@ -1,0 +1,208 @@
+#include "rbcp/root_planner/root_planner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/error.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/scenario/scenario.h"
+#include "test_terrains.h"
+
+namespace rbcp {
+namespace {
+
+using test::kConfigDir;
+
+const RobotModel& Robot() {
+  static const RobotModel robot = RobotModel::LoadDefault(kConfigDir);
+  return robot;
+}
+
+const RootPlannerConfig& DefaultConfig() {
+  static const RootPlannerConfig config = RootPlannerConfig::LoadFile(kConfigDir + "/root_planner.yaml", kConfigDir);
+  return config;
+}
+
+// Checks a found path: it starts and ends at the requested states, respects the bounds, and
+// every sample (every time_step) satisfies the reachability condition.
+void ExpectSoundPath(const RootPlanner& planner, const TriangleMesh& terrain,
+                     const std::vector<AffordanceSurface>& surfaces, const RootPlanResult& result,
+                     const Eigen::Vector3d& start, double start_yaw, const Eigen::Vector3d& goal, double goal_yaw) {
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_TRUE(result.reason.empty());
+  ASSERT_GE(result.samples.size(), 2u);
+  const RootPlannerConfig& config = planner.config();
+  const auto& first = result.samples.front();
+  const auto& last = result.samples.back();
+  EXPECT_LT((first.p - start).norm(), 1e-9);
+  EXPECT_LT(first.v.norm(), 1e-9);
+  EXPECT_NEAR(WrapAngle(first.yaw - start_yaw), 0.0, 1e-9);
+  EXPECT_LT((last.p - goal).norm(), 1e-6);
+  EXPECT_LT(last.v.norm(), 1e-6);
+  EXPECT_NEAR(WrapAngle(last.yaw - goal_yaw), 0.0, 1e-6);
+  EXPECT_NEAR(last.t, result.path.Duration(), 1e-9);
+  EXPECT_LE(result.path.Duration(), result.duration_before_shortcut_s + 1e-9);
+  ReachabilityChecker checker = planner.MakeChecker(terrain, surfaces);
+  for (std::size_t i = 0; i < result.samples.size(); ++i) {
+    const RootPathSample& s = result.samples[i];
+    if (i > 0 && i + 1 < result.samples.size()) {
+      EXPECT_NEAR(s.t - result.samples[i - 1].t, config.time_step, 1e-9);
+    }
+    if (i > 0) {
+      EXPECT_LE(std::abs(WrapAngle(s.yaw - result.samples[i - 1].yaw)),
+                config.max_yaw_rate * (s.t - result.samples[i - 1].t) + 1e-9);
+    }
+    const ReachabilityReport report = checker.Check(s.p, s.yaw);
+    EXPECT_TRUE(report.Valid()) << "t " << s.t << ": " << report.Reason();
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_LE(std::abs(s.v[k]), config.limits.Axis(k).v_max + 1e-9);
+      EXPECT_LE(std::abs(s.a[k]), config.limits.Axis(k).a_max + 1e-9);
+    }
+  }
+  // The velocity is the derivative of the position (no jumps between pieces).
+  const auto fine = result.path.SampleEvery(0.01);
+  for (std::size_t i = 1; i < fine.size(); ++i) {
+    const double dt = fine[i].t - fine[i - 1].t;
+    EXPECT_LT((fine[i].p - fine[i - 1].p - 0.5 * dt * (fine[i].v + fine[i - 1].v)).norm(), 0.5 * dt * dt * 2.0 * 5.0 + 1e-9);
+    EXPECT_LT((fine[i].v - fine[i - 1].v).norm(), dt * 5.2 + 1e-9);
+  }
+}
+
+TEST(RootPlannerConfigTest, LoadsTheCommittedFileStrictly) {
+  const RootPlannerConfig& config = DefaultConfig();
+  EXPECT_EQ(config.limits.horizontal.v_max, 0.3);
+  EXPECT_EQ(config.limits.horizontal.a_max, 1.0);
+  EXPECT_EQ(config.time_step, 0.05);
+  EXPECT_EQ(config.trunk.keel_bottom_z, -0.325);
+  for (const auto& rom : config.roms) EXPECT_GT(rom.Volume(), 0.1);
+  YAML::Node node = YAML::LoadFile(kConfigDir + "/root_planner.yaml");
+  node["unexpected"] = 1;
+  EXPECT_THROW(RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir), InputError);
+  node = YAML::LoadFile(kConfigDir + "/root_planner.yaml");
+  node["time_step"] = -0.05;
+  EXPECT_THROW(RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir), InputError);
+  node = YAML::LoadFile(kConfigDir + "/root_planner.yaml");
+  node["rom_folder"] = "no/such/folder";
+  EXPECT_THROW(RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir), InputError);
+  node = YAML::LoadFile(kConfigDir + "/root_planner.yaml");
+  node["limits"]["vertical"]["a_max"] = 0.0;
+  EXPECT_THROW(RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir), InputError);
+  node["limits"]["vertical"]["v_max"] = 0.0;
+  EXPECT_TRUE(RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir).limits.VerticalFixed());
+}
+
+struct ScenarioCase {
+  Scenario scenario;
+  std::vector<AffordanceSurface> surfaces;
+  Eigen::Vector3d start;
+  Eigen::Vector3d goal;
+};
+
+ScenarioCase LoadCase(const std::string& name, const RootPlanner& planner) {
+  ScenarioCase c;
+  c.scenario = LoadScenario(kConfigDir + "/scenarios/" + name + ".yaml");
+  AffordanceExtractor extractor(AffordanceConfig::LoadFile(kConfigDir + "/affordance.yaml"));
+  c.surfaces = extractor.Extract(c.scenario.terrain_mesh);
+  c.start = *planner.StandingPosition(c.scenario.terrain_mesh, c.scenario.start.position);
+  c.goal = *planner.StandingPosition(c.scenario.terrain_mesh, c.scenario.goal.position);
+  return c;
+}
+
+class ScenarioPlanningTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ScenarioPlanningTest, FindsSoundPathsForSeveralSeeds) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const ScenarioCase c = LoadCase(GetParam(), planner);
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const RootPlanResult result = planner.Plan(c.scenario.terrain_mesh, c.surfaces, c.start, c.scenario.start.yaw,
+                                               c.goal, c.scenario.goal.yaw, seed, 20.0);
+    ExpectSoundPath(planner, c.scenario.terrain_mesh, c.surfaces, result, c.start, c.scenario.start.yaw, c.goal,
+                    c.scenario.goal.yaw);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BenchmarkScenarios, ScenarioPlanningTest,
+                         ::testing::Values("flat_ground", "slalom_debris", "plinth", "darpa_rubble"));
+
+TEST(RootPlannerTest, SameSeedSamePath) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const ScenarioCase c = LoadCase("darpa_rubble", planner);
+  const RootPlanResult a = planner.Plan(c.scenario.terrain_mesh, c.surfaces, c.start, 0.0, c.goal, 0.0, 42, 20.0);
+  const RootPlanResult b = planner.Plan(c.scenario.terrain_mesh, c.surfaces, c.start, 0.0, c.goal, 0.0, 42, 20.0);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a.iterations, b.iterations);
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  for (std::size_t i = 0; i < a.samples.size(); ++i) {
+    EXPECT_EQ(a.samples[i].p, b.samples[i].p);
+    EXPECT_EQ(a.samples[i].v, b.samples[i].v);
+    EXPECT_EQ(a.samples[i].yaw, b.samples[i].yaw);
+  }
+}
+
+TEST(RootPlannerTest, TurnsFromTheStartYawToTheGoalYawWithoutJumps) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms ground = test::MakePlatforms({{-2.0, 3.0}});
+  const Eigen::Vector3d start(0.0, 0.0, Robot().NominalBaseHeight());
+  const Eigen::Vector3d goal(1.0, 0.5, Robot().NominalBaseHeight());
+  const RootPlanResult result = planner.Plan(ground.terrain, ground.surfaces, start, 1.0, goal, -2.0, 5, 20.0);
+  ExpectSoundPath(planner, ground.terrain, ground.surfaces, result, start, 1.0, goal, -2.0);
+  // Between the validation samples the yaw rate stays moderate too (no swing round).
+  const auto fine = result.path.SampleEvery(0.001);
+  for (std::size_t i = 1; i < fine.size(); ++i) {
+    EXPECT_LT(std::abs(WrapAngle(fine[i].yaw - fine[i - 1].yaw)), 0.03) << fine[i].t;
+  }
+}
+
+TEST(RootPlannerTest, IslandBeyondAWidePitHasNoPath) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  // Ground x in [-3, 0], a 1.5 m pit, an island x in [1.5, 3].
+  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const double h = Robot().NominalBaseHeight();
+  const RootPlanResult result =
+      planner.Plan(world.terrain, world.surfaces, {-1.0, 0.0, h}, 0.0, {2.2, 0.0, h}, 0.0, 1, 0.5);
+  EXPECT_EQ(result.status, RootPlanStatus::kTimeout);
+  EXPECT_NE(result.reason.find("no path"), std::string::npos) << result.reason;
+  EXPECT_TRUE(result.samples.empty());
+  EXPECT_GT(result.iterations, 0);
+}
+
+TEST(RootPlannerTest, InvalidStartOrGoalIsReported) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const double h = Robot().NominalBaseHeight();
+  // Goal above the middle of the pit: no leg reaches ground.
+  const RootPlanResult over_pit =
+      planner.Plan(world.terrain, world.surfaces, {-1.0, 0.0, h}, 0.0, {0.75, 0.0, h}, 0.0, 1, 1.0);
+  EXPECT_EQ(over_pit.status, RootPlanStatus::kGoalInvalid);
+  EXPECT_EQ(over_pit.reason, "goal: no contact surface in reach of LF, RF, LH, RH");
+  // Start sunk into the ground.
+  const RootPlanResult sunk = planner.Plan(world.terrain, world.surfaces, {-1.0, 0.0, 0.2}, 0.0, {-2.0, 0.0, h}, 0.0, 1, 1.0);
+  EXPECT_EQ(sunk.status, RootPlanStatus::kStartInvalid);
+  EXPECT_NE(sunk.reason.find("trunk collides"), std::string::npos) << sunk.reason;
+  EXPECT_EQ(ToString(sunk.status), "start_invalid");
+}
+
+TEST(RootPlannerTest, PlansFromAMovingStart) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms ground = test::MakePlatforms({{-2.0, 3.0}});
+  RootPlanRequest request;
+  request.start.p = {0.0, 0.0, Robot().NominalBaseHeight()};
+  request.start.v = {0.04, 0.01, 0.0};  // below the yaw blend speed: the yaw is free to differ from the heading
+  request.start_yaw = 0.1;
+  request.goal = {1.5, -0.3, Robot().NominalBaseHeight()};
+  request.goal_yaw = 0.0;
+  request.seed = 3;
+  request.time_budget_s = 20.0;
+  const RootPlanResult result = planner.Plan(ground.terrain, ground.surfaces, request);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_LT((result.samples.front().v - request.start.v).norm(), 1e-9);
+  EXPECT_NEAR(result.samples.front().yaw, 0.1, 1e-9);
+  request.start.v.x() = 0.5;
+  EXPECT_EQ(planner.Plan(ground.terrain, ground.surfaces, request).status, RootPlanStatus::kStartInvalid);
+}
+
+}  // namespace
+}  // namespace rbcp
