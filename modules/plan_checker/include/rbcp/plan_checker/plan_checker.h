@@ -1,0 +1,125 @@
+#pragma once
+/// An independent check of a contact plan against its scenario: it recomputes everything from
+/// the plan's states (base pose, joints, feet) with the robot model, the terrain, the contact
+/// surfaces, the static-equilibrium LPs and the collision checker, and trusts nothing the
+/// planner may have computed.
+///
+/// Checks, by name (PlanViolation::check), for state i:
+///  - "surface": every foot lies on a contact surface: within surface_tolerance of its plane,
+///    within surface_tolerance of its polygon in the plane, and its normal within
+///    normal_tolerance of the surface normal.
+///  - "one_leg": the first state has no moving leg; for i > 0 exactly one foot changes its
+///    contact from state i-1 (moves by more than contact_change_tolerance or changes its normal),
+///    and it is the state's moving_leg.
+///  - "joint_bounds": the joints lie within the planning bounds; for i > 0 the swing leg can also
+///    still reach its old foothold (inverse kinematics within the bounds) with the trunk at the
+///    pose of state i (see "support_margin").
+///  - "fk": forward kinematics of the joints at the base pose puts every foot contact point on the
+///    state's foot position within fk_tolerance.
+///  - "collision": no robot shape touches the terrain; the four feet stand on it and may sink in
+///    by the collision checker's foot tolerance.
+///  - "self_collision": no two robot shapes collide.
+///  - "stability": the robustness of static equilibrium on the four contacts at the whole-body
+///    CoM is at least robustness_threshold_N.
+///  - "torque": the static joint torques that hold the distributed contact forces (most even
+///    distribution, leg weight ignored) stay within torque_limit_Nm.
+///  - "support_margin": a step from state i-1 to state i is executed as: the trunk moves from
+///    the pose of state i-1 to the pose of state i with the four feet on the ground, then
+///    moving_leg swings from its old foothold to its new one. The CoM's ground projection must
+///    lie support_margin_m inside the support polygon of the three stance feet both at lift-off
+///    (trunk at pose i, swing leg still on its old foothold) and at touchdown (state i).
+
+#include <nlohmann/json.hpp>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/contact_plan.h"
+#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/equilibrium/config.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/scenario/scenario.h"
+
+namespace rbcp {
+
+/// Tolerances and limits of the plan checker.
+struct PlanCheckConfig {
+  /// A foot is on a surface when it is within this distance of the surface plane and within it
+  /// of the polygon in the plane [m].
+  double surface_tolerance = 1e-3;
+  /// Largest norm of the difference between a foot's normal and its surface's normal [-].
+  double normal_tolerance = 1e-3;
+  /// Largest distance between a foot position and the forward kinematics of the joints [m].
+  double fk_tolerance = 1e-4;
+  /// A foot that moves further than this between two states changes its contact [m].
+  double contact_change_tolerance = 1e-3;
+  /// Minimum robustness of static equilibrium on the four feet [N].
+  double robustness_threshold_N = std::numeric_limits<double>::quiet_NaN();
+  /// Minimum distance of the CoM's ground projection inside the stance triangle of a swing [m].
+  double support_margin_m = std::numeric_limits<double>::quiet_NaN();
+  /// Largest static joint torque [N m].
+  double torque_limit_Nm = std::numeric_limits<double>::quiet_NaN();
+  /// Friction cone model of the stability and torque checks (friction, generators per contact,
+  /// normal force slack). Its thresholds are not used: the two fields above are.
+  EquilibriumConfig equilibrium;
+  /// Terrain and self collision are checked only when set.
+  bool check_collision = true;
+  /// At most this many violations are kept in the report; all are counted.
+  int max_violations = 100;
+
+  /// The thresholds of the planners: robustness and support margin from `equilibrium`, the
+  /// robot's peak torque limit, the default tolerances above.
+  static PlanCheckConfig FromConfigs(const RobotModel& robot, const EquilibriumConfig& equilibrium);
+
+  /// Throws InputError naming the first missing or out-of-range field ("PlanCheckConfig:
+  /// 'torque_limit_Nm': expected a finite value > 0, got nan").
+  void Validate() const;
+};
+
+/// One failed check.
+struct PlanViolation {
+  int state = 0;       ///< index of the state in the plan
+  std::string check;   ///< "surface", "one_leg", "joint_bounds", "fk", "collision", "self_collision",
+                       ///< "stability", "torque" or "support_margin"
+  std::string detail;  ///< what was found, with the numbers and the limit
+};
+
+struct PlanCheckReport {
+  bool ok = false;                          ///< no violation
+  std::vector<PlanViolation> violations;    ///< by state, then in the order of the checks above;
+                                            ///< at most PlanCheckConfig::max_violations
+  int violation_count = 0;                  ///< all violations found, including those not kept
+  int states = 0;                           ///< states checked
+  /// Smallest robustness over the states [N] (+infinity for a plan without states; -infinity
+  /// when a stance cannot balance gravity at all).
+  double min_robustness_N = std::numeric_limits<double>::infinity();
+  /// Largest absolute static joint torque over the states whose forces could be distributed [N m].
+  double max_torque_Nm = 0.0;
+  /// Smallest CoM margin in a stance triangle over all swings [m] (+infinity without a swing).
+  double min_support_margin_m = std::numeric_limits<double>::infinity();
+
+  /// One line: "plan passes: 9 states, min robustness 14.2 N, ..." or "plan fails: 3
+  /// violations in 9 states (stability, torque); ...".
+  std::string Summary() const;
+};
+
+/// Checks every state of `plan` (see the file comment). `terrain` is the world-frame terrain
+/// mesh, `surfaces` its contact surfaces (AffordanceExtractor). Throws InputError for an invalid
+/// config, an empty plan or a state with non-finite numbers; every other problem is a violation.
+PlanCheckReport CheckPlan(const RobotModel& robot, const TriangleMesh& terrain,
+                          const std::vector<AffordanceSurface>& surfaces, const ContactPlan& plan,
+                          const PlanCheckConfig& config);
+
+/// CheckPlan with everything taken from a configuration folder, as check_plan does: the robot
+/// (robots/anymal_b.*), the surfaces extracted from the scenario's terrain with affordance.yaml,
+/// and PlanCheckConfig::FromConfigs with equilibrium.yaml. Throws InputError for bad files.
+PlanCheckReport CheckPlanForScenario(const std::string& config_dir, const Scenario& scenario,
+                                     const ContactPlan& plan);
+
+/// The report as JSON: {ok, states, violation_count, violations: [{state, check, detail}],
+/// min_robustness_N, max_torque_Nm, min_support_margin_m}; infinite values are written as null.
+nlohmann::json PlanCheckReportToJson(const PlanCheckReport& report);
+
+}  // namespace rbcp

@@ -1,0 +1,41 @@
+#pragma once
+/// The JSON form of a contact plan, as printed by plan_scenario and read by check_plan.
+///
+/// A plan is an array of states, world frame, metres and radians:
+/// @code
+/// [{"base": {"position": [x, y, z], "rpy": [roll, pitch, yaw]},
+///   "joints": [12 values: LF, RF, LH, RH x (HAA, HFE, KFE)],
+///   "feet": [{"leg": "LF", "position": [x, y, z], "normal": [x, y, z]}, ... one per leg],
+///   "moving_leg": "LF" | "RF" | "LH" | "RH" | null},   // null for the first state
+///  ...]
+/// @endcode
+/// A foot's position is its contact point on the surface and its normal the surface normal.
+/// Numbers are written with the shortest representation that reads back to the same double,
+/// so ContactPlanFromJson(ContactPlanToJson(plan)) reproduces the plan bit for bit.
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "rbcp/core/contact_plan.h"
+
+namespace rbcp {
+
+/// The plan as a JSON array of states; feet are written in the order LF, RF, LH, RH.
+/// Throws InputError when a state's moving_leg is neither -1 nor a leg index.
+nlohmann::json ContactPlanToJson(const ContactPlan& plan);
+
+/// Reads a JSON array of states strictly: every key above is required, no other key is accepted,
+/// numbers must be finite, each leg appears exactly once in "feet" (in any order). Throws
+/// InputError "state 3: 'joints': expected an array of 12 numbers, got an array of 11 elements".
+ContactPlan ContactPlanFromJson(const nlohmann::json& states);
+
+/// Reads either a bare array of states or an object holding the array under "states" (the
+/// output of plan_scenario; its other keys are ignored).
+ContactPlan ContactPlanFromJsonDocument(const nlohmann::json& document);
+
+/// Reads a JSON file ("-" = standard input) with ContactPlanFromJsonDocument. Throws InputError
+/// naming the file for an unreadable file, malformed JSON or a malformed plan.
+ContactPlan LoadContactPlanFile(const std::string& path);
+
+}  // namespace rbcp
