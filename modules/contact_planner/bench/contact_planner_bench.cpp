@@ -1,0 +1,121 @@
+// Contact planning time per scenario over 20 seeds. The root paths are planned once per scenario
+// and seed before timing; each benchmark iteration plans the contacts of every path. Counters:
+// successes (of the seeds with a root path), checked (successes whose plan passes the independent
+// plan checker, run outside the timed part), mean / median / max planning time [s], mean steps.
+// The limb database uses config/limb_database.yaml (50,000 samples per leg, cached on disk).
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/contact_planner/contact_planner.h"
+#include "rbcp/limb_database/limb_database.h"
+#include "rbcp/plan_checker/plan_checker.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/root_planner/root_planner.h"
+#include "rbcp/scenario/scenario.h"
+
+namespace {
+
+using namespace rbcp;
+
+const std::string kConfigDir = std::string(RBCP_SOURCE_DIR) + "/config";
+constexpr unsigned kSeeds = 20;
+
+const RobotModel& Robot() {
+  static const RobotModel robot = RobotModel::LoadDefault(kConfigDir);
+  return robot;
+}
+
+const LimbDatabase& Database() {
+  static const LimbDatabase db =
+      LimbDatabase::LoadOrBuild(Robot(), LimbDatabase::DefaultRobotFiles(kConfigDir),
+                                LimbDatabaseConfig::LoadFile(kConfigDir + "/limb_database.yaml"));
+  return db;
+}
+
+struct Prepared {
+  Scenario scenario;
+  std::vector<AffordanceSurface> surfaces;
+  std::vector<std::vector<RootPathSample>> paths;  ///< one per seed with a root path
+};
+
+const Prepared& Prepare(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<Prepared>> cache;
+  auto it = cache.find(name);
+  if (it != cache.end()) return *it->second;
+  auto p = std::make_unique<Prepared>();
+  p->scenario = LoadScenario(kConfigDir + "/scenarios/" + name + ".yaml");
+  AffordanceExtractor extractor(AffordanceConfig::Load(YamlMap::LoadFile(kConfigDir + "/affordance.yaml")));
+  p->surfaces = extractor.Extract(p->scenario.terrain_mesh);
+  const RootPlanner planner(Robot(), RootPlannerConfig::LoadFile(kConfigDir + "/root_planner.yaml", kConfigDir));
+  const auto start = planner.StandingPosition(p->scenario.terrain_mesh, p->scenario.start.position);
+  const auto goal = planner.StandingPosition(p->scenario.terrain_mesh, p->scenario.goal.position);
+  for (unsigned seed = 1; seed <= kSeeds && start && goal; ++seed) {
+    const RootPlanResult r = planner.Plan(p->scenario.terrain_mesh, p->surfaces, *start, p->scenario.start.yaw, *goal,
+                                          p->scenario.goal.yaw, seed, 20.0);
+    if (r.ok()) p->paths.push_back(r.path.SampleEvery(0.01));
+  }
+  return *cache.emplace(name, std::move(p)).first->second;
+}
+
+void BM_ContactPlan(benchmark::State& state, const std::string& name) {
+  const Prepared& prepared = Prepare(name);
+  ContactPlanner planner(Robot(), Database(), EquilibriumConfig::LoadFile(kConfigDir + "/equilibrium.yaml"),
+                         ContactPlannerConfig::LoadFile(kConfigDir + "/contact_planner.yaml"));
+  planner.SetTerrain(prepared.scenario.terrain_mesh, prepared.surfaces);
+  std::vector<double> times;
+  std::vector<ContactPlan> plans;
+  int successes = 0;
+  double steps = 0.0;
+  for (auto _ : state) {
+    times.clear();
+    plans.clear();
+    successes = 0;
+    steps = 0.0;
+    for (std::size_t i = 0; i < prepared.paths.size(); ++i) {
+      const ContactPlanResult r = planner.Plan(prepared.paths[i]);
+      times.push_back(r.planning_time_s);
+      if (r.ok) {
+        ++successes;
+        steps += r.steps;
+        plans.push_back(r.plan);
+      } else {
+        std::cerr << name << " path " << i << ": " << r.reason << "\n";
+      }
+    }
+  }
+  int checked = 0;
+  for (const ContactPlan& plan : plans) {
+    const PlanCheckReport report = CheckPlanForScenario(kConfigDir, prepared.scenario, plan);
+    if (report.ok) ++checked;
+    else std::cerr << name << ": " << report.Summary() << "\n";
+  }
+  std::vector<double> sorted = times;
+  std::sort(sorted.begin(), sorted.end());
+  double mean = 0.0;
+  for (double t : times) mean += t;
+  mean /= std::max<std::size_t>(1, times.size());
+  state.counters["root_paths"] = static_cast<double>(prepared.paths.size());
+  state.counters["successes"] = successes;
+  state.counters["checked"] = checked;
+  state.counters["mean_s"] = mean;
+  state.counters["median_s"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  state.counters["max_s"] = sorted.empty() ? 0.0 : sorted.back();
+  state.counters["mean_steps"] = successes > 0 ? steps / successes : 0.0;
+}
+
+BENCHMARK_CAPTURE(BM_ContactPlan, flat_ground, std::string("flat_ground"))->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_ContactPlan, slalom_debris, std::string("slalom_debris"))->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_ContactPlan, plinth, std::string("plinth"))->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_ContactPlan, darpa_rubble, std::string("darpa_rubble"))->Unit(benchmark::kMillisecond)->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();

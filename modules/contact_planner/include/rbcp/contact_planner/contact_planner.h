@@ -1,0 +1,156 @@
+#pragma once
+/// Contact planning along a root path (RB-PRM, Geisert et al. 2019, with explicit step limits,
+/// backtracking and executability checks).
+///
+/// The trunk follows the root path while the four feet are kept in place by leg inverse
+/// kinematics. A foot that can no longer be kept (no IK solution, joint bounds, collision, or
+/// outside the explicit workspace of ContactPlannerConfig::workspace) makes its leg step; when
+/// several fail together the one furthest outside its workspace (the most stretched) steps first,
+/// at the last path time at which all four could still be kept. The new foothold comes from the
+/// limb database: samples whose foot lies near the contact surfaces around a target (the leg's
+/// reference foot at the path pose lead_time_s ahead), ranked by distance to the target plus the
+/// offline score, projected onto the surface (closest point of the eroded polygon) and solved
+/// exactly by analytic IK. The first candidate that passes every test is taken:
+///  * joint bounds, workspace, minimum distance to the other feet;
+///  * no collision with the terrain (whole robot, stance feet allowed to touch) nor with itself;
+///  * static equilibrium of the new four-foot stance with the configured robustness (LP over
+///    linearised friction cones);
+///  * static joint torques (from the force distribution of the equilibrium LP) below the
+///    configured fraction of the actuator limit, for the four-foot stances before and after the
+///    step and for the three-foot stance of the swing;
+///  * during the swing, the CoM's ground projection at least support_margin_m inside the triangle
+///    of the three stance feet, with the swing leg both at lift-off and at touch-down.
+/// To meet the last test the base may be shifted horizontally off the path (at most
+/// max_base_shift_m); the shift is kept while the trunk advances. The shift search of a step
+/// starts from the current shift (the body stays where it is); when the step fails from there it
+/// is retried from the path pose, from lateral offsets and with the base lowered
+/// (base_shift.lateral_offsets_m, height_offsets_m).
+/// The path gives the base x and y, and its heading averaged over path_yaw_smoothing_s gives the
+/// base yaw (the start and goal headings are kept); with base_pose.follow_feet the base height,
+/// roll and pitch follow the plane through the stance feet (so the trunk pitches on stairs),
+/// otherwise the base is level at the path height. A state's base pose follows the feet before
+/// its step.
+///
+/// Between consecutive states the base moves in a straight line (position and yaw interpolated)
+/// with the previous state's four feet in place; intermediate poses are checked for kinematics
+/// and support. After a hind leg, the fore leg on the same side is tried first (crawl order). A
+/// step with no valid foothold is retried with other target lead times and shift starts, earlier
+/// on the path, with another leg, and then by undoing earlier steps (bounded); only then the
+/// planner fails, naming the path time and the leg. When a stance leg hits the terrain at
+/// lift-off (a riser, a wall), that leg is re-placed first.
+///
+/// At the path end every foot farther than goal_foot_tolerance_m from its reference position at
+/// the final pose is re-placed next to it, and the last state's base is at the path end (up to
+/// the body shift of its swing).
+///
+/// Output states: base pose, 12 joints, four feet (contact point on the surface and the surface
+/// normal). Joints put every foot contact point exactly on its contact (forward kinematics).
+/// Consecutive states differ by exactly one leg's contact.
+///
+/// Deterministic: the same inputs give the same plan. The wall clock is read only to report the
+/// planning time and to enforce the time budget.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/contact_planner/contact_planner_config.h"
+#include "rbcp/core/contact_plan.h"
+#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/equilibrium/config.h"
+#include "rbcp/root_planner/root_path.h"
+
+namespace rbcp {
+
+class RobotModel;
+class LimbDatabase;
+
+/// Why a query ended.
+enum class ContactPlanStatus {
+  kOk,              ///< plan found (to the goal, or the requested number of steps)
+  kInvalidInput,    ///< empty path, no terrain set, invalid current state
+  kNoStartStance,   ///< no valid standing stance at the path start
+  kNoFoothold,      ///< a step found no valid foothold after every retry
+  kTimeout,         ///< time budget exhausted
+};
+
+/// "ok", "invalid_input", "no_start_stance", "no_foothold", "timeout".
+std::string ToString(ContactPlanStatus status);
+
+/// Work done by one query.
+struct ContactPlanStats {
+  int keep_checks = 0;           ///< keep-in-place tests of a leg at a base pose
+  int step_attempts = 0;         ///< (leg, time, lead) combinations searched for a foothold
+  int candidates = 0;            ///< database candidates returned by the queries
+  int candidates_evaluated = 0;  ///< distinct projected footholds tested
+  int stability_evaluations = 0; ///< footholds that reached the equilibrium LPs
+  int backtracks = 0;            ///< steps undone
+};
+
+struct ContactPlanResult {
+  bool ok = false;
+  ContactPlanStatus status = ContactPlanStatus::kInvalidInput;
+  std::string reason;            ///< empty when ok; otherwise what failed, where and for which leg
+  double planning_time_s = 0.0;  ///< wall-clock time of the query [s]
+  int steps = 0;                 ///< plan.states.size() - 1 when ok
+  bool reached_goal = false;     ///< the plan ends at the path end with the feet at their goal
+  double failure_time_s = -1.0;  ///< path time [s] of the step that failed (-1 if none)
+  int failure_leg = -1;          ///< Index(Leg) of the leg that could not step (-1 if none)
+  ContactPlan plan;
+  ContactPlanStats stats;
+};
+
+/// Plans contact sequences for one robot over one terrain at a time. Holds the equilibrium LP
+/// workspace and the terrain collision structure, so queries are not const and an instance
+/// must not be shared between threads. The robot model and limb database must outlive it.
+class ContactPlanner {
+ public:
+  /// Throws InputError for an invalid configuration.
+  ContactPlanner(const RobotModel& robot, const LimbDatabase& database, const EquilibriumConfig& equilibrium,
+                 const ContactPlannerConfig& config);
+  ~ContactPlanner();
+  ContactPlanner(ContactPlanner&&) noexcept;
+  ContactPlanner& operator=(ContactPlanner&&) noexcept;
+  ContactPlanner(const ContactPlanner&) = delete;
+  ContactPlanner& operator=(const ContactPlanner&) = delete;
+
+  /// Sets the world: the terrain mesh (collision) and its contact surfaces (footholds). Builds
+  /// the collision structure. Throws InputError for an invalid mesh.
+  void SetTerrain(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces);
+
+  /// Plans from a standing stance at the path start to the path end. The path is given by its
+  /// samples (times increasing from 0 or any start time; positions and yaws are interpolated
+  /// linearly between them).
+  ContactPlanResult Plan(const std::vector<RootPathSample>& path);
+  /// Same, on a RootPath sampled every 0.01 s.
+  ContactPlanResult Plan(const RootPath& path);
+
+  /// Receding horizon: plans at most max_steps steps from `current` (a whole-body state with
+  /// four feet in contact) along `remaining_path` (whose first sample should be near the current
+  /// base). The plan's first state is `current` with its joints recomputed by IK at its base
+  /// pose (moving_leg -1). ok with reached_goal false when max_steps steps were planned before
+  /// the path end.
+  ContactPlanResult PlanHorizon(const WholeBodyState& current, const std::vector<RootPathSample>& remaining_path,
+                                int max_steps);
+
+  /// The standing stance at a base pose: for each leg, the best foothold near the reference foot
+  /// position below the hip; nullopt with *reason when none is valid. Requires SetTerrain().
+  std::optional<WholeBodyState> StandingStance(const Eigen::Vector3d& base_position_W, double yaw,
+                                               std::string* reason = nullptr);
+
+  const ContactPlannerConfig& Config() const;
+  const EquilibriumConfig& EquilibriumParameters() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Base pose of a state: translation base_position, rotation RotationFromRpy(base_rpy).
+Eigen::Isometry3d BasePose(const WholeBodyState& state);
+
+}  // namespace rbcp

@@ -1,0 +1,97 @@
+#pragma once
+/// Parameters of the contact planner (config/contact_planner.yaml). Stability thresholds
+/// (friction, robustness, support margin) are those of the EquilibriumConfig given alongside.
+
+#include <array>
+#include <string>
+
+#include "rbcp/core/yaml_reader.h"
+
+namespace rbcp {
+
+/// Explicit step limits: the region, relative to a leg's reference foot position in the base
+/// frame, in which a foot may stand. A stance foot that leaves it must step; a new foothold must
+/// lie inside it.
+struct FootWorkspace {
+  double max_forward_m = 0.15;   ///< [m] foot ahead of the reference (base +x)
+  double max_backward_m = 0.15;  ///< [m] foot behind it
+  double max_outward_m = 0.10;   ///< [m] foot further from the body's centre line (|y| larger)
+  double max_inward_m = 0.08;    ///< [m] foot closer to the centre line
+  double max_up_m = 0.22;        ///< [m] foot above the reference height (base +z)
+  double max_down_m = 0.12;      ///< [m] foot below it
+  double max_hip_distance_m = 0.36;  ///< [m] horizontal (base x-y) distance from the HAA joint to the foot
+};
+
+/// Foothold generation and ranking.
+struct FootholdConfig {
+  double query_distance_m = 0.03;  ///< [m] database samples whose foot is this close to a surface
+  double lead_time_s = 0.4;        ///< [s] target = reference foot at the path pose this far ahead
+  /// Lead-time multipliers tried in turn when a step finds no foothold (the first is the nominal).
+  std::array<double, 4> lead_time_factors = {1.0, 0.5, 0.0, 1.5};
+  /// [rad] the target pose is taken earlier when the path turns more than this within the lead
+  double max_lead_yaw_rad = 0.3;
+  double static_weight = 0.05;     ///< weight of the offline score [0, 1] in the ranking
+  double weight_x = 1.0;           ///< [1/m^2] target distance weights, target heading frame
+  double weight_y = 3.0;
+  double weight_z = 0.01;
+  double dedup_cell_m = 0.01;      ///< [m] projected footholds in one grid cell count once
+  double min_foot_separation_m = 0.10;  ///< [m] horizontal distance between any two footholds
+  int max_stability_evaluations = 80;   ///< candidates reaching the LP tests per step attempt
+};
+
+/// Body shift that puts the CoM inside the three-foot support triangle of a swing.
+struct BaseShiftConfig {
+  double max_base_shift_m = 0.12;      ///< [m] horizontal offset of the base from the path
+  double shift_extra_margin_m = 0.01;  ///< [m] aimed beyond the required support margin
+  int transit_checks = 6;              ///< intermediate poses checked between consecutive states
+  /// [m] lateral base offsets (path frame, + left) from which the shift search also starts when
+  /// a step fails from the path itself.
+  std::array<double, 2> lateral_offsets_m = {0.06, -0.06};
+  /// [m] base height offsets (added to the stance height) also tried when a step fails.
+  std::array<double, 2> height_offsets_m = {-0.04, -0.08};
+};
+
+/// How the base pose follows the stance.
+struct BasePoseConfig {
+  /// True: base height and roll/pitch follow the plane fitted through the four stance feet
+  /// (height = plane height under the base + nominal base height + height_offset_m); false:
+  /// level base at the root path's height.
+  bool follow_feet = true;
+  double height_offset_m = 0.0;  ///< [m]
+  double max_pitch_rad = 0.35;   ///< [rad] |pitch| bound
+  double max_roll_rad = 0.2;     ///< [rad] |roll| bound
+};
+
+/// Search bounds and retries.
+struct RetryConfig {
+  /// [s] a failed step is retried this much earlier on the path (before the failure time).
+  std::array<double, 3> earlier_step_s = {0.1, 0.25, 0.5};
+  int max_backtracks = 300;         ///< steps undone before giving up
+  int max_steps_at_one_time = 6;    ///< steps without the trunk advancing along the path
+};
+
+struct ContactPlannerConfig {
+  double path_step_s = 0.02;              ///< [s] root path discretisation of the keep phase
+  double step_time_resolution_s = 0.002;  ///< [s] bisection resolution of a foot's last keepable time
+  /// [s] half-width of the window over which the base heading is averaged along the path (0: the
+  /// path heading); the window shrinks at the path ends so the start and goal headings are kept.
+  double path_yaw_smoothing_s = 0.5;
+  FootWorkspace workspace;
+  FootholdConfig foothold;
+  /// Joint torques of every quasi-static stance stay below this fraction of the actuator limit.
+  double torque_limit_fraction = 0.9;
+  BaseShiftConfig base_shift;
+  BasePoseConfig base_pose;
+  double goal_foot_tolerance_m = 0.05;  ///< [m] feet farther from their goal position are re-placed
+  RetryConfig retry;
+  double time_budget_s = 5.0;           ///< [s] wall-clock budget of one planning query
+
+  /// Reads every key strictly (missing or unknown keys, wrong types and out-of-range values throw
+  /// InputError naming the key).
+  static ContactPlannerConfig Load(const YamlMap& map);
+  static ContactPlannerConfig LoadFile(const std::string& path);
+  /// Throws InputError describing the first out-of-range value.
+  void Validate(const std::string& where = "ContactPlannerConfig") const;
+};
+
+}  // namespace rbcp

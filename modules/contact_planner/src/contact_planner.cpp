@@ -1,0 +1,1157 @@
+#include "rbcp/contact_planner/contact_planner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <tuple>
+#include <unordered_set>
+
+#include "rbcp/collision/robot_terrain_collision.h"
+#include "rbcp/core/error.h"
+#include "rbcp/equilibrium/static_equilibrium.h"
+#include "rbcp/equilibrium/support_polygon.h"
+#include "rbcp/limb_database/limb_database.h"
+#include "rbcp/robot/robot_model.h"
+#include "surface_geometry.h"
+
+namespace rbcp {
+
+using contact_planner_detail::ClosestPointInTriangle;
+using contact_planner_detail::ConvexPolygon3d;
+using contact_planner_detail::ErodeTriangle;
+
+std::string ToString(ContactPlanStatus status) {
+  switch (status) {
+    case ContactPlanStatus::kOk: return "ok";
+    case ContactPlanStatus::kInvalidInput: return "invalid_input";
+    case ContactPlanStatus::kNoStartStance: return "no_start_stance";
+    case ContactPlanStatus::kNoFoothold: return "no_foothold";
+    case ContactPlanStatus::kTimeout: return "timeout";
+  }
+  return "unknown";
+}
+
+Eigen::Isometry3d BasePose(const WholeBodyState& state) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = RotationFromRpy(state.base_rpy);
+  T.translation() = state.base_position;
+  return T;
+}
+
+namespace {
+
+/// Interpolation step of a RootPath handed to Plan() [s].
+constexpr double kRootPathSampling = 0.01;
+/// New footholds closer than this to the foot's previous position are no step [m].
+constexpr double kMinStepLength = 0.02;
+/// Two footholds of one leg closer than this are the same step when searching [m].
+constexpr double kSameFoothold = 0.01;
+/// Crawl order used to break ties between equally stretched legs.
+constexpr std::array<Leg, kNumLegs> kTieOrder = {Leg::kLH, Leg::kLF, Leg::kRH, Leg::kRF};
+
+double WrapPi(double a) {
+  a = std::fmod(a + M_PI, 2.0 * M_PI);
+  if (a < 0.0) a += 2.0 * M_PI;
+  return a - M_PI;
+}
+
+std::string Fixed(double v, int digits = 3) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+/// The leg that steps before `leg` in the crawl order LH, LF, RH, RF.
+Leg CrawlPrevious(Leg leg) {
+  switch (leg) {
+    case Leg::kLF: return Leg::kLH;
+    case Leg::kRH: return Leg::kLF;
+    case Leg::kRF: return Leg::kRH;
+    case Leg::kLH: return Leg::kRF;
+  }
+  return leg;
+}
+
+int TieRank(Leg leg) {
+  for (int i = 0; i < kNumLegs; ++i) {
+    if (kTieOrder[static_cast<std::size_t>(i)] == leg) return i;
+  }
+  return kNumLegs;
+}
+
+/// A root pose on the path: position and heading.
+struct PathPose {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  double yaw = 0.0;
+};
+
+/// The root path, linearly interpolated between its samples, with its heading averaged over
+/// +- yaw_window [s] (shrunk at the ends so the first and last headings are kept).
+class PathTrack {
+ public:
+  PathTrack(std::vector<RootPathSample> samples, double yaw_window) : s_(std::move(samples)) {
+    if (yaw_window <= 0.0 || s_.size() < 3) return;
+    const std::size_t n = s_.size();
+    // Prefix sums of the heading's unit vector.
+    std::vector<Eigen::Vector2d> sum(n + 1, Eigen::Vector2d::Zero());
+    for (std::size_t i = 0; i < n; ++i) sum[i + 1] = sum[i] + Eigen::Vector2d(std::cos(s_[i].yaw), std::sin(s_[i].yaw));
+    std::vector<double> smoothed(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double w = std::min({yaw_window, s_[i].t - s_.front().t, s_.back().t - s_[i].t});
+      const auto lo = std::lower_bound(s_.begin(), s_.end(), s_[i].t - w - 1e-12,
+                                       [](const RootPathSample& s, double v) { return s.t < v; });
+      const auto hi = std::upper_bound(s_.begin(), s_.end(), s_[i].t + w + 1e-12,
+                                       [](double v, const RootPathSample& s) { return v < s.t; });
+      const Eigen::Vector2d m = sum[static_cast<std::size_t>(hi - s_.begin())] - sum[static_cast<std::size_t>(lo - s_.begin())];
+      smoothed[i] = m.norm() > 1e-9 ? std::atan2(m.y(), m.x()) : s_[i].yaw;
+    }
+    for (std::size_t i = 0; i < n; ++i) s_[i].yaw = smoothed[i];
+  }
+  double Begin() const { return s_.front().t; }
+  double End() const { return s_.back().t; }
+  PathPose At(double t) const {
+    if (t <= s_.front().t) return {s_.front().p, s_.front().yaw};
+    if (t >= s_.back().t) return {s_.back().p, s_.back().yaw};
+    auto it = std::upper_bound(s_.begin(), s_.end(), t, [](double v, const RootPathSample& s) { return v < s.t; });
+    const RootPathSample& b = *it;
+    const RootPathSample& a = *(it - 1);
+    const double dt = b.t - a.t;
+    const double w = dt > 0.0 ? (t - a.t) / dt : 1.0;
+    return {a.p + w * (b.p - a.p), WrapPi(a.yaw + w * WrapPi(b.yaw - a.yaw))};
+  }
+
+ private:
+  std::vector<RootPathSample> s_;
+};
+
+Eigen::Matrix3d Yaw(double yaw) { return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
+
+/// Level base pose at a path pose.
+Eigen::Isometry3d PathBasePose(const PathPose& pose) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Yaw(pose.yaw);
+  T.translation() = pose.p;
+  return T;
+}
+
+/// One node of the step search: a state, the path time it stands at and the body shift.
+struct Node {
+  WholeBodyState state;
+  double t = 0.0;
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< base offset from the path, path heading frame
+  int steps_at_time = 0;                            ///< steps taken since the trunk last advanced
+  std::array<bool, kNumLegs> stepped_at_time{};     ///< legs that stepped since then
+  // Search bookkeeping.
+  bool expanded = false;
+  bool goal = false;           ///< the node completes the plan
+  struct Option {
+    Leg leg;
+    double t;
+    int lead;                  ///< index into lead_time_factors
+    bool goal_step;
+    int variant = 0;           ///< start of the shift search, see BaseVariant()
+  };
+  std::vector<Option> options;
+  std::size_t next_option = 0;
+  std::set<std::tuple<int, long, int>> exhausted;  ///< (leg, time key, variant) with no valid candidate
+  std::set<std::pair<int, long>> repositions;      ///< (leg, time key) added as blocking a lift-off
+  struct Child {
+    Leg leg;
+    double t;
+    Eigen::Vector3d foot;
+  };
+  std::vector<Child> children;  ///< steps already explored from this node
+};
+
+/// Why a leg could not be kept.
+enum class KeepFailure { kNone, kWorkspace, kKinematics, kCollision };
+
+struct LegRank {
+  Leg leg;
+  double stretch;  ///< largest workspace ratio (> 1 outside)
+  bool failing;
+};
+
+struct KeepResult {
+  bool reached_end = false;
+  double t_good = 0.0;
+  std::vector<LegRank> ranking;  ///< failing legs first, by stretch
+  std::string why;               ///< what failed first
+};
+
+struct Candidate {
+  int surface = -1;
+  int sample = -1;
+  double score = 0.0;
+  Eigen::Vector3d foothold = Eigen::Vector3d::Zero();
+};
+
+}  // namespace
+
+struct ContactPlanner::Impl {
+  const RobotModel& robot;
+  const LimbDatabase& db;
+  EquilibriumConfig eq_config;
+  ContactPlannerConfig config;
+  StaticEquilibrium equilibrium;
+  double torque_limit;
+  std::unique_ptr<RobotTerrainCollision> collision;
+  std::vector<ConvexPolygon3d> surfaces;
+
+  // Per query.
+  std::chrono::steady_clock::time_point start_time;
+  ContactPlanStats stats;
+  bool timed_out = false;
+  std::optional<PathTrack> path;
+  // Stance leg that blocked the last lift-off tried (-1: none): it hit the terrain, or it is the
+  // leg whose re-placement widens a support triangle the CoM cannot get into.
+  int blocking_leg = -1;
+  // The most informative failure seen (deepest along the path).
+  double fail_t = -1.0;
+  int fail_leg = -1;
+  std::string fail_why;
+
+  Impl(const RobotModel& r, const LimbDatabase& d, const EquilibriumConfig& e, const ContactPlannerConfig& c)
+      : robot(r),
+        db(d),
+        eq_config(e),
+        config(c),
+        equilibrium(r.TotalMass(), e),
+        torque_limit(c.torque_limit_fraction * r.TorqueLimit()) {
+    config.Validate();
+  }
+
+  double Elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  }
+  bool OutOfTime() {
+    if (!timed_out && Elapsed() > config.time_budget_s) timed_out = true;
+    return timed_out;
+  }
+
+  void NoteFailure(double t, Leg leg, const std::string& why) {
+    if (t >= fail_t) {
+      fail_t = t;
+      fail_leg = Index(leg);
+      fail_why = why;
+    }
+  }
+
+  // ---- Base pose -------------------------------------------------------------------------------
+
+  /// Base pose at a path pose, shifted horizontally by shift (path heading frame). With
+  /// base_pose.follow_feet the height and the roll and pitch follow the plane fitted through the
+  /// stance feet (least squares, in the heading frame), otherwise the base is level at the path
+  /// height; shift.z is added to the height in both cases.
+  Eigen::Isometry3d StanceBase(const PathPose& pose, const Eigen::Vector3d& shift,
+                               const std::array<FootContact, kNumLegs>& feet, Eigen::Vector3d* rpy_out = nullptr) const {
+    const Eigen::Matrix3d R_yaw = Yaw(pose.yaw);
+    Eigen::Vector3d p = pose.p + R_yaw * Eigen::Vector3d(shift.x(), shift.y(), 0.0);
+    Eigen::Vector3d rpy(0.0, 0.0, pose.yaw);
+    if (config.base_pose.follow_feet) {
+      // z = a + b x + c y in the heading frame centred at the base.
+      Eigen::Matrix<double, kNumLegs, 3> A;
+      Eigen::Matrix<double, kNumLegs, 1> z;
+      for (int i = 0; i < kNumLegs; ++i) {
+        const Eigen::Vector3d d = R_yaw.transpose() * (feet[static_cast<std::size_t>(i)].position - p);
+        A.row(i) << 1.0, d.x(), d.y();
+        z[i] = feet[static_cast<std::size_t>(i)].position.z();
+      }
+      const Eigen::Vector3d abc = A.colPivHouseholderQr().solve(z);
+      const double max_pitch = config.base_pose.max_pitch_rad;
+      const double max_roll = config.base_pose.max_roll_rad;
+      rpy.y() = std::clamp(-std::atan(abc[1]), -max_pitch, max_pitch);
+      rpy.x() = std::clamp(std::atan(abc[2]), -max_roll, max_roll);
+      p.z() = abc[0] + robot.NominalBaseHeight() + config.base_pose.height_offset_m + shift.z();
+    } else {
+      p.z() += shift.z();
+    }
+    if (rpy_out) *rpy_out = rpy;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = RotationFromRpy(rpy);
+    T.translation() = p;
+    return T;
+  }
+
+  // ---- Kinematic and workspace tests ---------------------------------------------------------
+
+  /// Largest workspace ratio of a foot at p_B (base frame); <= 1 inside.
+  double WorkspaceRatio(Leg leg, const Eigen::Vector3d& p_B) const {
+    const FootWorkspace& ws = config.workspace;
+    const Eigen::Vector3d d = p_B - robot.ReferenceFootPosition(leg);
+    double r = d.x() >= 0.0 ? d.x() / ws.max_forward_m : -d.x() / ws.max_backward_m;
+    const double out = LeftSign(leg) * d.y();
+    r = std::max(r, out >= 0.0 ? out / ws.max_outward_m : -out / ws.max_inward_m);
+    r = std::max(r, d.z() >= 0.0 ? d.z() / ws.max_up_m : -d.z() / ws.max_down_m);
+    const double hip = (p_B - robot.HipPosition(leg)).head<2>().norm();
+    r = std::max(r, hip / ws.max_hip_distance_m);
+    return r;
+  }
+
+  /// Keeps a foot at foot_W with the base at base_W: workspace, IK within bounds, no collision.
+  KeepFailure KeepLeg(Leg leg, const Eigen::Isometry3d& base_W, const Eigen::Vector3d& foot_W, Eigen::Vector3d* q_leg,
+                      double* stretch) {
+    ++stats.keep_checks;
+    const Eigen::Vector3d p_B = base_W.inverse() * foot_W;
+    *stretch = WorkspaceRatio(leg, p_B);
+    if (*stretch > 1.0) return KeepFailure::kWorkspace;
+    const IkResult ik = robot.SolveLegIk(leg, p_B);
+    if (!ik.ok()) return KeepFailure::kKinematics;
+    *q_leg = ik.q;
+    if (collision->CheckLeg(leg, base_W, ik.q, true).collision) return KeepFailure::kCollision;
+    return KeepFailure::kNone;
+  }
+
+  /// IK of all four feet (bounds only, no workspace).
+  bool SolveStance(const Eigen::Isometry3d& base_W, const std::array<FootContact, kNumLegs>& feet, JointVector* q) const {
+    const Eigen::Isometry3d T_BW = base_W.inverse();
+    for (Leg leg : kAllLegs) {
+      const IkResult ik = robot.SolveLegIk(leg, T_BW * feet[static_cast<std::size_t>(Index(leg))].position);
+      if (!ik.ok()) return false;
+      SetLegJoints(*q, leg, ik.q);
+    }
+    return true;
+  }
+
+  Eigen::Vector3d CoM(const Eigen::Isometry3d& base_W, const JointVector& q) const {
+    return base_W * robot.CenterOfMass(q);
+  }
+
+  static std::vector<Eigen::Vector3d> FeetPositions(const std::array<FootContact, kNumLegs>& feet, int skip) {
+    std::vector<Eigen::Vector3d> out;
+    for (int i = 0; i < kNumLegs; ++i) {
+      if (i != skip) out.push_back(feet[static_cast<std::size_t>(i)].position);
+    }
+    return out;
+  }
+
+  static std::vector<ContactPoint> Contacts(const std::array<FootContact, kNumLegs>& feet, int skip) {
+    std::vector<ContactPoint> out;
+    for (int i = 0; i < kNumLegs; ++i) {
+      if (i != skip) out.push_back({feet[static_cast<std::size_t>(i)].position, feet[static_cast<std::size_t>(i)].normal});
+    }
+    return out;
+  }
+
+  /// Static torques of the stance (all feet but `skip`) within the limit, with the forces of the
+  /// equilibrium force distribution. False when no balancing distribution exists.
+  bool TorquesWithinLimit(const Eigen::Isometry3d& base_W, const JointVector& q,
+                          const std::array<FootContact, kNumLegs>& feet, int skip, const Eigen::Vector3d& com_W,
+                          std::string* why) {
+    equilibrium.SetContacts(Contacts(feet, skip));
+    const ContactForces forces = equilibrium.DistributeForces(com_W);
+    if (!forces.feasible) {
+      if (why) *why = "no balancing contact forces (" + forces.reason + ")";
+      return false;
+    }
+    const Eigen::Matrix3d R_BW = base_W.linear().transpose();
+    std::size_t k = 0;
+    for (int i = 0; i < kNumLegs; ++i) {
+      if (i == skip) continue;
+      const Leg leg = kAllLegs[static_cast<std::size_t>(i)];
+      const Eigen::Vector3d tau = robot.StaticTorques(leg, LegJoints(q, leg), R_BW * forces.forces_N[k++]);
+      if (tau.cwiseAbs().maxCoeff() > torque_limit) {
+        if (why) *why = std::string(LegName(leg)) + " static torque " + Fixed(tau.cwiseAbs().maxCoeff(), 1) + " N m";
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // ---- Keep phase ------------------------------------------------------------------------------
+
+  /// Tests the node's four feet at path time t. Fills per-leg failure flags and stretches.
+  bool KeepAt(const Node& node, double t, std::array<bool, kNumLegs>* failing, std::array<double, kNumLegs>* stretch,
+              std::string* why) {
+    const Eigen::Isometry3d base = StanceBase(path->At(t), node.shift, node.state.feet);
+    JointVector q = JointVector::Zero();
+    bool all_ok = true;
+    for (Leg leg : kAllLegs) {
+      const std::size_t i = static_cast<std::size_t>(Index(leg));
+      Eigen::Vector3d q_leg = Eigen::Vector3d::Zero();
+      const KeepFailure f = KeepLeg(leg, base, node.state.feet[i].position, &q_leg, &(*stretch)[i]);
+      (*failing)[i] = f != KeepFailure::kNone;
+      if (f != KeepFailure::kNone) {
+        all_ok = false;
+        if (why && why->empty()) {
+          *why = std::string(LegName(leg)) +
+                 (f == KeepFailure::kWorkspace    ? " leaves its workspace"
+                  : f == KeepFailure::kKinematics ? " out of kinematic reach"
+                                                  : " in collision");
+        }
+      } else {
+        SetLegJoints(q, leg, q_leg);
+      }
+    }
+    if (!all_ok) return false;
+    bool body_ok = !collision->CheckTrunk(base).collision;
+    if (body_ok) {
+      const double margin = SupportPolygonMargin(FeetPositions(node.state.feet, -1), CoM(base, q));
+      body_ok = margin >= eq_config.support_margin_m;
+    }
+    if (!body_ok) {
+      // Not attributable to one leg: every leg may step, the most stretched first.
+      failing->fill(true);
+      if (why && why->empty()) *why = "trunk collision or CoM near the edge of the support polygon";
+      return false;
+    }
+    return true;
+  }
+
+  KeepResult KeepPhase(const Node& node) {
+    KeepResult result;
+    std::array<bool, kNumLegs> failing{};
+    std::array<double, kNumLegs> stretch{};
+    const double end = path->End();
+    auto finish = [&](double t_good, const std::array<bool, kNumLegs>& fail, const std::array<double, kNumLegs>& str) {
+      result.t_good = t_good;
+      for (Leg leg : kAllLegs) {
+        const std::size_t i = static_cast<std::size_t>(Index(leg));
+        result.ranking.push_back({leg, str[i], fail[i]});
+      }
+      std::sort(result.ranking.begin(), result.ranking.end(), [](const LegRank& a, const LegRank& b) {
+        if (a.failing != b.failing) return a.failing;
+        if (std::abs(a.stretch - b.stretch) > 1e-6) return a.stretch > b.stretch;
+        return TieRank(a.leg) < TieRank(b.leg);
+      });
+    };
+    std::string why;
+    if (!KeepAt(node, node.t, &failing, &stretch, &why)) {
+      result.why = why;
+      finish(node.t, failing, stretch);
+      return result;
+    }
+    double t_ok = node.t;
+    std::array<double, kNumLegs> ok_stretch = stretch;
+    while (t_ok < end) {
+      const double t = std::min(end, t_ok + config.path_step_s);
+      why.clear();
+      if (KeepAt(node, t, &failing, &stretch, &why)) {
+        t_ok = t;
+        ok_stretch = stretch;
+        continue;
+      }
+      // Bisect to the last keepable time.
+      double lo = t_ok, hi = t;
+      std::array<bool, kNumLegs> hi_failing = failing;
+      std::array<double, kNumLegs> hi_stretch = stretch;
+      std::string hi_why = why;
+      while (hi - lo > config.step_time_resolution_s) {
+        const double mid = 0.5 * (lo + hi);
+        std::string w;
+        if (KeepAt(node, mid, &failing, &stretch, &w)) {
+          lo = mid;
+        } else {
+          hi = mid;
+          hi_failing = failing;
+          hi_stretch = stretch;
+          hi_why = w;
+        }
+      }
+      result.why = hi_why;
+      finish(lo, hi_failing, hi_stretch);
+      return result;
+    }
+    result.reached_end = true;
+    finish(end, std::array<bool, kNumLegs>{}, ok_stretch);
+    return result;
+  }
+
+  // ---- Footholds -------------------------------------------------------------------------------
+
+  /// Database candidates for `leg` with the base at base_W, on the surfaces around the leg's
+  /// workspace, ranked by distance to target_W and offline score (best first) and deduplicated
+  /// by projected foothold.
+  std::vector<Candidate> RankedCandidates(Leg leg, const Eigen::Isometry3d& base_W, const Eigen::Vector3d& target_W,
+                                          double target_yaw) {
+    const FootholdConfig& fc = config.foothold;
+    std::vector<FootholdCandidate> raw;
+    // A square (world axes) around the reference foot position that contains the workspace box
+    // in any yaw.
+    const Eigen::Vector2d centre = (base_W * robot.ReferenceFootPosition(leg)).head<2>();
+    const FootWorkspace& ws = config.workspace;
+    const double half = std::hypot(std::max(ws.max_forward_m, ws.max_backward_m), std::max(ws.max_outward_m, ws.max_inward_m)) +
+                        fc.query_distance_m;
+    for (std::size_t s = 0; s < surfaces.size(); ++s) {
+      const ConvexPolygon3d& surface = surfaces[s];
+      if ((surface.MinXy().array() > (centre.array() + half)).any() ||
+          (surface.MaxXy().array() < (centre.array() - half)).any()) {
+        continue;
+      }
+      const std::vector<Eigen::Vector3d> clipped = surface.ClipToSquare(centre, half);
+      if (clipped.size() < 3) continue;
+      db.AppendCandidates(leg, base_W, clipped, surface.Normal(), fc.query_distance_m, static_cast<int>(s), &raw);
+    }
+    stats.candidates += static_cast<int>(raw.size());
+    const Eigen::Matrix3d R_tW = Yaw(target_yaw).transpose();
+    std::vector<Candidate> ranked;
+    ranked.reserve(raw.size());
+    for (const FootholdCandidate& c : raw) {
+      Candidate k;
+      k.surface = c.surface;
+      k.sample = c.sample;
+      // The clipped polygon lies inside the surface, so its closest point is a valid foothold.
+      k.foothold = c.closest_W;
+      const Eigen::Vector3d d = R_tW * (k.foothold - target_W);
+      k.score = fc.static_weight * c.static_score -
+                (fc.weight_x * d.x() * d.x() + fc.weight_y * d.y() * d.y() + fc.weight_z * d.z() * d.z());
+      ranked.push_back(k);
+    }
+    std::sort(ranked.begin(), ranked.end(), [](const Candidate& a, const Candidate& b) {
+      if (a.score != b.score) return a.score > b.score;
+      if (a.surface != b.surface) return a.surface < b.surface;
+      return a.sample < b.sample;
+    });
+    std::vector<Candidate> unique;
+    std::unordered_set<long long> seen;
+    const double cell = fc.dedup_cell_m;
+    for (const Candidate& c : ranked) {
+      const long long ix = static_cast<long long>(std::floor(c.foothold.x() / cell));
+      const long long iy = static_cast<long long>(std::floor(c.foothold.y() / cell));
+      const long long key = ((ix & 0xFFFFFF) << 36) ^ ((iy & 0xFFFFFF) << 12) ^ static_cast<long long>(c.surface);
+      if (seen.insert(key).second) unique.push_back(c);
+    }
+    return unique;
+  }
+
+  bool FarEnoughFromFeet(const std::array<FootContact, kNumLegs>& feet, int skip, const Eigen::Vector3d& p) const {
+    for (int i = 0; i < kNumLegs; ++i) {
+      if (i == skip) continue;
+      if ((feet[static_cast<std::size_t>(i)].position - p).head<2>().norm() < config.foothold.min_foot_separation_m) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // ---- Start stance ----------------------------------------------------------------------------
+
+  std::optional<WholeBodyState> Standing(const Eigen::Vector3d& base_position, double yaw, std::string* reason) {
+    auto fail = [&](const std::string& why) -> std::optional<WholeBodyState> {
+      if (reason) *reason = why;
+      return std::nullopt;
+    };
+    if (!collision) return fail("no terrain set");
+    const PathPose pose{base_position, yaw};
+    const Eigen::Isometry3d base = PathBasePose(pose);
+    WholeBodyState state;
+    state.base_position = base_position;
+    state.base_rpy = Eigen::Vector3d(0.0, 0.0, yaw);
+    state.moving_leg = -1;
+    JointVector q = JointVector::Zero();
+    std::array<bool, kNumLegs> placed{};
+    for (Leg leg : kTieOrder) {
+      const std::size_t i = static_cast<std::size_t>(Index(leg));
+      const Eigen::Vector3d target = base * robot.ReferenceFootPosition(leg);
+      const std::vector<Candidate> cands = RankedCandidates(leg, base, target, yaw);
+      bool found = false;
+      for (const Candidate& c : cands) {
+        ++stats.candidates_evaluated;
+        bool separated = true;
+        for (int k = 0; k < kNumLegs; ++k) {
+          if (placed[static_cast<std::size_t>(k)] &&
+              (state.feet[static_cast<std::size_t>(k)].position - c.foothold).head<2>().norm() <
+                  config.foothold.min_foot_separation_m) {
+            separated = false;
+          }
+        }
+        if (!separated) continue;
+        Eigen::Vector3d q_leg;
+        double stretch = 0.0;
+        if (KeepLeg(leg, base, c.foothold, &q_leg, &stretch) != KeepFailure::kNone) continue;
+        state.feet[i].position = c.foothold;
+        state.feet[i].normal = surfaces[static_cast<std::size_t>(c.surface)].Normal();
+        SetLegJoints(q, leg, q_leg);
+        placed[i] = true;
+        found = true;
+        break;
+      }
+      if (!found) {
+        return fail(std::string("no valid foothold for ") + std::string(LegName(leg)) + " near its reference position (" +
+                    std::to_string(cands.size()) + " candidates)");
+      }
+    }
+    state.joints = q;
+    if (collision->CheckTrunk(base).collision) return fail("trunk collides with the terrain");
+    const CollisionReport self = collision->CheckSelf(q);
+    if (self.collision) return fail("self-collision " + self.first_shape + " / " + self.obstacle);
+    const Eigen::Vector3d com = CoM(base, q);
+    ++stats.stability_evaluations;
+    const EquilibriumResult eq = equilibrium.Robustness(Contacts(state.feet, -1), com);
+    if (!equilibrium.MeetsThreshold(eq)) {
+      return fail("standing stance not statically stable (robustness " + Fixed(eq.robustness_N, 2) + " N)");
+    }
+    const double margin = SupportPolygonMargin(FeetPositions(state.feet, -1), com);
+    if (margin < eq_config.support_margin_m) return fail("CoM " + Fixed(margin) + " m inside the support polygon");
+    std::string why;
+    if (!TorquesWithinLimit(base, q, state.feet, -1, com, &why)) return fail("standing stance: " + why);
+    return state;
+  }
+
+  // ---- One step --------------------------------------------------------------------------------
+
+  /// Start of the shift search of a step option: 0 the parent's shift (the body stays where it
+  /// is); 1 the path pose; 2, 3 the lateral offsets; 4, 5 the height offsets (path heading frame,
+  /// z = height added to the stance height).
+  static constexpr int kNumVariants = 6;
+  Eigen::Vector3d BaseVariant(const Node& parent, int variant) const {
+    const BaseShiftConfig& bs = config.base_shift;
+    if (variant == 0) return parent.shift;
+    if (variant == 2 || variant == 3) return {0.0, bs.lateral_offsets_m[static_cast<std::size_t>(variant - 2)], 0.0};
+    if (variant == 4 || variant == 5) return {0.0, 0.0, bs.height_offsets_m[static_cast<std::size_t>(variant - 4)]};
+    return Eigen::Vector3d::Zero();
+  }
+
+  /// Shift (path heading frame) that puts the CoM support_margin + extra inside the triangle of
+  /// the stance feet, searched from `start` (horizontal offset and height offset). Each update
+  /// moves the CoM toward the eroded triangle; an update that puts a stance foot out of reach is
+  /// halved until the stance is reachable. nullopt when the margin cannot be met.
+  std::optional<Eigen::Vector3d> SwingShift(const PathPose& pose, const Node& parent, int skip,
+                                            const Eigen::Vector3d& start, JointVector* q_pre, std::string* why) {
+    const auto base_at = [&](const Eigen::Vector3d& s) { return StanceBase(pose, s, parent.state.feet); };
+    const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, skip);
+    const std::array<Eigen::Vector2d, 3> tri = {stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()};
+    const double required = eq_config.support_margin_m;
+    const auto eroded = ErodeTriangle(tri, required + config.base_shift.shift_extra_margin_m);
+    // A triangle the CoM cannot get into is widened by the leg before this one in the crawl.
+    const int widening_leg = Index(CrawlPrevious(kAllLegs[static_cast<std::size_t>(skip)]));
+    if (!eroded) {
+      *why = "support triangle too small";
+      blocking_leg = widening_leg;
+      return std::nullopt;
+    }
+    const Eigen::Matrix3d R = Yaw(pose.yaw);
+    const double max_shift = config.base_shift.max_base_shift_m;
+    const auto clamp = [&](Eigen::Vector3d s) {
+      if (s.head<2>().norm() > max_shift) s.head<2>() *= max_shift / s.head<2>().norm();
+      return s;
+    };
+    // Start from `start`; fall back on the current horizontal shift when the feet cannot be
+    // reached from there.
+    Eigen::Vector3d shift = clamp(start);
+    Eigen::Isometry3d base = base_at(shift);
+    if (!SolveStance(base, parent.state.feet, q_pre)) {
+      shift = clamp(Eigen::Vector3d(parent.shift.x(), parent.shift.y(), start.z()));
+      base = base_at(shift);
+      if (!SolveStance(base, parent.state.feet, q_pre)) {
+        *why = "stance feet out of reach at the step pose";
+        return std::nullopt;
+      }
+    }
+    for (int iter = 0; iter < 6; ++iter) {
+      const Eigen::Vector3d com = CoM(base, *q_pre);
+      if (SupportPolygonMargin(stance, com) >= required + 0.5 * config.base_shift.shift_extra_margin_m) return shift;
+      const Eigen::Vector2d goal = ClosestPointInTriangle(*eroded, com.head<2>());
+      const Eigen::Vector3d delta = R.transpose() * Eigen::Vector3d(goal.x() - com.x(), goal.y() - com.y(), 0.0);
+      bool moved = false;
+      for (double scale = 1.0; scale > 0.1; scale *= 0.5) {
+        const Eigen::Vector3d trial = clamp(shift + scale * delta);
+        const Eigen::Isometry3d trial_base = base_at(trial);
+        JointVector q = JointVector::Zero();
+        if (SolveStance(trial_base, parent.state.feet, &q)) {
+          shift = trial;
+          base = trial_base;
+          *q_pre = q;
+          moved = true;
+          break;
+        }
+      }
+      if (!moved) {
+        *why = "stance feet out of reach with the body shifted for the swing";
+        break;
+      }
+    }
+    if (SupportPolygonMargin(stance, CoM(base, *q_pre)) >= required) return shift;
+    if (why->empty()) {
+      *why = "CoM cannot be shifted " + Fixed(required) + " m inside the swing support triangle";
+      blocking_leg = widening_leg;
+    }
+    return std::nullopt;
+  }
+
+  /// Checks the straight base motion from the parent's base to `base` with the parent's feet.
+  bool TransitValid(const Node& parent, const Eigen::Isometry3d& base, const Eigen::Vector3d& rpy1, std::string* why) {
+    const int n = config.base_shift.transit_checks;
+    const Eigen::Vector3d p0 = parent.state.base_position;
+    const Eigen::Vector3d rpy0 = parent.state.base_rpy;
+    const std::vector<Eigen::Vector3d> feet = FeetPositions(parent.state.feet, -1);
+    for (int k = 1; k <= n; ++k) {
+      const double w = static_cast<double>(k) / static_cast<double>(n + 1);
+      Eigen::Vector3d rpy = rpy0 + w * (rpy1 - rpy0);
+      rpy.z() = WrapPi(rpy0.z() + w * WrapPi(rpy1.z() - rpy0.z()));
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.linear() = RotationFromRpy(rpy);
+      T.translation() = p0 + w * (base.translation() - p0);
+      JointVector q = JointVector::Zero();
+      if (!SolveStance(T, parent.state.feet, &q)) {
+        *why = "feet out of reach while the body moves to the step pose";
+        return false;
+      }
+      if (SupportPolygonMargin(feet, CoM(T, q)) < eq_config.support_margin_m) {
+        *why = "CoM leaves the support polygon while the body moves to the step pose";
+        return false;
+      }
+      if (collision->CheckTrunk(T).collision) {
+        *why = "trunk collides while the body moves to the step pose";
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /// The path pose `lead` [s] after t, or earlier if the heading turns by more than
+  /// max_lead_yaw_rad before (a target far round a turn is no useful foothold).
+  PathPose LeadPose(double t, double lead) const {
+    const PathPose now = path->At(t);
+    PathPose ahead = path->At(t + lead);
+    if (std::abs(WrapPi(ahead.yaw - now.yaw)) <= config.foothold.max_lead_yaw_rad) return ahead;
+    double lo = 0.0, hi = lead;
+    for (int i = 0; i < 20; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      if (std::abs(WrapPi(path->At(t + mid).yaw - now.yaw)) <= config.foothold.max_lead_yaw_rad) lo = mid;
+      else hi = mid;
+    }
+    return path->At(t + lo);
+  }
+
+  enum class StepOutcome { kFound, kNoCandidate, kCapped, kPoseInvalid };
+
+  StepOutcome TryStep(const Node& parent, const Node::Option& option, Node* child, std::string* why) {
+    ++stats.step_attempts;
+    const Leg leg = option.leg;
+    const int j = Index(leg);
+    const PathPose pose = path->At(option.t);
+    JointVector q_pre = JointVector::Zero();
+    const auto shift = SwingShift(pose, parent, j, BaseVariant(parent, option.variant), &q_pre, why);
+    if (!shift) return StepOutcome::kPoseInvalid;
+    Eigen::Vector3d rpy;
+    const Eigen::Isometry3d base = StanceBase(pose, *shift, parent.state.feet, &rpy);
+
+    // The stance before lift-off: collision, swing triangle, torques of the three-foot stance.
+    std::array<bool, kNumLegs> in_contact{};
+    in_contact.fill(true);
+    const CollisionReport pre_hit = collision->CheckRobot(base, q_pre, in_contact);
+    if (pre_hit.collision) {
+      *why = "collision before lift-off (" + pre_hit.first_shape + ")";
+      if (const auto blocking = LegFromName(std::string_view(pre_hit.first_shape).substr(0, 2))) {
+        if (*blocking != leg) blocking_leg = Index(*blocking);
+      }
+      return StepOutcome::kPoseInvalid;
+    }
+    if (collision->CheckSelf(q_pre).collision) {
+      *why = "self-collision before lift-off";
+      return StepOutcome::kPoseInvalid;
+    }
+    const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, j);
+    const Eigen::Vector3d com_pre = CoM(base, q_pre);
+    if (SupportPolygonMargin(stance, com_pre) < eq_config.support_margin_m) {
+      *why = "CoM too close to the swing support triangle at lift-off";
+      return StepOutcome::kPoseInvalid;
+    }
+    std::string torque_why;
+    if (!TorquesWithinLimit(base, q_pre, parent.state.feet, j, com_pre, &torque_why)) {
+      *why = "three-foot stance at lift-off: " + torque_why;
+      return StepOutcome::kPoseInvalid;
+    }
+    if (!TransitValid(parent, base, rpy, why)) return StepOutcome::kPoseInvalid;
+
+    // Target of the new foothold.
+    PathPose target_pose;
+    if (option.goal_step) {
+      target_pose = path->At(path->End());
+    } else {
+      const double lead = config.foothold.lead_time_s * config.foothold.lead_time_factors[static_cast<std::size_t>(option.lead)];
+      target_pose = LeadPose(option.t, lead);
+    }
+    const Eigen::Vector3d target = PathBasePose(target_pose) * robot.ReferenceFootPosition(leg);
+    const std::vector<Candidate> cands = RankedCandidates(leg, base, target, target_pose.yaw);
+
+    const Eigen::Isometry3d T_BW = base.inverse();
+    const Eigen::Vector3d old_foot = parent.state.feet[static_cast<std::size_t>(j)].position;
+    int lp_evaluations = 0;
+    std::string last_reject = cands.empty() ? "no database sample near a contact surface" : "";
+    for (const Candidate& c : cands) {
+      if (OutOfTime()) {
+        *why = "time budget exhausted";
+        return StepOutcome::kCapped;
+      }
+      ++stats.candidates_evaluated;
+      if ((c.foothold - old_foot).norm() < kMinStepLength) continue;
+      if (!FarEnoughFromFeet(parent.state.feet, j, c.foothold)) continue;
+      const Eigen::Vector3d p_B = T_BW * c.foothold;
+      if (WorkspaceRatio(leg, p_B) > 1.0) {
+        last_reject = "outside the workspace";
+        continue;
+      }
+      const IkResult ik = robot.SolveLegIk(leg, p_B);
+      if (!ik.ok()) {
+        last_reject = "kinematics";
+        continue;
+      }
+      JointVector q_post = q_pre;
+      SetLegJoints(q_post, leg, ik.q);
+      const Eigen::Vector3d com_post = CoM(base, q_post);
+      if (SupportPolygonMargin(stance, com_post) < eq_config.support_margin_m) {
+        last_reject = "CoM near the swing triangle edge at touch-down";
+        continue;
+      }
+      if (collision->CheckLeg(leg, base, ik.q, true).collision) {
+        last_reject = "leg collision";
+        continue;
+      }
+      if (collision->CheckSelf(q_post).collision) {
+        last_reject = "self-collision";
+        continue;
+      }
+      if (lp_evaluations >= config.foothold.max_stability_evaluations) {
+        *why = "no stable foothold among the " + std::to_string(lp_evaluations) + " best candidates (last: " +
+               last_reject + ")";
+        return StepOutcome::kCapped;
+      }
+      ++lp_evaluations;
+      ++stats.stability_evaluations;
+      std::array<FootContact, kNumLegs> feet = parent.state.feet;
+      feet[static_cast<std::size_t>(j)].position = c.foothold;
+      feet[static_cast<std::size_t>(j)].normal = surfaces[static_cast<std::size_t>(c.surface)].Normal();
+      const EquilibriumResult eq = equilibrium.Robustness(Contacts(feet, -1), com_post);
+      if (!equilibrium.MeetsThreshold(eq)) {
+        last_reject = "robustness " + Fixed(eq.robustness_N, 2) + " N";
+        continue;
+      }
+      std::string tw;
+      if (!TorquesWithinLimit(base, q_post, feet, -1, com_post, &tw)) {
+        last_reject = "four-foot stance: " + tw;
+        continue;
+      }
+      if (!TorquesWithinLimit(base, q_post, feet, j, com_post, &tw)) {
+        last_reject = "three-foot stance at touch-down: " + tw;
+        continue;
+      }
+      // Accepted.
+      child->state.base_position = base.translation();
+      child->state.base_rpy = rpy;
+      child->state.joints = q_post;
+      child->state.feet = feet;
+      child->state.moving_leg = j;
+      child->t = option.t;
+      child->shift = *shift;
+      const bool advanced = option.t > parent.t + 1e-9;
+      child->steps_at_time = advanced ? 1 : parent.steps_at_time + 1;
+      if (advanced) child->stepped_at_time.fill(false);
+      else child->stepped_at_time = parent.stepped_at_time;
+      child->stepped_at_time[static_cast<std::size_t>(j)] = true;
+      return StepOutcome::kFound;
+    }
+    *why = "no valid foothold among " + std::to_string(cands.size()) + " candidates" +
+           (last_reject.empty() ? "" : " (last rejected: " + last_reject + ")");
+    return StepOutcome::kNoCandidate;
+  }
+
+  // ---- Search ----------------------------------------------------------------------------------
+
+  double GoalDistance(const Node& node, Leg leg) const {
+    const Eigen::Vector3d goal =
+        PathBasePose(path->At(path->End())) * robot.ReferenceFootPosition(leg);
+    return (node.state.feet[static_cast<std::size_t>(Index(leg))].position - goal).head<2>().norm();
+  }
+
+  static long TimeKey(double t) { return std::lround(t * 1e6); }
+
+  void Expand(Node& node) {
+    node.expanded = true;
+    const double end = path->End();
+    const int n_leads = static_cast<int>(config.foothold.lead_time_factors.size());
+    auto allowed = [&](Leg leg, double t) {
+      const bool same_time = t <= node.t + 1e-9;
+      if (!same_time) return true;
+      if (node.steps_at_time >= config.retry.max_steps_at_one_time) return false;
+      return !node.stepped_at_time[static_cast<std::size_t>(Index(leg))];
+    };
+    if (node.t >= end - 1e-9) {
+      // At the path end: re-place the feet far from their goal positions.
+      std::vector<std::pair<double, Leg>> far;
+      for (Leg leg : kAllLegs) far.push_back({GoalDistance(node, leg), leg});
+      std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) {
+        if (a.first != b.first) return a.first > b.first;
+        return TieRank(a.second) < TieRank(b.second);
+      });
+      if (far.front().first <= config.goal_foot_tolerance_m) {
+        node.goal = true;
+        return;
+      }
+      for (const auto& [d, leg] : far) {
+        if (allowed(leg, end)) node.options.push_back({leg, end, 0, true, 0});
+      }
+      return;
+    }
+    const KeepResult keep = KeepPhase(node);
+    if (keep.reached_end) {
+      // The trunk reaches the path end with these feet: the remaining steps happen there.
+      std::vector<std::pair<double, Leg>> far;
+      for (Leg leg : kAllLegs) far.push_back({GoalDistance(node, leg), leg});
+      std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) {
+        if (a.first != b.first) return a.first > b.first;
+        return TieRank(a.second) < TieRank(b.second);
+      });
+      for (const auto& [d, leg] : far) node.options.push_back({leg, end, 0, true, 0});
+      return;
+    }
+    std::vector<double> times = {keep.t_good};
+    for (double back : config.retry.earlier_step_s) {
+      const double t = std::max(node.t, keep.t_good - back);
+      if (std::none_of(times.begin(), times.end(), [&](double x) { return std::abs(x - t) < 1e-9; })) times.push_back(t);
+    }
+    // Crawl prior: after a hind leg, the fore leg on the same side steps next if it must.
+    std::vector<LegRank> ranking = keep.ranking;
+    if (node.state.moving_leg == Index(Leg::kLH) || node.state.moving_leg == Index(Leg::kRH)) {
+      const Leg fore = node.state.moving_leg == Index(Leg::kLH) ? Leg::kLF : Leg::kRF;
+      std::stable_partition(ranking.begin(), ranking.end(),
+                            [&](const LegRank& r) { return r.failing && r.leg == fore; });
+    }
+    // Failing legs at the failure time, every lead, then with the other starts of the shift
+    // search; then earlier; then the other legs.
+    for (const LegRank& r : ranking) {
+      if (!r.failing || !allowed(r.leg, keep.t_good)) continue;
+      for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({r.leg, keep.t_good, lead, false, 0});
+      for (int v = 1; v < kNumVariants; ++v) {
+        if ((BaseVariant(node, v) - BaseVariant(node, 0)).norm() < 1e-9) continue;  // same start
+        node.options.push_back({r.leg, keep.t_good, 0, false, v});
+      }
+    }
+    for (std::size_t k = 1; k < times.size(); ++k) {
+      for (const LegRank& r : ranking) {
+        if (r.failing && allowed(r.leg, times[k])) node.options.push_back({r.leg, times[k], 0, false, 0});
+      }
+    }
+    for (double t : times) {
+      for (const LegRank& r : ranking) {
+        if (!r.failing && allowed(r.leg, t)) node.options.push_back({r.leg, t, 0, false, 0});
+      }
+    }
+    if (!keep.ranking.empty() && keep.ranking.front().failing) {
+      NoteFailure(keep.t_good, keep.ranking.front().leg, keep.why);
+    }
+  }
+
+  ContactPlanResult Search(Node root, int max_steps) {
+    ContactPlanResult result;
+    std::vector<Node> stack;
+    stack.push_back(std::move(root));
+    int backtracks = 0;
+    auto finish_fail = [&](ContactPlanStatus status, const std::string& reason) {
+      result.ok = false;
+      result.status = status;
+      result.reason = reason;
+      result.failure_time_s = fail_t;
+      result.failure_leg = fail_leg;
+      return result;
+    };
+    auto describe_failure = [&]() {
+      std::string r;
+      if (fail_leg >= 0) {
+        r = std::string("no valid step for ") + std::string(LegName(kAllLegs[static_cast<std::size_t>(fail_leg)])) +
+            " at path time " + Fixed(fail_t, 2) + " s";
+        if (!fail_why.empty()) r += ": " + fail_why;
+      } else {
+        r = "no valid step: " + fail_why;
+      }
+      return r;
+    };
+    while (true) {
+      if (OutOfTime()) {
+        return finish_fail(ContactPlanStatus::kTimeout, "time budget of " + Fixed(config.time_budget_s, 2) +
+                                                            " s exhausted; furthest failure: " + describe_failure());
+      }
+      Node& node = stack.back();
+      const int steps = static_cast<int>(stack.size()) - 1;
+      if (!node.expanded) {
+        if (max_steps >= 0 && steps >= max_steps) {
+          node.expanded = true;
+          node.goal = true;
+          result.reached_goal = false;
+        } else {
+          Expand(node);
+          if (node.goal) result.reached_goal = true;
+        }
+      }
+      if (node.goal) break;
+      if (node.next_option < node.options.size()) {
+        const Node::Option option = node.options[node.next_option++];
+        const std::tuple<int, long, int> key{Index(option.leg), TimeKey(option.t), option.variant};
+        if (node.exhausted.count(key)) continue;
+        Node child;
+        std::string why;
+        blocking_leg = -1;
+        const StepOutcome outcome = TryStep(node, option, &child, &why);
+        if (blocking_leg >= 0) {
+          // A stance leg hits the terrain (a riser, a wall) when the body shifts for this swing,
+          // or narrows the swing's support triangle: re-place that leg first, at the same time,
+          // before the remaining options.
+          const Leg blocker = kAllLegs[static_cast<std::size_t>(blocking_leg)];
+          const bool same_time = option.t <= node.t + 1e-9;
+          const bool allowed = !same_time || (node.steps_at_time < config.retry.max_steps_at_one_time &&
+                                              !node.stepped_at_time[static_cast<std::size_t>(blocking_leg)]);
+          if (allowed && node.repositions.insert({blocking_leg, TimeKey(option.t)}).second) {
+            node.options.insert(node.options.begin() + static_cast<std::ptrdiff_t>(node.next_option),
+                                Node::Option{blocker, option.t, 0, option.goal_step, 0});
+          }
+        }
+        if (outcome == StepOutcome::kFound) {
+          const Eigen::Vector3d& foot = child.state.feet[static_cast<std::size_t>(Index(option.leg))].position;
+          const bool duplicate = std::any_of(node.children.begin(), node.children.end(), [&](const auto& c) {
+            return c.leg == option.leg && std::abs(c.t - child.t) < 1e-9 && (c.foot - foot).norm() < kSameFoothold;
+          });
+          if (duplicate) continue;
+          node.children.push_back({option.leg, child.t, foot});
+          stack.push_back(std::move(child));
+          continue;
+        }
+        if (outcome == StepOutcome::kNoCandidate || outcome == StepOutcome::kPoseInvalid) node.exhausted.insert(key);
+        NoteFailure(option.t, option.leg, why);
+        continue;
+      }
+      // Every option failed: undo this node's step.
+      if (stack.size() == 1 || backtracks >= config.retry.max_backtracks) {
+        return finish_fail(ContactPlanStatus::kNoFoothold,
+                           describe_failure() + (stack.size() == 1 ? "" : " (backtracking limit reached)"));
+      }
+      stack.pop_back();
+      ++backtracks;
+      ++stats.backtracks;
+    }
+    result.ok = true;
+    result.status = ContactPlanStatus::kOk;
+    for (const Node& n : stack) result.plan.states.push_back(n.state);
+    result.steps = static_cast<int>(result.plan.states.size()) - 1;
+    return result;
+  }
+
+  void BeginQuery(std::vector<RootPathSample> samples) {
+    start_time = std::chrono::steady_clock::now();
+    stats = ContactPlanStats{};
+    timed_out = false;
+    fail_t = -1.0;
+    fail_leg = -1;
+    fail_why.clear();
+    path.emplace(std::move(samples), config.path_yaw_smoothing_s);
+  }
+
+  std::string CheckPath(const std::vector<RootPathSample>& samples) const {
+    if (samples.empty()) return "the root path has no sample";
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      if (!samples[i].p.allFinite() || !std::isfinite(samples[i].yaw) || !std::isfinite(samples[i].t)) {
+        return "root path sample " + std::to_string(i) + " is not finite";
+      }
+      if (i > 0 && !(samples[i].t > samples[i - 1].t)) {
+        return "root path times must increase (sample " + std::to_string(i) + ")";
+      }
+    }
+    if (!collision) return "no terrain set";
+    return "";
+  }
+};
+
+ContactPlanner::ContactPlanner(const RobotModel& robot, const LimbDatabase& database,
+                               const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config)
+    : impl_(std::make_unique<Impl>(robot, database, equilibrium, config)) {}
+ContactPlanner::~ContactPlanner() = default;
+ContactPlanner::ContactPlanner(ContactPlanner&&) noexcept = default;
+ContactPlanner& ContactPlanner::operator=(ContactPlanner&&) noexcept = default;
+
+void ContactPlanner::SetTerrain(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces) {
+  impl_->collision = std::make_unique<RobotTerrainCollision>(impl_->robot, terrain);
+  impl_->surfaces.clear();
+  for (std::size_t i = 0; i < surfaces.size(); ++i) {
+    const AffordanceSurface& s = surfaces[i];
+    if (s.vertices.size() < 3 || !s.normal.allFinite() || s.normal.norm() < 1e-9) {
+      throw InputError("contact surface " + std::to_string(i) + ": expected a polygon with >= 3 vertices and a normal");
+    }
+    impl_->surfaces.emplace_back(s.vertices, s.normal);
+  }
+}
+
+ContactPlanResult ContactPlanner::Plan(const RootPath& path) { return Plan(path.SampleEvery(kRootPathSampling)); }
+
+ContactPlanResult ContactPlanner::Plan(const std::vector<RootPathSample>& samples) {
+  Impl& m = *impl_;
+  ContactPlanResult result;
+  const std::string problem = m.CheckPath(samples);
+  if (!problem.empty()) {
+    result.status = ContactPlanStatus::kInvalidInput;
+    result.reason = problem;
+    return result;
+  }
+  m.BeginQuery(samples);
+  std::string why;
+  const PathPose start = m.path->At(m.path->Begin());
+  std::optional<WholeBodyState> stance = m.Standing(start.p, start.yaw, &why);
+  if (!stance) {
+    result.status = ContactPlanStatus::kNoStartStance;
+    result.reason = "start stance: " + why;
+    result.failure_time_s = m.path->Begin();
+    result.planning_time_s = m.Elapsed();
+    result.stats = m.stats;
+    return result;
+  }
+  Node root;
+  root.state = *stance;
+  root.t = m.path->Begin();
+  result = m.Search(std::move(root), -1);
+  result.planning_time_s = m.Elapsed();
+  result.stats = m.stats;
+  return result;
+}
+
+ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
+                                              const std::vector<RootPathSample>& remaining_path, int max_steps) {
+  Impl& m = *impl_;
+  ContactPlanResult result;
+  std::string problem = m.CheckPath(remaining_path);
+  if (problem.empty() && max_steps < 1) problem = "max_steps must be at least 1";
+  if (problem.empty() && (!current.base_position.allFinite() || !current.base_rpy.allFinite())) {
+    problem = "current state: base pose is not finite";
+  }
+  if (!problem.empty()) {
+    result.status = ContactPlanStatus::kInvalidInput;
+    result.reason = problem;
+    return result;
+  }
+  m.BeginQuery(remaining_path);
+  Node root;
+  root.state = current;
+  root.state.moving_leg = -1;
+  root.t = m.path->Begin();
+  const Eigen::Isometry3d base = BasePose(current);
+  if (!m.SolveStance(base, current.feet, &root.state.joints)) {
+    result.status = ContactPlanStatus::kInvalidInput;
+    result.reason = "current state: a foot is out of kinematic reach at the current base pose";
+    result.planning_time_s = m.Elapsed();
+    return result;
+  }
+  const PathPose start = m.path->At(root.t);
+  root.shift = Yaw(start.yaw).transpose() * (current.base_position - start.p);
+  if (m.config.base_pose.follow_feet) root.shift.z() = 0.0;  // the height follows the feet
+  result = m.Search(std::move(root), max_steps);
+  result.planning_time_s = m.Elapsed();
+  result.stats = m.stats;
+  return result;
+}
+
+std::optional<WholeBodyState> ContactPlanner::StandingStance(const Eigen::Vector3d& base_position_W, double yaw,
+                                                             std::string* reason) {
+  impl_->start_time = std::chrono::steady_clock::now();
+  impl_->timed_out = false;
+  return impl_->Standing(base_position_W, yaw, reason);
+}
+
+const ContactPlannerConfig& ContactPlanner::Config() const { return impl_->config; }
+const EquilibriumConfig& ContactPlanner::EquilibriumParameters() const { return impl_->eq_config; }
+
+}  // namespace rbcp

@@ -1,0 +1,87 @@
+#include "rbcp/contact_planner/contact_planner_config.h"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+#include "rbcp/core/error.h"
+
+namespace rbcp {
+namespace {
+
+const std::string kFile = std::string(RBCP_SOURCE_DIR) + "/config/contact_planner.yaml";
+
+ContactPlannerConfig LoadNode(const YAML::Node& node) { return ContactPlannerConfig::Load(YamlMap(node, "test")); }
+
+TEST(ContactPlannerConfigTest, LoadsTheCommittedFile) {
+  const ContactPlannerConfig c = ContactPlannerConfig::LoadFile(kFile);
+  EXPECT_EQ(c.path_step_s, 0.02);
+  EXPECT_EQ(c.foothold.lead_time_s, 0.4);
+  EXPECT_EQ(c.foothold.lead_time_factors[0], 1.0);
+  EXPECT_GT(c.workspace.max_hip_distance_m, 0.0);
+  EXPECT_GT(c.time_budget_s, 0.0);
+  EXPECT_GE(c.path_yaw_smoothing_s, 0.0);
+  for (double lateral : c.base_shift.lateral_offsets_m) EXPECT_LE(std::abs(lateral), c.base_shift.max_base_shift_m);
+}
+
+TEST(ContactPlannerConfigTest, RejectsUnknownMissingAndOutOfRangeKeys) {
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["surprise"] = 1;
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["foothold"]["extra"] = 2;
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n.remove("time_budget_s");
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["workspace"]["max_forward_m"] = -0.1;
+    try {
+      LoadNode(n);
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("max_forward_m"), std::string::npos) << e.what();
+    }
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["foothold"]["lead_time_factors"] = std::vector<double>{1.0, 0.5};
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["step_time_resolution_s"] = 0.5;  // coarser than the path step
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["path_yaw_smoothing_s"] = -0.1;
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["base_shift"]["lateral_offsets_m"] = std::vector<double>{0.5, -0.1};  // beyond max_base_shift_m
+    try {
+      LoadNode(n);
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("lateral_offsets_m"), std::string::npos) << e.what();
+    }
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["base_shift"].remove("height_offsets_m");
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+}
+
+}  // namespace
+}  // namespace rbcp

@@ -1,0 +1,84 @@
+#include "surface_geometry.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace rbcp::contact_planner_detail {
+namespace {
+
+ConvexPolygon3d Square(double half, double z) {
+  return ConvexPolygon3d({{-half, -half, z}, {half, -half, z}, {half, half, z}, {-half, half, z}}, Eigen::Vector3d::UnitZ());
+}
+
+TEST(SurfaceGeometryTest, ClosestPointIsInsideOrOnTheBoundary) {
+  const ConvexPolygon3d s = Square(1.0, 0.2);
+  EXPECT_LT((s.ClosestPoint({0.3, -0.4, 1.0}) - Eigen::Vector3d(0.3, -0.4, 0.2)).norm(), 1e-12);
+  EXPECT_LT((s.ClosestPoint({2.0, 0.5, 0.0}) - Eigen::Vector3d(1.0, 0.5, 0.2)).norm(), 1e-12);
+  EXPECT_LT((s.ClosestPoint({3.0, 3.0, 0.2}) - Eigen::Vector3d(1.0, 1.0, 0.2)).norm(), 1e-12);
+  EXPECT_TRUE(s.Contains({0.99, 0.0, 0.2005}, 1e-3, 0.0));
+  EXPECT_FALSE(s.Contains({1.01, 0.0, 0.2}, 1e-3, 0.0));
+  EXPECT_FALSE(s.Contains({0.0, 0.0, 0.21}, 1e-3, 0.0));
+}
+
+TEST(SurfaceGeometryTest, ClockwiseInputIsReordered) {
+  const ConvexPolygon3d s({{-1, -1, 0}, {-1, 1, 0}, {1, 1, 0}, {1, -1, 0}}, Eigen::Vector3d::UnitZ());
+  EXPECT_TRUE(s.Contains({0.5, 0.5, 0.0}, 1e-9, 0.0));
+  EXPECT_LT((s.ClosestPoint({0.5, 0.5, 1.0}) - Eigen::Vector3d(0.5, 0.5, 0.0)).norm(), 1e-12);
+}
+
+TEST(SurfaceGeometryTest, PointAtFollowsAnInclinedPlane) {
+  const double a = 0.26;
+  const Eigen::Vector3d n(-std::sin(a), 0.0, std::cos(a));
+  const Eigen::Vector3d t(std::cos(a), 0.0, std::sin(a));
+  const ConvexPolygon3d s({-t - Eigen::Vector3d::UnitY(), t - Eigen::Vector3d::UnitY(), t + Eigen::Vector3d::UnitY(),
+                           -t + Eigen::Vector3d::UnitY()},
+                          n);
+  const auto p = s.PointAt({0.5, 0.2});
+  ASSERT_TRUE(p.has_value());
+  EXPECT_NEAR(p->z(), 0.5 * std::tan(a), 1e-12);
+  EXPECT_NEAR(s.PlaneDistance(*p), 0.0, 1e-12);
+}
+
+TEST(SurfaceGeometryTest, ClipToSquareKeepsTheOverlap) {
+  const ConvexPolygon3d s = Square(1.0, 0.0);
+  const auto clipped = s.ClipToSquare({0.9, 0.0}, 0.3);
+  ASSERT_GE(clipped.size(), 4u);
+  double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
+  for (const auto& v : clipped) {
+    min_x = std::min(min_x, v.x());
+    max_x = std::max(max_x, v.x());
+    min_y = std::min(min_y, v.y());
+    max_y = std::max(max_y, v.y());
+  }
+  EXPECT_NEAR(min_x, 0.6, 1e-12);
+  EXPECT_NEAR(max_x, 1.0, 1e-12);
+  EXPECT_NEAR(min_y, -0.3, 1e-12);
+  EXPECT_NEAR(max_y, 0.3, 1e-12);
+  EXPECT_TRUE(s.ClipToSquare({3.0, 0.0}, 0.3).empty());
+}
+
+TEST(SurfaceGeometryTest, ErodedTriangleKeepsTheMargin) {
+  const std::array<Eigen::Vector2d, 3> tri = {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)};
+  const auto e = ErodeTriangle(tri, 0.1);
+  ASSERT_TRUE(e.has_value());
+  // Each eroded vertex is 0.1 from the two edges it faces.
+  for (const auto& v : *e) {
+    const double d_x = v.y();
+    const double d_y = v.x();
+    const double d_h = (1.0 - v.x() - v.y()) / std::sqrt(2.0);
+    EXPECT_GE(std::min({d_x, d_y, d_h}), 0.1 - 1e-12);
+    EXPECT_NEAR(std::min({d_x, d_y, d_h}), 0.1, 1e-12);
+  }
+  EXPECT_FALSE(ErodeTriangle(tri, 0.3).has_value());  // inradius 0.293
+}
+
+TEST(SurfaceGeometryTest, ClosestPointInTriangle) {
+  const std::array<Eigen::Vector2d, 3> tri = {Eigen::Vector2d(0, 0), Eigen::Vector2d(0, 1), Eigen::Vector2d(1, 0)};
+  EXPECT_LT((ClosestPointInTriangle(tri, {0.2, 0.2}) - Eigen::Vector2d(0.2, 0.2)).norm(), 1e-12);
+  EXPECT_LT((ClosestPointInTriangle(tri, {1.0, 1.0}) - Eigen::Vector2d(0.5, 0.5)).norm(), 1e-12);
+  EXPECT_LT((ClosestPointInTriangle(tri, {-1.0, -1.0}) - Eigen::Vector2d(0.0, 0.0)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace rbcp::contact_planner_detail
