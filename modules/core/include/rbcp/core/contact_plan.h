@@ -1,0 +1,31 @@
+#pragma once
+/// A contact plan: whole-body states one step apart. Between consecutive states exactly one leg
+/// (moving_leg of the later state) changes its contact; the other three stay where they are.
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "rbcp/core/leg.h"
+
+namespace rbcp {
+
+/// A foot in contact: the contact point on the surface and the surface normal, world frame.
+struct FootContact {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< [m]
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   ///< unit
+};
+
+struct WholeBodyState {
+  Eigen::Vector3d base_position = Eigen::Vector3d::Zero();  ///< [m], world frame
+  Eigen::Vector3d base_rpy = Eigen::Vector3d::Zero();       ///< roll, pitch, yaw [rad], base to world (Rz Ry Rx)
+  Eigen::Matrix<double, 12, 1> joints = Eigen::Matrix<double, 12, 1>::Zero();  ///< [rad], LF, RF, LH, RH x (HAA, HFE, KFE)
+  std::array<FootContact, kNumLegs> feet{};                 ///< indexed by Index(Leg)
+  int moving_leg = -1;  ///< Index(Leg) of the leg that stepped to reach this state; -1 for the first state
+};
+
+struct ContactPlan {
+  std::vector<WholeBodyState> states;  ///< from the start state to the goal state
+};
+
+}  // namespace rbcp

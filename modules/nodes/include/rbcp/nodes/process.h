@@ -1,0 +1,29 @@
+#pragma once
+/// What every process main() shares: common command-line options, the config folder, and a
+/// top-level guard that turns any escaped exception into "<process>: error: <reason>" and exit 2.
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+
+namespace rbcp::nodes {
+
+struct CommonOptions {
+  std::string lcm_url;          ///< "" = LCM_DEFAULT_URL or LCM's default
+  std::string config_dir;       ///< holds robots/, scenarios/ and per-process yaml
+  bool quiet = false;           ///< no per-input log lines on stderr
+  double max_runtime_s = 0.0;   ///< stop after this long [s]; 0 = until SIGINT/SIGTERM
+};
+
+/// The config folder: $RBCP_CONFIG_DIR if set, else the checkout's config/ this build came from.
+std::string DefaultConfigDir();
+
+/// Adds --lcm-url, --config-dir, --quiet and --max-runtime.
+void AddCommonOptions(CLI::App& app, CommonOptions& options);
+
+/// Runs `body` and returns its exit code; a CLI parse error exits as CLI11 prescribes (0 for
+/// --help), any other exception prints "<process>: error: <what>" and returns 2.
+int GuardedMain(const char* process, CLI::App& app, int argc, char** argv, const std::function<int()>& body);
+
+}  // namespace rbcp::nodes

@@ -1,0 +1,45 @@
+#include "rbcp/nodes/affordance_node.h"
+
+#include <chrono>
+
+#include "rbcp/core/error.h"
+#include "rbcp/transport/convert.h"
+
+namespace rbcp::nodes {
+
+AffordanceNode::AffordanceNode(lcm::LCM& lcm, const AffordanceConfig& config, AffordanceNodeChannels channels)
+    : lcm_(lcm),
+      channels_(std::move(channels)),
+      extractor_(config),
+      terrain_(lcm, channels_.terrain),
+      status_(lcm, kProcessName, channels_.status) {}
+
+bool AffordanceNode::Step() {
+  if (auto error = terrain_.TakeDecodeError()) {
+    status_.Failed(latest_utime_, latest_utime_, 0.0, *error);
+    return true;
+  }
+  auto msg = terrain_.Take();
+  if (!msg) return false;
+  latest_utime_ = msg->utime;
+  status_.Busy(msg->utime, msg->utime);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    const TriangleMesh mesh = transport::FromTerrainMsg(*msg);
+    surfaces_ = extractor_.Extract(mesh);
+  } catch (const InputError& e) {
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    surfaces_.clear();
+    status_.Failed(msg->utime, msg->utime, ms, e.what());
+    return true;
+  }
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const auto out = transport::ToAffordanceMsg(surfaces_, msg->utime);
+  lcm_.publish(channels_.affordances, &out);
+  status_.Ok(msg->utime, msg->utime, ms);
+  return true;
+}
+
+void AffordanceNode::Heartbeat() { status_.Heartbeat(latest_utime_); }
+
+}  // namespace rbcp::nodes

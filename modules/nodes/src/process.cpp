@@ -1,0 +1,38 @@
+#include "rbcp/nodes/process.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+
+namespace rbcp::nodes {
+
+std::string DefaultConfigDir() {
+  if (const char* env = std::getenv("RBCP_CONFIG_DIR"); env && *env) return env;
+  return RBCP_DEFAULT_CONFIG_DIR;
+}
+
+void AddCommonOptions(CLI::App& app, CommonOptions& options) {
+  options.config_dir = DefaultConfigDir();
+  app.add_option("--lcm-url", options.lcm_url, "LCM URL (default: $LCM_DEFAULT_URL or LCM's default udpm)");
+  app.add_option("--config-dir", options.config_dir, "folder with robots/, scenarios/ and process yaml")
+      ->capture_default_str();
+  app.add_flag("--quiet", options.quiet, "do not log every handled input on stderr");
+  app.add_option("--max-runtime", options.max_runtime_s, "stop after this many seconds (0: run until SIGINT/SIGTERM)")
+      ->check(CLI::NonNegativeNumber);
+}
+
+int GuardedMain(const char* process, CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    return body();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", process, e.what());
+    return 2;
+  }
+}
+
+}  // namespace rbcp::nodes

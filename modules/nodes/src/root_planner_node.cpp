@@ -1,0 +1,147 @@
+#include "rbcp/nodes/root_planner_node.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rbcp/core/error.h"
+#include "rbcp/transport/convert.h"
+
+namespace rbcp::nodes {
+namespace {
+
+bool Finite(const double* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
+
+std::string CheckRequest(const rbcp_msgs::plan_request_t& r) {
+  if (!Finite(r.goal_position, 3) || !std::isfinite(r.goal_yaw)) return "plan request: goal is not finite";
+  if (r.use_start && (!Finite(r.start_position, 3) || !std::isfinite(r.start_yaw))) {
+    return "plan request: start is not finite";
+  }
+  if (!std::isfinite(r.time_budget)) return "plan request: time_budget is not finite";
+  return {};
+}
+
+double YawOf(const double q[4]) {  // (w, x, y, z), base to world
+  return std::atan2(2.0 * (q[0] * q[3] + q[1] * q[2]), 1.0 - 2.0 * (q[2] * q[2] + q[3] * q[3]));
+}
+
+}  // namespace
+
+RootPlannerNode::RootPlannerNode(lcm::LCM& lcm, const RobotModel& robot, RootPlannerConfig config,
+                                 RootPlannerNodeOptions options)
+    : lcm_(lcm),
+      options_(std::move(options)),
+      planner_(robot, std::move(config)),
+      request_(lcm, options_.request_channel),
+      robot_state_(lcm, options_.robot_state_channel),
+      terrain_(lcm, options_.terrain_channel),
+      affordances_(lcm, options_.affordances_channel),
+      status_(lcm, kProcessName, options_.status_channel) {}
+
+int64_t RootPlannerNode::Now() const { return latest_utime_; }
+
+std::optional<std::string> RootPlannerNode::TakeInputs() {
+  if (auto e = request_.TakeDecodeError()) return e;
+  if (auto e = robot_state_.TakeDecodeError()) return e;
+  if (auto e = terrain_.TakeDecodeError()) return e;
+  if (auto e = affordances_.TakeDecodeError()) return e;
+  if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
+  if (auto msg = terrain_.Take()) {
+    latest_utime_ = std::max(latest_utime_, msg->utime);
+    try {
+      terrain_mesh_ = transport::FromTerrainMsg(*msg);
+    } catch (const InputError& e) {
+      terrain_mesh_.reset();
+      return std::string(e.what());
+    }
+  }
+  if (auto msg = affordances_.Take()) {
+    try {
+      surfaces_ = transport::FromAffordanceMsg(*msg);
+    } catch (const InputError& e) {
+      surfaces_.reset();
+      return std::string(e.what());
+    }
+  }
+  if (auto msg = request_.Take()) {
+    latest_utime_ = std::max(latest_utime_, msg->utime);
+    const std::string problem = CheckRequest(*msg);
+    if (!problem.empty()) return problem;
+    pending_ = *msg;
+  }
+  return std::nullopt;
+}
+
+bool RootPlannerNode::Step() {
+  if (auto rejected = TakeInputs()) {
+    status_.Failed(Now(), Now(), 0.0, *rejected);
+    return true;
+  }
+  if (!pending_ || !terrain_mesh_ || !surfaces_) return false;
+  if (!pending_->use_start && !robot_state_.Latest()) return false;  // waiting for the robot's state
+  const rbcp_msgs::plan_request_t request = *pending_;
+  pending_.reset();
+  Plan(request);
+  return true;
+}
+
+void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request) {
+  status_.Busy(Now(), request.utime);
+  Eigen::Vector2d start_xy(request.start_position[0], request.start_position[1]);
+  double start_yaw = request.start_yaw;
+  if (!request.use_start) {
+    const auto& state = *robot_state_.Latest();
+    start_xy = {state.base_position[0], state.base_position[1]};
+    start_yaw = YawOf(state.base_orientation);
+    if (!start_xy.allFinite() || !std::isfinite(start_yaw)) {
+      status_.Failed(Now(), request.utime, 0.0, "robot state: base pose is not finite");
+      return;
+    }
+  }
+  const auto start = planner_.StandingPosition(*terrain_mesh_, start_xy);
+  const auto goal = planner_.StandingPosition(*terrain_mesh_, {request.goal_position[0], request.goal_position[1]});
+  if (!start || !goal) {
+    status_.Failed(Now(), request.utime, 0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
+    return;
+  }
+  const double budget = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
+  last_result_ = planner_.Plan(*terrain_mesh_, *surfaces_, *start, start_yaw, *goal, request.goal_yaw,
+                               static_cast<unsigned>(request.seed), budget);
+  const double ms = 1000.0 * last_result_->planning_time_s;
+  if (!last_result_->ok()) {
+    status_.Failed(Now(), request.utime, ms, ToString(last_result_->status) + ": " + last_result_->reason);
+    return;
+  }
+  const auto msg = ToRootPathMsg(*last_result_, Now(), request.request_id);
+  lcm_.publish(options_.root_path_channel, &msg);
+  status_.Ok(Now(), request.utime, ms);
+}
+
+void RootPlannerNode::Heartbeat() { status_.Heartbeat(Now()); }
+
+rbcp_msgs::root_path_t ToRootPathMsg(const RootPlanResult& result, int64_t utime, int64_t request_id) {
+  rbcp_msgs::root_path_t msg;
+  msg.utime = utime;
+  msg.request_id = request_id;
+  msg.num_points = static_cast<int32_t>(result.samples.size());
+  for (const auto& s : result.samples) {
+    rbcp_msgs::root_path_point_t p;
+    p.t = s.t;
+    for (int k = 0; k < 3; ++k) {
+      p.position[k] = s.p[k];
+      p.velocity[k] = s.v[k];
+    }
+    p.orientation[0] = std::cos(0.5 * s.yaw);
+    p.orientation[1] = 0.0;
+    p.orientation[2] = 0.0;
+    p.orientation[3] = std::sin(0.5 * s.yaw);
+    msg.points.push_back(p);
+  }
+  return msg;
+}
+
+}  // namespace rbcp::nodes

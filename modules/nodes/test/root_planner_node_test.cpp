@@ -1,0 +1,118 @@
+#include "rbcp/nodes/root_planner_node.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "rbcp/core/yaml_reader.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/scenario/scenario.h"
+#include "rbcp/transport/convert.h"
+#include "rbcp_msgs/process_status_t.hpp"
+
+namespace rbcp::nodes {
+namespace {
+
+const std::string kConfig = std::string(RBCP_SOURCE_DIR) + "/config";
+
+class RootPlannerNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override { node_.status().set_verbose(false); }
+  void Pump() {
+    while (lcm_.handleTimeout(0) > 0) {
+    }
+  }
+  void PublishWorld(const std::string& scenario_name) {
+    const Scenario scenario = LoadScenario(kConfig + "/scenarios/" + scenario_name + ".yaml");
+    const auto surfaces =
+        AffordanceExtractor(AffordanceConfig::Load(YamlMap::LoadFile(kConfig + "/affordance.yaml"))).Extract(scenario.terrain_mesh);
+    const auto terrain = transport::ToTerrainMsg(scenario.terrain_mesh, 100, scenario.name);
+    const auto affordances = transport::ToAffordanceMsg(surfaces, 100);
+    lcm_.publish(channels::kTerrain, &terrain);
+    lcm_.publish(channels::kAffordances, &affordances);
+  }
+  static rbcp_msgs::plan_request_t Request(double sx, double gx, int64_t id) {
+    rbcp_msgs::plan_request_t r{};
+    r.utime = 200;
+    r.request_id = id;
+    r.use_start = true;
+    r.start_position[0] = sx;
+    r.goal_position[0] = gx;
+    r.time_budget = 5.0;
+    r.seed = 3;
+    return r;
+  }
+
+  lcm::LCM lcm_{"memq://"};
+  RobotModel robot_ = RobotModel::LoadDefault(kConfig);
+  RootPlannerNode node_{lcm_, robot_, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig)};
+  transport::LatestMessage<rbcp_msgs::root_path_t> path_{lcm_, channels::kRootPath};
+  transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
+};
+
+TEST_F(RootPlannerNodeTest, WaitsForTheWorldThenPlansAndPublishes) {
+  const auto request = Request(0.0, 1.5, 7);
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  EXPECT_FALSE(node_.Step()) << "no terrain yet: the request stays pending";
+  PublishWorld("flat_ground");
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  auto path = path_.Take();
+  ASSERT_TRUE(path.has_value()) << status_.Latest()->reason;
+  EXPECT_EQ(path->request_id, 7);
+  ASSERT_GT(path->num_points, 2);
+  EXPECT_NEAR(path->points.front().position[0], 0.0, 1e-9);
+  EXPECT_NEAR(path->points.back().position[0], 1.5, 1e-9);
+  EXPECT_NEAR(path->points.back().position[2], robot_.NominalBaseHeight(), 1e-9);
+  for (int i = 1; i < path->num_points; ++i) EXPECT_GT(path->points[i].t, path->points[i - 1].t);
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
+  EXPECT_FALSE(node_.Step()) << "a request is answered once";
+}
+
+TEST_F(RootPlannerNodeTest, ReplansFromTheMeasuredRobotState) {
+  PublishWorld("flat_ground");
+  auto request = Request(0.0, 1.5, 8);
+  request.use_start = false;
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  EXPECT_FALSE(node_.Step()) << "waits for ROBOT_STATE";
+  rbcp_msgs::robot_state_t state{};
+  state.utime = 300;
+  state.base_position[0] = 0.5;
+  state.base_position[2] = 0.45;
+  state.base_orientation[0] = 1.0;
+  lcm_.publish(channels::kRobotState, &state);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  auto path = path_.Take();
+  ASSERT_TRUE(path.has_value()) << status_.Latest()->reason;
+  EXPECT_NEAR(path->points.front().position[0], 0.5, 1e-9);
+  EXPECT_EQ(path->utime, 300);
+}
+
+TEST_F(RootPlannerNodeTest, BadRequestsFailWithAReason) {
+  PublishWorld("flat_ground");
+  auto request = Request(0.0, 1.5, 9);
+  request.goal_position[1] = std::numeric_limits<double>::quiet_NaN();
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_EQ(status_.Latest()->reason, "plan request: goal is not finite");
+
+  request = Request(0.0, 40.0, 10);  // far beyond the floor
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_EQ(status_.Latest()->reason, "no terrain under the goal");
+  EXPECT_FALSE(path_.Take().has_value());
+}
+
+}  // namespace
+}  // namespace rbcp::nodes

@@ -1,0 +1,34 @@
+#pragma once
+/// Conversions between LCM messages and the libraries' Eigen types. Messages coming in are
+/// untrusted: conversions from a message validate it and throw rbcp::InputError with the reason.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/contact_plan.h"
+#include "rbcp/core/triangle_mesh.h"
+#include "rbcp_msgs/affordance_set_t.hpp"
+#include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/terrain_mesh_t.hpp"
+
+namespace rbcp::transport {
+
+rbcp_msgs::terrain_mesh_t ToTerrainMsg(const TriangleMesh& mesh, int64_t utime, const std::string& scenario_name);
+
+/// Throws InputError if the counts disagree with the arrays, a vertex is not finite, an index is
+/// out of range or a triangle is degenerate.
+TriangleMesh FromTerrainMsg(const rbcp_msgs::terrain_mesh_t& msg);
+
+rbcp_msgs::affordance_set_t ToAffordanceMsg(const std::vector<AffordanceSurface>& surfaces, int64_t utime);
+
+/// Throws InputError if counts disagree, a value is not finite or a polygon has < 3 vertices.
+std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set_t& msg);
+
+rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utime, int64_t request_id);
+
+/// Throws InputError if counts disagree, a value is not finite or a moving leg is out of range.
+ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg);
+
+}  // namespace rbcp::transport
