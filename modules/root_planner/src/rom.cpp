@@ -119,6 +119,23 @@ RomGenerationConfig RomGenerationConfig::Load(const YamlMap& map) {
     map.Fail("scale_center", "expected 'centroid' or 'hip', got '" + center + "'");
   }
   c.reject_self_collisions = map.Bool("reject_self_collisions");
+  if (map.Has("foot_box")) {
+    const YamlMap box = map.Map("foot_box");
+    FootBox b;
+    const auto extent = [&](const char* key) {
+      const double v = box.Double(key);
+      if (!(v > 0.0)) box.Fail(key, "expected a positive length [m], got " + std::to_string(v));
+      return v;
+    };
+    b.forward = extent("forward");
+    b.backward = extent("backward");
+    b.outward = extent("outward");
+    b.inward = extent("inward");
+    b.up = extent("up");
+    b.down = extent("down");
+    box.RejectUnknownKeys();
+    c.foot_box = b;
+  }
   map.RejectUnknownKeys();
   return c;
 }
@@ -130,13 +147,21 @@ std::vector<std::string> RomGenerationConfig::Describe() const {
   scale_text << scale;
   std::ostringstream tolerance_text;
   tolerance_text << tolerance;
-  return {"samples: " + std::to_string(samples),
+  std::vector<std::string> lines = {"samples: " + std::to_string(samples),
           "seed: " + std::to_string(seed),
           "max_triangles: " + std::to_string(max_triangles),
           "tolerance: " + tolerance_text.str(),
           "scale: " + scale_text.str(),
           std::string("scale_center: ") + (scale_center == ScaleCenter::kCentroid ? "centroid" : "hip"),
           std::string("reject_self_collisions: ") + (reject_self_collisions ? "true" : "false")};
+  if (foot_box) {
+    std::ostringstream box;
+    box << "foot_box: {forward: " << foot_box->forward << ", backward: " << foot_box->backward
+        << ", outward: " << foot_box->outward << ", inward: " << foot_box->inward << ", up: " << foot_box->up
+        << ", down: " << foot_box->down << "}";
+    lines.push_back(box.str());
+  }
+  return lines;
 }
 
 std::vector<Eigen::Vector3d> SampleFootPositions(const RobotModel& robot, Leg leg, const RomGenerationConfig& config,
@@ -154,6 +179,17 @@ std::vector<Eigen::Vector3d> SampleFootPositions(const RobotModel& robot, Leg le
   std::vector<Eigen::Vector3d> feet;
   feet.reserve(static_cast<std::size_t>(config.samples));
   int rejected = 0;
+  int outside = 0;
+  const Eigen::Vector3d reference = robot.ReferenceFootPosition(leg);
+  const double left = LeftSign(leg);
+  const auto in_box = [&](const Eigen::Vector3d& foot) {
+    if (!config.foot_box) return true;
+    const RomGenerationConfig::FootBox& b = *config.foot_box;
+    const Eigen::Vector3d d = foot - reference;
+    const double out = left * d.y();
+    return d.x() <= b.forward && -d.x() <= b.backward && out <= b.outward && -out <= b.inward && d.z() <= b.up &&
+           -d.z() <= b.down;
+  };
   for (int i = 0; i < config.samples; ++i) {
     Eigen::Vector3d q;
     for (int j = 0; j < 3; ++j) q[j] = lo[j] + unit(rng) * (hi[j] - lo[j]);
@@ -161,11 +197,17 @@ std::vector<Eigen::Vector3d> SampleFootPositions(const RobotModel& robot, Leg le
       ++rejected;
       continue;
     }
-    feet.push_back(robot.FootPosition(leg, q));
+    const Eigen::Vector3d foot = robot.FootPosition(leg, q);
+    if (!in_box(foot)) {
+      ++outside;
+      continue;
+    }
+    feet.push_back(foot);
   }
   if (report != nullptr) {
     report->accepted_samples = static_cast<int>(feet.size());
     report->rejected_samples = rejected;
+    report->outside_foot_box = outside;
   }
   return feet;
 }

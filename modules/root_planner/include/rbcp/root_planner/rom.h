@@ -11,6 +11,7 @@
 /// about the shape's volume centroid or the leg's HAA joint origin.
 
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -34,6 +35,15 @@ struct RomGenerationConfig {
   double scale = 0.85;                       ///< scale factor, in (0, 1]
   ScaleCenter scale_center = ScaleCenter::kCentroid;
   bool reject_self_collisions = true;        ///< reject configurations where the leg hits the trunk
+  /// Optional foot box relative to the leg's reference foot position (base frame): samples whose
+  /// foot lies outside it are dropped, so the shape covers only the footholds the contact planner
+  /// may use (its explicit step workspace) instead of everything the joints can reach.
+  struct FootBox {
+    double forward = 0.0, backward = 0.0;  ///< [m] along base +x / -x
+    double outward = 0.0, inward = 0.0;    ///< [m] away from / toward the body's centre line
+    double up = 0.0, down = 0.0;           ///< [m] along base +z / -z
+  };
+  std::optional<FootBox> foot_box;
 
   /// Reads every key above (scale_center: "centroid" or "hip"); strict.
   static RomGenerationConfig Load(const YamlMap& map);
@@ -46,6 +56,7 @@ struct RomGenerationConfig {
 struct RomGenerationReport {
   int accepted_samples = 0;
   int rejected_samples = 0;   ///< self-collisions
+  int outside_foot_box = 0;   ///< samples dropped by the foot box
   int full_hull_triangles = 0;
   double full_hull_volume = 0.0;        ///< [m^3] before simplification and scaling
   double simplified_volume = 0.0;       ///< [m^3] after simplification, before scaling
