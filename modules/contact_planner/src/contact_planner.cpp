@@ -79,6 +79,17 @@ Leg CrawlPrevious(Leg leg) {
   return leg;
 }
 
+/// The leg that steps after `leg` in the crawl order LH, LF, RH, RF.
+Leg CrawlNext(Leg leg) {
+  switch (leg) {
+    case Leg::kLH: return Leg::kLF;
+    case Leg::kLF: return Leg::kRH;
+    case Leg::kRH: return Leg::kRF;
+    case Leg::kRF: return Leg::kLH;
+  }
+  return leg;
+}
+
 int TieRank(Leg leg) {
   for (int i = 0; i < kNumLegs; ++i) {
     if (kTieOrder[static_cast<std::size_t>(i)] == leg) return i;
@@ -914,6 +925,21 @@ struct ContactPlanner::Impl {
       const Leg fore = node.state.moving_leg == Index(Leg::kLH) ? Leg::kLF : Leg::kRF;
       std::stable_partition(ranking.begin(), ranking.end(),
                             [&](const LegRank& r) { return r.failing && r.leg == fore; });
+    }
+    // Crawl timing: the next leg in the crawl order steps after at most gait_advance_s of path
+    // time, from the parent's shift first, then from the path pose, with other leads and shift
+    // starts.
+    if (config.gait_advance_s > 0.0) {
+      const double t_gait = std::min(keep.t_good, node.t + config.gait_advance_s);
+      const Leg gait_leg = node.state.moving_leg < 0 ? ranking.front().leg
+                                                     : CrawlNext(kAllLegs[static_cast<std::size_t>(node.state.moving_leg)]);
+      if (allowed(gait_leg, t_gait)) {
+        for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({gait_leg, t_gait, lead, false, 0});
+        for (int v = 1; v < kNumVariants; ++v) {
+          if ((BaseVariant(node, v) - BaseVariant(node, 0)).norm() < 1e-9) continue;  // same start
+          node.options.push_back({gait_leg, t_gait, 0, false, v});
+        }
+      }
     }
     // Failing legs at the failure time, every lead, then with the other starts of the shift
     // search; then earlier; then the other legs.

@@ -29,6 +29,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.path_step_s = map.Double("path_step_s");
   c.step_time_resolution_s = map.Double("step_time_resolution_s");
   c.path_yaw_smoothing_s = map.Double("path_yaw_smoothing_s");
+  c.gait_advance_s = map.Double("gait_advance_s");
 
   const YamlMap ws = map.Map("workspace");
   c.workspace.max_forward_m = ws.Double("max_forward_m");
@@ -100,6 +101,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   positive("path_step_s", path_step_s);
   positive("step_time_resolution_s", step_time_resolution_s);
   non_negative("path_yaw_smoothing_s", path_yaw_smoothing_s);
+  non_negative("gait_advance_s", gait_advance_s);
   if (step_time_resolution_s > path_step_s) {
     fail("step_time_resolution_s", "at most path_step_s (" + Num(path_step_s) + ")", Num(step_time_resolution_s));
   }

@@ -68,6 +68,11 @@ TEST(ContactPlannerConfigTest, RejectsUnknownMissingAndOutOfRangeKeys) {
   }
   {
     YAML::Node n = YAML::LoadFile(kFile);
+    n["gait_advance_s"] = -0.25;
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
     n["base_shift"]["lateral_offsets_m"] = std::vector<double>{0.5, -0.1};  // beyond max_base_shift_m
     try {
       LoadNode(n);

@@ -6,7 +6,10 @@
 /// kinematics. A foot that can no longer be kept (no IK solution, joint bounds, collision, or
 /// outside the explicit workspace of ContactPlannerConfig::workspace) makes its leg step; when
 /// several fail together the one furthest outside its workspace (the most stretched) steps first,
-/// at the last path time at which all four could still be kept. The new foothold comes from the
+/// at the last path time at which all four could still be kept. With gait_advance_s > 0 the legs
+/// also step in crawl order (LH, LF, RH, RF) before that: the next leg steps once the trunk has
+/// advanced gait_advance_s of path time since the previous step, so the feet stay near the middle
+/// of their workspace; the forced steps above remain the fallback. The new foothold comes from the
 /// limb database: samples whose foot lies near the contact surfaces around a target (the leg's
 /// reference foot at the path pose lead_time_s ahead), ranked by distance to the target plus the
 /// offline score, projected onto the surface (closest point of the eroded polygon) and solved
@@ -23,7 +26,7 @@
 /// To meet the last test the base may be shifted horizontally off the path (at most
 /// max_base_shift_m); the shift is kept while the trunk advances. The shift search of a step
 /// starts from the current shift (the body stays where it is); when the step fails from there it
-/// is retried from the path pose, from lateral offsets and with the base lowered
+/// is retried from the path pose, from lateral offsets and with the base raised or lowered
 /// (base_shift.lateral_offsets_m, height_offsets_m).
 /// The path gives the base x and y, and its heading averaged over path_yaw_smoothing_s gives the
 /// base yaw (the start and goal headings are kept); with base_pose.follow_feet the base height,

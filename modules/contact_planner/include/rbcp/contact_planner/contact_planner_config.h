@@ -76,6 +76,11 @@ struct ContactPlannerConfig {
   /// [s] half-width of the window over which the base heading is averaged along the path (0: the
   /// path heading); the window shrinks at the path ends so the start and goal headings are kept.
   double path_yaw_smoothing_s = 0.5;
+  /// [s] crawl timing: the leg next in the crawl order (LH, LF, RH, RF) steps after the trunk has
+  /// advanced at most this much path time since the last step (earlier if a foot must), so the
+  /// feet stay near the middle of their workspace. 0: a leg steps only when a foot can no
+  /// longer be kept.
+  double gait_advance_s = 0.25;
   FootWorkspace workspace;
   FootholdConfig foothold;
   /// Joint torques of every quasi-static stance stay below this fraction of the actuator limit.
