@@ -15,7 +15,7 @@ logger=$!
 extractor=$!
 sleep 0.5
 kill -0 "$logger" "$extractor" || { echo "record: lcm-logger or affordance_extractor did not start" >&2; exit 1; }
-"$bin/scenario_publisher" --lcm-url "$url" --scenario "$root/config/scenarios/darpa_rubble.yaml" >/dev/null
+"$bin/scenario_publisher" --lcm-url "$url" --scenario "$root/config/scenarios/darpa_rubble.yaml" --until affordance >/dev/null
 sleep 0.5
 kill -INT "$logger" "$extractor"
 wait "$logger" "$extractor" || true

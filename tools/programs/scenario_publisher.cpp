@@ -1,88 +1,278 @@
-// scenario_publisher: publishes a scenario's terrain on TERRAIN (standing in for the simulator's
-// world publication), waits for the affordance process to answer, and prints what came back.
+// scenario_publisher: drives a scenario through the pipeline's processes, standing in for the
+// simulator's world publication and for the operator. It waits until every process it needs
+// reports on STATUS, publishes the scenario's terrain on TERRAIN until AFFORDANCES answers, then
+// a PLAN_REQUEST from the scenario's start to its goal, waits for ROOT_PATH and CONTACT_PLAN,
+// checks the plan with the plan checker and prints a summary. A FAILED status from any process
+// (on an input handled after the start) ends the run with the process's name and reason.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
 
+#include "rbcp/core/error.h"
 #include "rbcp/nodes/process.h"
+#include "rbcp/plan_checker/plan_checker.h"
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/convert.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/run_loop.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
+#include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
+#include "rbcp_msgs/root_path_t.hpp"
+
+namespace {
+
+using namespace rbcp;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kOk = 0, kPlanningFailed = 1, kNoAnswer = 3;
+
+/// Every process's STATUS: whether it was heard, its latest result, and failures on inputs it
+/// handled after it was first heard (a heartbeat repeats an old result; `handled` tells them apart).
+class StatusBoard {
+ public:
+  StatusBoard(lcm::LCM& lcm, const std::string& channel) { lcm.subscribe(channel, &StatusBoard::On, this); }
+
+  bool Heard(const std::string& process) const { return processes_.count(process) > 0; }
+  /// The latest OK of the process on an input handled after it was first heard.
+  std::optional<rbcp_msgs::process_status_t> NewOk(const std::string& process) const {
+    auto it = processes_.find(process);
+    if (it == processes_.end() || !it->second.ok) return std::nullopt;
+    return it->second.ok;
+  }
+  /// The oldest failure not yet taken; it stays available as last_failure().
+  std::optional<rbcp_msgs::process_status_t> TakeFailure() {
+    if (failures_.empty()) return std::nullopt;
+    last_failure_ = failures_.front();
+    failures_.erase(failures_.begin());
+    return last_failure_;
+  }
+  const std::optional<rbcp_msgs::process_status_t>& last_failure() const { return last_failure_; }
+
+ private:
+  struct Process {
+    int64_t handled = 0;  ///< inputs handled when last heard
+    std::optional<rbcp_msgs::process_status_t> ok;
+  };
+  void On(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::process_status_t* msg) {
+    auto it = processes_.find(msg->process);
+    if (it == processes_.end()) {
+      processes_[msg->process].handled = msg->handled;
+      return;
+    }
+    if (msg->handled <= it->second.handled) return;  // nothing new handled
+    it->second.handled = msg->handled;
+    if (msg->state == rbcp_msgs::process_status_t::FAILED) failures_.push_back(*msg);
+    if (msg->state == rbcp_msgs::process_status_t::OK) it->second.ok = *msg;
+  }
+  std::map<std::string, Process> processes_;
+  std::vector<rbcp_msgs::process_status_t> failures_;
+  std::optional<rbcp_msgs::process_status_t> last_failure_;
+};
+
+enum class Waited { kDone, kFailed, kTimeout, kStopped };
+
+/// Handles LCM traffic until done() (kDone), a process fails (kFailed, printed), timeout_s
+/// passes (kTimeout) or the program is signalled. tick() runs between waits.
+Waited WaitUntil(lcm::LCM& lcm, StatusBoard& board, double timeout_s, const std::function<bool()>& done,
+                 const std::function<void()>& tick = {}) {
+  const auto start = Clock::now();
+  while (!transport::StopRequested()) {
+    if (done()) return Waited::kDone;
+    if (auto f = board.TakeFailure()) {
+      std::cerr << "scenario_publisher: " << f->process << " failed: " << f->reason << "\n";
+      return Waited::kFailed;
+    }
+    if (std::chrono::duration<double>(Clock::now() - start).count() > timeout_s) return Waited::kTimeout;
+    if (tick) tick();
+    lcm.handleTimeout(20);
+  }
+  return Waited::kStopped;
+}
+
+/// Handles LCM traffic for at most timeout_s until done(); failures are left for WaitUntil.
+void Pump(lcm::LCM& lcm, double timeout_s, const std::function<bool()>& done) {
+  const auto start = Clock::now();
+  while (!done() && std::chrono::duration<double>(Clock::now() - start).count() < timeout_s) lcm.handleTimeout(20);
+}
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+void PrintSurfaces(const Scenario& scenario, const std::vector<AffordanceSurface>& surfaces, double extract_ms) {
+  double area = 0.0;
+  for (const auto& s : surfaces) area += s.area;
+  std::cout << "scenario " << scenario.name << ": " << scenario.terrain_mesh.NumTriangles()
+            << " terrain triangles published on TERRAIN\n"
+            << "affordance_extractor: " << surfaces.size() << " contact surfaces (" << area << " m^2) on AFFORDANCES";
+  if (extract_ms >= 0.0) std::cout << ", extracted in " << extract_ms << " ms";
+  std::cout << "\n";
+  for (std::size_t i = 0; i < surfaces.size(); ++i) {
+    const auto& s = surfaces[i];
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& v : s.vertices) c += v / static_cast<double>(s.vertices.size());
+    std::printf("  surface %2zu: %zu vertices, area %.4f m^2, centre (%.3f, %.3f, %.3f), slope %.1f deg\n", i,
+                s.vertices.size(), s.area, c.x(), c.y(), c.z(), std::acos(std::min(1.0, s.normal.z())) * 180.0 / M_PI);
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  using namespace rbcp;
-  CLI::App app{"Publishes a scenario's terrain on TERRAIN and reports the AFFORDANCES answer."};
+  CLI::App app{"Drives a scenario through the pipeline's processes: TERRAIN -> AFFORDANCES, then a PLAN_REQUEST\n"
+               "from the scenario's start to its goal -> ROOT_PATH -> CONTACT_PLAN; checks the plan and prints a\n"
+               "summary. Exit status: 0 answered (and the plan passes the checker), 1 a process failed or the plan\n"
+               "fails the checker, 2 bad input, 3 no answer in time."};
   nodes::CommonOptions common;
   nodes::AddCommonOptions(app, common);
-  std::string scenario_path;
-  double timeout_s = 10.0, period_s = 0.5;
+  std::string scenario_path, until = "contact";
+  double timeout_s = 10.0, period_s = 0.5, budget_s = 5.0;
+  int seed = 1;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
-  app.add_option("--timeout", timeout_s, "give up after this many seconds without an answer")->capture_default_str();
-  app.add_option("--period", period_s, "republish the terrain this often until answered [s]")->capture_default_str();
+  app.add_option("--until", until, "last answer to wait for: affordance, root or contact")
+      ->capture_default_str()->check(CLI::IsMember({"affordance", "root", "contact"}));
+  app.add_option("--timeout", timeout_s, "give up after this many seconds without the awaited answer")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--period", period_s, "republish the terrain this often until answered [s]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--time-budget", budget_s, "root planning time budget of the request [s]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--seed", seed, "random seed of the request")->capture_default_str();
   return nodes::GuardedMain("scenario_publisher", app, argc, argv, [&]() -> int {
     const Scenario scenario = LoadScenario(scenario_path);
     auto lcm = transport::OpenLcm(common.lcm_url);
+    StatusBoard board(*lcm, channels::kStatus);
     transport::LatestMessage<rbcp_msgs::affordance_set_t> affordances(*lcm, channels::kAffordances);
-    transport::LatestMessage<rbcp_msgs::process_status_t> status(*lcm, channels::kStatus);
+    transport::LatestMessage<rbcp_msgs::root_path_t> root_path(*lcm, channels::kRootPath);
+    transport::LatestMessage<rbcp_msgs::contact_plan_t> contact_plan(*lcm, channels::kContactPlan);
     transport::InstallStopHandlers();
-    const auto start = std::chrono::steady_clock::now();
-    int64_t utime = 0;
-    double extract_ms = -1.0;  // from the extractor's OK status, published right after AFFORDANCES
-    for (auto next = start; !transport::StopRequested();) {
-      const auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - start).count() > timeout_s) {
-        std::cerr << "scenario_publisher: no AFFORDANCES within " << timeout_s
-                  << " s: is affordance_extractor running on this LCM URL?\n";
-        return 1;
-      }
-      if (now >= next) {
-        const auto msg = transport::ToTerrainMsg(scenario.terrain_mesh, utime, scenario.name);
-        lcm->publish(channels::kTerrain, &msg);
-        utime += static_cast<int64_t>(period_s * 1e6);
-        next = now + std::chrono::milliseconds(static_cast<int>(period_s * 1000));
-      }
-      lcm->handleTimeout(20);
-      auto s = status.Take();
-      if (s && s->process == "affordance_extractor" && s->state == rbcp_msgs::process_status_t::OK) {
-        extract_ms = s->compute_ms;
-      }
-      if (s && s->process == "affordance_extractor" && s->state == rbcp_msgs::process_status_t::FAILED) {
-        std::cerr << "scenario_publisher: " << s->process << " failed: " << s->reason << "\n";
-        return 1;
-      }
-      if (auto a = affordances.Take()) {
-        for (int i = 0; i < 10 && extract_ms < 0.0; ++i) {
-          lcm->handleTimeout(20);
-          const auto& st = status.Latest();
-          if (st && st->process == "affordance_extractor" && st->state == rbcp_msgs::process_status_t::OK) {
-            extract_ms = st->compute_ms;
-          }
-        }
-        const auto surfaces = transport::FromAffordanceMsg(*a);
-        double area = 0.0;
-        for (const auto& s : surfaces) area += s.area;
-        std::cout << "scenario " << scenario.name << ": " << scenario.terrain_mesh.NumTriangles()
-                  << " terrain triangles published on TERRAIN\n"
-                  << "affordance_extractor: " << surfaces.size() << " contact surfaces (" << area
-                  << " m^2) on AFFORDANCES";
-        if (extract_ms >= 0.0) std::cout << ", extracted in " << extract_ms << " ms";
-        std::cout << "\n";
-        for (std::size_t i = 0; i < surfaces.size(); ++i) {
-          const auto& s = surfaces[i];
-          Eigen::Vector3d c = Eigen::Vector3d::Zero();
-          for (const auto& v : s.vertices) c += v / static_cast<double>(s.vertices.size());
-          std::printf("  surface %2zu: %zu vertices, area %.4f m^2, centre (%.3f, %.3f, %.3f), slope %.1f deg\n", i,
-                      s.vertices.size(), s.area, c.x(), c.y(), c.z(), std::acos(std::min(1.0, s.normal.z())) * 180.0 / M_PI);
-        }
-        return 0;
-      }
+
+    std::vector<std::string> processes = {"affordance_extractor"};
+    if (until != "affordance") processes.push_back("root_planner");
+    if (until == "contact") processes.push_back("contact_planner");
+    std::string summary = "summary: " + scenario.name;
+    auto finish = [&](int rc, const std::string& last) {
+      std::cout << summary << (last.empty() ? "" : ", ") << last << std::endl;
+      return rc;
+    };
+    auto no_answer = [&](const std::string& what, const std::string& process) {
+      std::cerr << "scenario_publisher: no " << what << " within " << timeout_s << " s: is " << process
+                << " running on this LCM URL?\n";
+      return finish(kNoAnswer, "no " + what + " from " + process);
+    };
+    auto stopped_or_failed = [&](Waited w, const std::string& stage) {
+      if (w != Waited::kFailed) return finish(kNoAnswer, "stopped during " + stage);
+      const auto& f = *board.last_failure();
+      return finish(kPlanningFailed, stage + " failed: " + f.process + ": " + f.reason);
+    };
+
+    // Every process is up: nothing published before would reach it.
+    for (const auto& process : processes) {
+      const Waited w = WaitUntil(*lcm, board, timeout_s, [&] { return board.Heard(process); });
+      if (w == Waited::kTimeout) return no_answer("STATUS", process);
+      if (w != Waited::kDone) return stopped_or_failed(w, "startup");
     }
-    return 1;
+
+    // TERRAIN until AFFORDANCES.
+    int64_t utime = 0;
+    auto next = Clock::now();
+    std::optional<rbcp_msgs::affordance_set_t> surfaces_msg;
+    Waited w = WaitUntil(
+        *lcm, board, timeout_s, [&] { return (surfaces_msg = affordances.Take()).has_value(); },
+        [&] {
+          if (Clock::now() < next) return;
+          const auto msg = transport::ToTerrainMsg(scenario.terrain_mesh, utime, scenario.name);
+          lcm->publish(channels::kTerrain, &msg);
+          utime += static_cast<int64_t>(period_s * 1e6);
+          next = Clock::now() + std::chrono::milliseconds(static_cast<int>(period_s * 1000));
+        });
+    if (w == Waited::kTimeout) return no_answer("AFFORDANCES", "affordance_extractor");
+    if (w != Waited::kDone) return stopped_or_failed(w, "affordance extraction");
+    // The extractor's OK status follows its AFFORDANCES.
+    Pump(*lcm, 0.2, [&] { return board.NewOk("affordance_extractor").has_value(); });
+    const auto extracted = board.NewOk("affordance_extractor");
+    const auto surfaces = transport::FromAffordanceMsg(*surfaces_msg);
+    PrintSurfaces(scenario, surfaces, extracted ? extracted->compute_ms : -1.0);
+    summary += ": " + std::to_string(surfaces.size()) + " surfaces";
+    if (until == "affordance") return finish(kOk, "");
+
+    // PLAN_REQUEST from the scenario's start to its goal, answered by ROOT_PATH.
+    rbcp_msgs::plan_request_t request{};
+    request.utime = utime;
+    request.request_id = 1;
+    request.use_start = true;
+    request.start_position[0] = scenario.start.position.x();
+    request.start_position[1] = scenario.start.position.y();
+    request.start_yaw = scenario.start.yaw;
+    request.goal_position[0] = scenario.goal.position.x();
+    request.goal_position[1] = scenario.goal.position.y();
+    request.goal_yaw = scenario.goal.yaw;
+    request.time_budget = budget_s;
+    request.seed = seed;
+    lcm->publish(channels::kPlanRequest, &request);
+    std::cout << "plan request " << request.request_id << " on PLAN_REQUEST: (" << request.start_position[0] << ", "
+              << request.start_position[1] << ") -> (" << request.goal_position[0] << ", " << request.goal_position[1]
+              << "), seed " << seed << "\n";
+    std::optional<rbcp_msgs::root_path_t> path;
+    w = WaitUntil(*lcm, board, timeout_s, [&] {
+      auto p = root_path.Take();
+      if (p && p->request_id == request.request_id) path = std::move(p);
+      return path.has_value();
+    });
+    if (w == Waited::kTimeout) return no_answer("ROOT_PATH", "root_planner");
+    if (w != Waited::kDone) return stopped_or_failed(w, "root planning");
+    Pump(*lcm, 0.2, [&] { return board.NewOk("root_planner").has_value(); });
+    const double duration_s = path->points.empty() ? 0.0 : path->points.back().t - path->points.front().t;
+    const auto root_ok = board.NewOk("root_planner");
+    std::cout << "root_planner: path of " << Fixed(duration_s, 2) << " s (" << path->num_points
+              << " points) on ROOT_PATH";
+    if (root_ok) std::cout << ", planned in " << Fixed(root_ok->compute_ms, 1) << " ms";
+    std::cout << "\n";
+    summary += ", root path of " + Fixed(duration_s, 2) + " s" +
+               (root_ok ? " in " + Fixed(root_ok->compute_ms, 1) + " ms" : std::string());
+    if (until == "root") return finish(kOk, "");
+
+    // CONTACT_PLAN along the path, then the independent check.
+    std::optional<rbcp_msgs::contact_plan_t> plan_msg;
+    w = WaitUntil(*lcm, board, timeout_s, [&] {
+      auto p = contact_plan.Take();
+      if (p && p->request_id == request.request_id) plan_msg = std::move(p);
+      return plan_msg.has_value();
+    });
+    if (w == Waited::kTimeout) return no_answer("CONTACT_PLAN", "contact_planner");
+    if (w != Waited::kDone) return stopped_or_failed(w, "contact planning");
+    Pump(*lcm, 0.2, [&] { return board.NewOk("contact_planner").has_value(); });
+    const auto contact_ok = board.NewOk("contact_planner");
+    const int steps = std::max(0, plan_msg->num_states - 1);
+    std::cout << "contact_planner: " << plan_msg->num_states << " states on CONTACT_PLAN";
+    if (contact_ok) std::cout << ": " << contact_ok->reason << " (" << Fixed(contact_ok->compute_ms, 1) << " ms)";
+    std::cout << "\n";
+    summary += ", " + std::to_string(steps) + " contact steps" +
+               (contact_ok ? " in " + Fixed(contact_ok->compute_ms, 1) + " ms" : std::string());
+    try {
+      const PlanCheckReport report =
+          CheckPlanForScenario(common.config_dir, scenario, transport::FromContactPlanMsg(*plan_msg));
+      for (const auto& v : report.violations) std::cout << "  state " << v.state << ": " << v.check << ": " << v.detail << "\n";
+      std::cout << "plan check: " << report.Summary() << "\n";
+      return finish(report.ok ? kOk : kPlanningFailed,
+                    report.ok ? "the plan passes the checker" : "the plan does not pass the checker");
+    } catch (const InputError& e) {
+      std::cout << "plan check: cannot check the plan: " << e.what() << "\n";
+      return finish(kPlanningFailed, "the plan cannot be checked");
+    }
   });
 }

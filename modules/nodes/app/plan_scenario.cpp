@@ -6,7 +6,8 @@
 
 int main(int argc, char** argv) {
   using namespace rbcp;
-  CLI::App app{"Runs affordance extraction and root planning on a scenario file in one process.\n"
+  CLI::App app{"Runs affordance extraction, root planning and contact planning on a scenario file in one process.\n"
+               "With --stage contact --json the plan is under 'states', in the form check_plan reads.\n"
                "Exit status: 0 planned, 1 a stage failed (reason in 'failure'), 2 bad input."};
   nodes::CommonOptions common;
   nodes::AddCommonOptions(app, common);
@@ -16,7 +17,7 @@ int main(int argc, char** argv) {
   bool json = false;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
   app.add_option("--seed", seed, "random seed of the planners")->capture_default_str();
-  app.add_option("--stage", stage, "last stage to run: affordance or root")->capture_default_str();
+  app.add_option("--stage", stage, "last stage to run: affordance, root or contact")->capture_default_str();
   app.add_option("--time-budget", budget, "root planning time budget [s]")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_flag("--json", json, "print one JSON object instead of a summary");
   return nodes::GuardedMain("plan_scenario", app, argc, argv, [&] {
@@ -30,6 +31,10 @@ int main(int argc, char** argv) {
       if (result.root) {
         std::cout << "; root " << ToString(result.root->status) << " in " << result.root->planning_time_s << " s";
         if (result.root->ok()) std::cout << ", path of " << result.root->path.Duration() << " s";
+      }
+      if (result.contact) {
+        std::cout << "; contact " << ToString(result.contact->status) << " in " << result.contact->planning_time_s << " s";
+        if (result.contact->ok) std::cout << ", " << result.contact->steps << " steps";
       }
       std::cout << "\n";
       if (!result.ok()) std::cout << "failure: " << result.failure << "\n";

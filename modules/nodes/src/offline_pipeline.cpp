@@ -4,6 +4,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/yaml_reader.h"
+#include "rbcp/plan_checker/plan_json.h"
 
 namespace rbcp::nodes {
 namespace {
@@ -19,14 +20,27 @@ nlohmann::json Vec(const Eigen::Vector3d& v) { return nlohmann::json::array({v.x
 PipelineStage ParseStage(const std::string& name) {
   if (name == "affordance") return PipelineStage::kAffordance;
   if (name == "root") return PipelineStage::kRoot;
-  throw InputError("stage: expected 'affordance' or 'root', got '" + name + "'");
+  if (name == "contact") return PipelineStage::kContact;
+  throw InputError("stage: expected 'affordance', 'root' or 'contact', got '" + name + "'");
 }
 
 OfflinePipeline::OfflinePipeline(const std::string& config_dir)
-    : robot_(std::make_unique<RobotModel>(RobotModel::LoadDefault(config_dir))),
+    : config_dir_(config_dir),
+      robot_(std::make_unique<RobotModel>(RobotModel::LoadDefault(config_dir))),
       affordance_config_(AffordanceConfig::Load(YamlMap::LoadFile(config_dir + "/affordance.yaml"))),
       root_planner_(std::make_unique<RootPlanner>(
-          *robot_, RootPlannerConfig::LoadFile(config_dir + "/root_planner.yaml", config_dir))) {}
+          *robot_, RootPlannerConfig::LoadFile(config_dir + "/root_planner.yaml", config_dir))),
+      equilibrium_config_(EquilibriumConfig::LoadFile(config_dir + "/equilibrium.yaml")),
+      contact_config_(ContactPlannerConfig::LoadFile(config_dir + "/contact_planner.yaml")),
+      limb_database_config_(LimbDatabaseConfig::LoadFile(config_dir + "/limb_database.yaml")) {}
+
+const LimbDatabase& OfflinePipeline::limb_database() const {
+  std::call_once(limb_database_once_, [this] {
+    limb_database_ = std::make_unique<LimbDatabase>(LimbDatabase::LoadOrBuild(
+        *robot_, LimbDatabase::DefaultRobotFiles(config_dir_), limb_database_config_));
+  });
+  return *limb_database_;
+}
 
 PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stage, unsigned seed,
                                     double root_time_budget_s) const {
@@ -55,6 +69,15 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
                                     scenario.goal.yaw, seed, root_time_budget_s);
   if (!result.root->ok()) {
     result.failure = "root: " + ToString(result.root->status) + ": " + result.root->reason;
+    return result;
+  }
+  if (stage == PipelineStage::kRoot) return result;
+
+  ContactPlanner contact_planner(*robot_, limb_database(), equilibrium_config_, contact_config_);
+  contact_planner.SetTerrain(scenario.terrain_mesh, result.surfaces);
+  result.contact = contact_planner.Plan(result.root->samples);
+  if (!result.contact->ok) {
+    result.failure = "contact: " + ToString(result.contact->status) + ": " + result.contact->reason;
   }
   return result;
 }
@@ -81,6 +104,20 @@ nlohmann::json ToJson(const PipelineResult& result) {
     j["root_ok"] = false;
     j["root_s"] = 0.0;
     j["root_path"] = nlohmann::json::array();
+  }
+  if (result.contact) {
+    const ContactPlanResult& contact = *result.contact;
+    j["contact_ok"] = contact.ok;
+    j["contact_s"] = contact.planning_time_s;
+    j["contact_status"] = ToString(contact.status);
+    j["steps"] = contact.ok ? contact.steps : 0;
+    j["reached_goal"] = contact.reached_goal;
+    j["states"] = contact.ok ? ContactPlanToJson(contact.plan) : nlohmann::json::array();
+  } else if (result.stage == PipelineStage::kContact) {
+    j["contact_ok"] = false;
+    j["contact_s"] = 0.0;
+    j["steps"] = 0;
+    j["states"] = nlohmann::json::array();
   }
   j["failure"] = result.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(result.failure);
   return j;

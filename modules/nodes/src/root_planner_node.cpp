@@ -9,16 +9,9 @@
 namespace rbcp::nodes {
 namespace {
 
-bool Finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i) {
-    if (!std::isfinite(v[i])) return false;
-  }
-  return true;
-}
-
 std::string CheckRequest(const rbcp_msgs::plan_request_t& r) {
-  if (!Finite(r.goal_position, 3) || !std::isfinite(r.goal_yaw)) return "plan request: goal is not finite";
-  if (r.use_start && (!Finite(r.start_position, 3) || !std::isfinite(r.start_yaw))) {
+  if (!transport::AllFinite(r.goal_position, 3) || !std::isfinite(r.goal_yaw)) return "plan request: goal is not finite";
+  if (r.use_start && (!transport::AllFinite(r.start_position, 3) || !std::isfinite(r.start_yaw))) {
     return "plan request: start is not finite";
   }
   if (!std::isfinite(r.time_budget)) return "plan request: time_budget is not finite";

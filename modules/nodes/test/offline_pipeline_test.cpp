@@ -1,8 +1,17 @@
 #include "rbcp/nodes/offline_pipeline.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/plan_checker/plan_checker.h"
+#include "rbcp/plan_checker/plan_json.h"
 
 namespace rbcp::nodes {
 namespace {
@@ -41,6 +50,95 @@ TEST(OfflinePipeline, AffordanceStageOnlyAndBadStageName) {
   EXPECT_FALSE(r.root.has_value());
   EXPECT_FALSE(ToJson(r).contains("root_ok"));
   EXPECT_THROW(ParseStage("contacts"), InputError);
+  EXPECT_EQ(ParseStage("contact"), PipelineStage::kContact);
+}
+
+TEST(OfflinePipeline, ContactStageOnFlatGroundGivesACheckedPlanInJson) {
+  const OfflinePipeline pipeline(kConfig);
+  const Scenario scenario = LoadScenario(kConfig + "/scenarios/flat_ground.yaml");
+  const PipelineResult r = pipeline.Run(scenario, PipelineStage::kContact, 4, 5.0);
+  ASSERT_TRUE(r.ok()) << r.failure;
+  ASSERT_TRUE(r.root.has_value());
+  ASSERT_TRUE(r.contact.has_value());
+  EXPECT_TRUE(r.contact->reached_goal);
+
+  // Round trip through text, as plan_scenario prints it and check_plan reads it.
+  const auto json = nlohmann::json::parse(ToJson(r).dump());
+  for (const char* key : {"affordance_ms", "root_ok", "root_s", "root_path", "contact_ok", "contact_s", "steps",
+                          "states", "failure"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  EXPECT_TRUE(json["root_ok"].get<bool>());
+  EXPECT_TRUE(json["contact_ok"].get<bool>());
+  EXPECT_TRUE(json["failure"].is_null());
+  ASSERT_FALSE(json["states"].empty());
+  EXPECT_EQ(json["steps"].get<int>(), static_cast<int>(json["states"].size()) - 1);
+  const auto& first = json["states"].front();
+  EXPECT_EQ(first["base"]["position"].size(), 3u);
+  EXPECT_EQ(first["base"]["rpy"].size(), 3u);
+  EXPECT_EQ(first["joints"].size(), 12u);
+  EXPECT_EQ(first["feet"].size(), 4u);
+  EXPECT_TRUE(first["moving_leg"].is_null());
+
+  const ContactPlan plan = ContactPlanFromJson(json["states"]);
+  ASSERT_EQ(plan.states.size(), r.contact->plan.states.size());
+  for (std::size_t i = 0; i < plan.states.size(); ++i) {
+    EXPECT_EQ(plan.states[i].base_position, r.contact->plan.states[i].base_position) << i;
+    EXPECT_EQ(plan.states[i].joints, r.contact->plan.states[i].joints) << i;
+  }
+  const PlanCheckReport report = CheckPlanForScenario(kConfig, scenario, plan);
+  EXPECT_TRUE(report.ok) << report.Summary();
+
+  const PipelineResult again = pipeline.Run(scenario, PipelineStage::kContact, 4, 5.0);
+  ASSERT_TRUE(again.contact.has_value());
+  ASSERT_EQ(again.contact->plan.states.size(), plan.states.size()) << "same seed, same plan";
+  for (std::size_t i = 0; i < plan.states.size(); ++i) {
+    EXPECT_EQ(again.contact->plan.states[i].feet[0].position, r.contact->plan.states[i].feet[0].position) << i;
+  }
+}
+
+TEST(OfflinePipeline, RootFailureLeavesTheContactKeysEmpty) {
+  PipelineResult r;
+  r.stage = PipelineStage::kContact;
+  r.failure = "root: no terrain under the goal";
+  const auto json = ToJson(r);
+  EXPECT_FALSE(json["contact_ok"].get<bool>());
+  EXPECT_TRUE(json["states"].empty());
+  EXPECT_EQ(json["failure"], "root: no terrain under the goal");
+}
+
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+/// Runs a shell command; returns its exit status (-1 if it did not exit).
+int RunCommand(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(OfflinePipeline, CheckPlanAcceptsThePlanPrintedByPlanScenario) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rbcp_plan_scenario_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string bin = RBCP_BIN_DIR;
+  const std::string scenario = kConfig + "/scenarios/flat_ground.yaml";
+  const auto plan = dir / "plan.json", err = dir / "err.txt", report = dir / "report.txt";
+  ASSERT_EQ(RunCommand(bin + "/plan_scenario --scenario " + scenario + " --stage contact --json >" + plan.string() + " 2>" +
+                err.string()),
+            0)
+      << ReadText(plan) << ReadText(err);
+  const auto json = nlohmann::json::parse(ReadText(plan));
+  EXPECT_TRUE(json["contact_ok"].get<bool>()) << json["failure"];
+  EXPECT_EQ(RunCommand(bin + "/check_plan --scenario " + scenario + " --plan " + plan.string() + " >" + report.string() +
+                " 2>" + err.string()),
+            0)
+      << ReadText(report) << ReadText(err);
+  EXPECT_NE(ReadText(report).find("flat_ground: plan passes"), std::string::npos) << ReadText(report);
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/transport/convert.h"
 #include "rbcp_msgs/process_status_t.hpp"
+#include "world_messages.h"
 
 namespace rbcp::nodes {
 namespace {
@@ -23,13 +24,7 @@ class RootPlannerNodeTest : public ::testing::Test {
     }
   }
   void PublishWorld(const std::string& scenario_name) {
-    const Scenario scenario = LoadScenario(kConfig + "/scenarios/" + scenario_name + ".yaml");
-    const auto surfaces =
-        AffordanceExtractor(AffordanceConfig::Load(YamlMap::LoadFile(kConfig + "/affordance.yaml"))).Extract(scenario.terrain_mesh);
-    const auto terrain = transport::ToTerrainMsg(scenario.terrain_mesh, 100, scenario.name);
-    const auto affordances = transport::ToAffordanceMsg(surfaces, 100);
-    lcm_.publish(channels::kTerrain, &terrain);
-    lcm_.publish(channels::kAffordances, &affordances);
+    test::PublishWorld(lcm_, LoadScenario(kConfig + "/scenarios/" + scenario_name + ".yaml"), kConfig);
   }
   static rbcp_msgs::plan_request_t Request(double sx, double gx, int64_t id) {
     rbcp_msgs::plan_request_t r{};

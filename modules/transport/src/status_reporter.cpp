@@ -31,9 +31,9 @@ void StatusReporter::Busy(int64_t utime, int64_t input_utime) {
   Publish(rbcp_msgs::process_status_t::BUSY, utime, input_utime, 0.0, "", false);
 }
 
-void StatusReporter::Ok(int64_t utime, int64_t input_utime, double compute_ms) {
+void StatusReporter::Ok(int64_t utime, int64_t input_utime, double compute_ms, const std::string& summary) {
   ++last_.handled;
-  Publish(rbcp_msgs::process_status_t::OK, utime, input_utime, compute_ms, "", true);
+  Publish(rbcp_msgs::process_status_t::OK, utime, input_utime, compute_ms, summary, true);
 }
 
 void StatusReporter::Failed(int64_t utime, int64_t input_utime, double compute_ms, const std::string& reason) {
@@ -54,8 +54,8 @@ void StatusReporter::Publish(int8_t state, int64_t utime, int64_t input_utime, d
       std::fprintf(stderr, "[%s] failed on input utime %lld: %s\n", last_.process.c_str(),
                    static_cast<long long>(input_utime), reason.c_str());
     } else if (state == rbcp_msgs::process_status_t::OK) {
-      std::fprintf(stderr, "[%s] ok: input utime %lld handled in %.3f ms\n", last_.process.c_str(),
-                   static_cast<long long>(input_utime), compute_ms);
+      std::fprintf(stderr, "[%s] ok: input utime %lld handled in %.3f ms%s%s\n", last_.process.c_str(),
+                   static_cast<long long>(input_utime), compute_ms, reason.empty() ? "" : ": ", reason.c_str());
     }
   }
 }

@@ -6,20 +6,24 @@
 #include <nlohmann/json.hpp>
 
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/contact_planner/contact_planner.h"
+#include "rbcp/equilibrium/config.h"
+#include "rbcp/limb_database/limb_database.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/root_planner/root_planner.h"
 #include "rbcp/scenario/scenario.h"
 
 namespace rbcp::nodes {
 
-enum class PipelineStage { kAffordance, kRoot };
+enum class PipelineStage { kAffordance, kRoot, kContact };
 
-/// "affordance", "root"; throws InputError for anything else.
+/// "affordance", "root", "contact"; throws InputError for anything else.
 PipelineStage ParseStage(const std::string& name);
 
 struct PipelineResult {
@@ -31,34 +35,49 @@ struct PipelineResult {
   double affordance_ms = 0.0;  ///< wall time of affordance extraction [ms]
 
   std::optional<RootPlanResult> root;  ///< set when the root stage ran
+  std::optional<ContactPlanResult> contact;  ///< set when the contact stage ran
 
   /// The first failing stage's reason, "" when every stage that ran succeeded.
   std::string failure;
   bool ok() const { return failure.empty(); }
 };
 
-/// Loads the robot and every stage's configuration once; Run() may then be called many times.
+/// Loads the robot and every stage's configuration once; Run() may then be called many times,
+/// also from several threads.
 class OfflinePipeline {
  public:
-  /// Reads config_dir/{robots/anymal_b.*, affordance.yaml, root_planner.yaml}. Throws InputError.
+  /// Reads config_dir/{robots/anymal_b.*, affordance.yaml, root_planner.yaml, equilibrium.yaml,
+  /// contact_planner.yaml, limb_database.yaml}. Throws InputError. The limb database itself is
+  /// loaded (or built and cached) by the first contact stage.
   explicit OfflinePipeline(const std::string& config_dir);
 
-  /// Runs the stages up to `stage` on the scenario. Planning failures are reported in the
-  /// result (failure), not thrown.
+  /// Runs the stages up to `stage` on the scenario. The contact stage plans the whole root path
+  /// (its samples, as ROOT_PATH carries them) with the contact planner's own time budget.
+  /// Planning failures are reported in the result (failure), not thrown.
   PipelineResult Run(const Scenario& scenario, PipelineStage stage, unsigned seed, double root_time_budget_s) const;
 
   const RobotModel& robot() const { return *robot_; }
   const RootPlanner& root_planner() const { return *root_planner_; }
+  /// The limb database, loaded on first use.
+  const LimbDatabase& limb_database() const;
 
  private:
+  std::string config_dir_;
   std::unique_ptr<RobotModel> robot_;
   AffordanceConfig affordance_config_;
   std::unique_ptr<RootPlanner> root_planner_;
+  EquilibriumConfig equilibrium_config_;
+  ContactPlannerConfig contact_config_;
+  LimbDatabaseConfig limb_database_config_;
+  mutable std::once_flag limb_database_once_;
+  mutable std::unique_ptr<LimbDatabase> limb_database_;
 };
 
 /// The JSON object printed by plan_scenario: affordance_ms, surfaces, root_ok, root_s,
-/// root_status, root_duration_s, root_path [{t, position, velocity, yaw}], failure (null or the
-/// reason). Keys of earlier stages stay stable as later stages add theirs.
+/// root_status, root_duration_s, root_path [{t, position, velocity, yaw}]; for the contact stage
+/// contact_ok, contact_s, contact_status, steps, reached_goal and states (the plan in the form of
+/// ContactPlanToJson, read back by check_plan); failure (null or the reason). Keys of earlier
+/// stages stay stable as later stages add theirs.
 nlohmann::json ToJson(const PipelineResult& result);
 
 }  // namespace rbcp::nodes

@@ -2,6 +2,7 @@
 /// Conversions between LCM messages and the libraries' Eigen types. Messages coming in are
 /// untrusted: conversions from a message validate it and throw rbcp::InputError with the reason.
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -14,6 +15,14 @@
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
 namespace rbcp::transport {
+
+/// True when the n values of a message array are all finite.
+inline bool AllFinite(const double* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
 
 rbcp_msgs::terrain_mesh_t ToTerrainMsg(const TriangleMesh& mesh, int64_t utime, const std::string& scenario_name);
 

@@ -19,7 +19,8 @@ class StatusReporter {
   /// Heartbeat republishes the current state (ALIVE until the first input is handled).
   void Heartbeat(int64_t utime);
   void Busy(int64_t utime, int64_t input_utime);
-  void Ok(int64_t utime, int64_t input_utime, double compute_ms);
+  /// `summary`: an optional one-line description of the result, published in `reason`.
+  void Ok(int64_t utime, int64_t input_utime, double compute_ms, const std::string& summary = "");
   void Failed(int64_t utime, int64_t input_utime, double compute_ms, const std::string& reason);
 
   const rbcp_msgs::process_status_t& last() const { return last_; }

@@ -1,0 +1,302 @@
+#include "rbcp/nodes/contact_planner_node.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <sstream>
+
+#include "rbcp/core/error.h"
+#include "rbcp/scenario/scenario.h"
+#include "rbcp/transport/convert.h"
+#include "rbcp_msgs/contact_plan_t.hpp"
+
+namespace rbcp::nodes {
+namespace {
+
+double YawOf(const double q[4]) {  // (w, x, y, z), base to world
+  return std::atan2(2.0 * (q[0] * q[3] + q[1] * q[2]), 1.0 - 2.0 * (q[2] * q[2] + q[3] * q[3]));
+}
+
+/// How far the trunk may be beyond the terrain's horizontal bounds, feet still on the terrain [m].
+constexpr double kTerrainMargin_m = 0.5;
+
+double QuaternionNorm(const double q[4]) { return std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]); }
+
+std::string Summary(const ContactPlanResult& r, int horizon_steps) {
+  std::ostringstream os;
+  os << r.steps << " steps, " << r.plan.states.size() << " states";
+  if (horizon_steps > 0) os << " (horizon " << horizon_steps << ")";
+  os << (r.reached_goal ? ", reaches the goal" : ", goal not reached yet");
+  os.precision(3);
+  os << ", planned in " << r.planning_time_s << " s";
+  return os.str();
+}
+
+}  // namespace
+
+ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, const LimbDatabase& database,
+                                       const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config,
+                                       ContactPlannerNodeOptions options)
+    : lcm_(lcm),
+      options_(std::move(options)),
+      planner_(robot, database, equilibrium, config),
+      root_path_(lcm, options_.root_path_channel),
+      robot_state_(lcm, options_.robot_state_channel),
+      terrain_(lcm, options_.terrain_channel),
+      affordances_(lcm, options_.affordances_channel),
+      status_(lcm, kProcessName, options_.status_channel) {
+  if (options_.horizon_steps < 0) {
+    throw InputError("contact planner node: horizon_steps expected >= 0, got " + std::to_string(options_.horizon_steps));
+  }
+  if (!(options_.max_path_offset_m > 0.0)) {
+    throw InputError("contact planner node: max_path_offset_m expected > 0, got " +
+                     std::to_string(options_.max_path_offset_m));
+  }
+}
+
+int64_t ContactPlannerNode::Now() const { return latest_utime_; }
+
+void ContactPlannerNode::set_verbose(bool verbose) {
+  verbose_ = verbose;
+  status_.set_verbose(verbose);
+}
+
+std::optional<std::string> ContactPlannerNode::TakeInputs() {
+  if (auto e = root_path_.TakeDecodeError()) return e;
+  if (auto e = robot_state_.TakeDecodeError()) return e;
+  if (auto e = terrain_.TakeDecodeError()) return e;
+  if (auto e = affordances_.TakeDecodeError()) return e;
+  if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
+  if (auto msg = terrain_.Take()) {
+    latest_utime_ = std::max(latest_utime_, msg->utime);
+    world_set_ = false;
+    try {
+      terrain_mesh_ = transport::FromTerrainMsg(*msg);
+      terrain_min_xy_ = terrain_max_xy_ = terrain_mesh_->vertices.front().head<2>();
+      for (const Eigen::Vector3d& v : terrain_mesh_->vertices) {
+        terrain_min_xy_ = terrain_min_xy_.cwiseMin(v.head<2>());
+        terrain_max_xy_ = terrain_max_xy_.cwiseMax(v.head<2>());
+      }
+      world_changed_ = true;
+    } catch (const InputError& e) {
+      terrain_mesh_.reset();
+      return std::string(e.what());
+    }
+  }
+  if (auto msg = affordances_.Take()) {
+    latest_utime_ = std::max(latest_utime_, msg->utime);
+    world_set_ = false;
+    try {
+      surfaces_ = transport::FromAffordanceMsg(*msg);
+      world_changed_ = true;
+    } catch (const InputError& e) {
+      surfaces_.reset();
+      return std::string(e.what());
+    }
+  }
+  if (world_changed_ && terrain_mesh_ && surfaces_) {
+    world_changed_ = false;
+    if (surfaces_->empty()) return std::string("affordances: the terrain has no contact surface");
+    try {
+      planner_.SetTerrain(*terrain_mesh_, *surfaces_);
+      world_set_ = true;
+    } catch (const std::exception& e) {
+      return std::string("terrain: ") + e.what();
+    }
+  }
+  if (auto msg = root_path_.Take()) {
+    latest_utime_ = std::max(latest_utime_, msg->utime);
+    pending_ = *msg;
+  }
+  return std::nullopt;
+}
+
+void ContactPlannerNode::LogWaiting() {
+  std::string waiting;
+  auto add = [&](const char* what) { waiting += (waiting.empty() ? "" : ", ") + std::string(what); };
+  if (!terrain_mesh_) add(options_.terrain_channel.c_str());
+  if (!surfaces_) add(options_.affordances_channel.c_str());
+  if (!pending_ && !last_result_) add(options_.root_path_channel.c_str());
+  if (waiting == logged_waiting_) return;
+  logged_waiting_ = waiting;
+  if (verbose_ && !waiting.empty()) std::fprintf(stderr, "[%s] waiting for %s\n", kProcessName, waiting.c_str());
+}
+
+bool ContactPlannerNode::Step() {
+  if (auto rejected = TakeInputs()) {
+    status_.Failed(Now(), Now(), 0.0, *rejected);
+    return true;
+  }
+  LogWaiting();
+  if (!pending_ || !world_set_) return false;
+  const rbcp_msgs::root_path_t msg = std::move(*pending_);
+  pending_.reset();
+  Plan(msg);
+  return true;
+}
+
+std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_path_t& msg,
+                                                         std::vector<RootPathSample>* samples) const {
+  if (msg.num_points < 0 || msg.points.size() != static_cast<std::size_t>(msg.num_points)) {
+    return "root path: count " + std::to_string(msg.num_points) + " disagrees with " +
+           std::to_string(msg.points.size()) + " points";
+  }
+  if (msg.points.empty()) return std::string("root path: no point");
+  samples->clear();
+  samples->reserve(msg.points.size());
+  for (std::size_t i = 0; i < msg.points.size(); ++i) {
+    const auto& in = msg.points[i];
+    const std::string what = "root path: point " + std::to_string(i);
+    if (!std::isfinite(in.t) || !transport::AllFinite(in.position, 3) || !transport::AllFinite(in.velocity, 3) ||
+        !transport::AllFinite(in.orientation, 4)) {
+      return what + " is not finite";
+    }
+    if (std::abs(QuaternionNorm(in.orientation) - 1.0) > 1e-3) return what + ": orientation is not a unit quaternion";
+    if (i > 0 && !(in.t > msg.points[i - 1].t)) {
+      return what + ": times must increase, got t = " + std::to_string(in.t) + " s after " +
+             std::to_string(msg.points[i - 1].t) + " s";
+    }
+    RootPathSample s;
+    s.t = in.t;
+    s.p = Eigen::Vector3d(in.position[0], in.position[1], in.position[2]);
+    s.v = Eigen::Vector3d(in.velocity[0], in.velocity[1], in.velocity[2]);
+    s.yaw = YawOf(in.orientation);
+    s.rest_yaw = s.yaw;
+    const Eigen::Vector2d xy = s.p.head<2>();
+    if ((xy.array() < terrain_min_xy_.array() - kTerrainMargin_m).any() ||
+        (xy.array() > terrain_max_xy_.array() + kTerrainMargin_m).any()) {
+      std::ostringstream os;
+      os << what << " at (" << xy.x() << ", " << xy.y() << ") is off the terrain (x in [" << terrain_min_xy_.x() << ", "
+         << terrain_max_xy_.x() << "], y in [" << terrain_min_xy_.y() << ", " << terrain_max_xy_.y() << "])";
+      return os.str();
+    }
+    samples->push_back(s);
+  }
+  // The robot stands at the path start: there must be terrain below it (elsewhere the trunk may
+  // pass over gaps with its feet on either side).
+  const Eigen::Vector2d start = samples->front().p.head<2>();
+  if (!TerrainHeightAt(*terrain_mesh_, start)) {
+    std::ostringstream os;
+    os << "root path: the start (" << start.x() << ", " << start.y() << ") is not above the terrain";
+    return os.str();
+  }
+  return std::nullopt;
+}
+
+void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
+  status_.Busy(Now(), msg.utime);
+  std::vector<RootPathSample> samples;
+  if (auto problem = ToSamples(msg, &samples)) {
+    last_result_.reset();
+    status_.Failed(Now(), msg.utime, 0.0, *problem);
+    return;
+  }
+  const int k = options_.horizon_steps;
+  try {
+    if (k == 0) {
+      if (verbose_) {
+        std::fprintf(stderr, "[%s] planning the whole root path (request %lld): %zu points, %.2f s\n", kProcessName,
+                     static_cast<long long>(msg.request_id), samples.size(), samples.back().t - samples.front().t);
+      }
+      last_result_ = planner_.Plan(samples);
+    } else {
+      // The current state: a standing stance at the measured base (or the path start).
+      std::size_t nearest = 0;
+      Eigen::Vector2d base_xy = samples.front().p.head<2>();
+      double yaw = samples.front().yaw;
+      const auto& state = robot_state_.Latest();
+      if (state) {
+        if (!transport::AllFinite(state->base_position, 3) || !transport::AllFinite(state->base_orientation, 4) ||
+            QuaternionNorm(state->base_orientation) < 1e-9) {
+          last_result_.reset();
+          status_.Failed(Now(), msg.utime, 0.0, "robot state: base pose is not finite");
+          return;
+        }
+        base_xy = {state->base_position[0], state->base_position[1]};
+        yaw = YawOf(state->base_orientation);
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+          const double d = (samples[i].p.head<2>() - base_xy).norm();
+          if (d < best) {
+            best = d;
+            nearest = i;
+          }
+        }
+        if (best > options_.max_path_offset_m) {
+          std::ostringstream os;
+          os.precision(3);
+          os << "robot state: the base is " << best << " m from the root path (at most " << options_.max_path_offset_m
+             << " m)";
+          last_result_.reset();
+          status_.Failed(Now(), msg.utime, 0.0, os.str());
+          return;
+        }
+      }
+      const std::vector<RootPathSample> remaining(samples.begin() + static_cast<std::ptrdiff_t>(nearest), samples.end());
+      const Eigen::Vector3d base(base_xy.x(), base_xy.y(), remaining.front().p.z());
+      if (verbose_) {
+        std::fprintf(stderr, "[%s] planning %d steps (request %lld) from (%.3f, %.3f) %s along %zu path points\n",
+                     kProcessName, k, static_cast<long long>(msg.request_id), base.x(), base.y(),
+                     state ? "(measured)" : "(path start)", remaining.size());
+      }
+      std::string why;
+      const std::optional<WholeBodyState> current = planner_.StandingStance(base, yaw, &why);
+      if (!current) {
+        last_result_.reset();
+        status_.Failed(Now(), msg.utime, 0.0, "current stance: " + why);
+        return;
+      }
+      last_result_ = planner_.PlanHorizon(*current, remaining, k);
+    }
+  } catch (const std::exception& e) {
+    last_result_.reset();
+    status_.Failed(Now(), msg.utime, 0.0, std::string("internal error: ") + e.what());
+    return;
+  }
+  const ContactPlanResult& r = *last_result_;
+  const double ms = 1000.0 * r.planning_time_s;
+  if (!r.ok) {
+    status_.Failed(Now(), msg.utime, ms, ToString(r.status) + ": " + r.reason);
+    return;
+  }
+  const auto out = transport::ToContactPlanMsg(r.plan, Now(), msg.request_id);
+  lcm_.publish(options_.contact_plan_channel, &out);
+  status_.Ok(Now(), msg.utime, ms, Summary(r, k));
+}
+
+void ContactPlannerNode::Heartbeat() { status_.Heartbeat(Now()); }
+
+LimbDatabase LoadLimbDatabase(const RobotModel& robot, const std::string& config_dir, bool log) {
+  const auto config = LimbDatabaseConfig::LoadFile(config_dir + "/limb_database.yaml");
+  if (log) {
+    std::fprintf(stderr, "[%s] limb database: %d samples per leg, reading the cache in %s (a first build takes some seconds)\n",
+                 ContactPlannerNode::kProcessName, config.samples_per_leg, config.ResolvedCacheDir().c_str());
+  }
+  const auto start = std::chrono::steady_clock::now();
+  LimbDatabaseCacheReport report;
+  LimbDatabase database = LimbDatabase::LoadOrBuild(robot, LimbDatabase::DefaultRobotFiles(config_dir), config, &report);
+  if (log) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double mb = static_cast<double>(database.MemoryBytes()) / (1024.0 * 1024.0);
+    if (report.loaded) {
+      std::fprintf(stderr, "[%s] limb database: loaded %s in %.2f s (%.1f MB)\n", ContactPlannerNode::kProcessName,
+                   report.cache_path.c_str(), s, mb);
+    } else {
+      std::fprintf(stderr, "[%s] limb database: built in %.2f s (%.1f MB; %s)\n", ContactPlannerNode::kProcessName, s,
+                   mb, report.rebuild_reason.c_str());
+      if (report.write_error.empty()) {
+        std::fprintf(stderr, "[%s] limb database: cached in %s\n", ContactPlannerNode::kProcessName,
+                     report.cache_path.c_str());
+      } else {
+        std::fprintf(stderr, "[%s] limb database: not cached: %s\n", ContactPlannerNode::kProcessName,
+                     report.write_error.c_str());
+      }
+    }
+  }
+  return database;
+}
+
+}  // namespace rbcp::nodes

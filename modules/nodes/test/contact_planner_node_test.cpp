@@ -1,0 +1,224 @@
+#include "rbcp/nodes/contact_planner_node.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "rbcp/core/yaml_reader.h"
+#include "rbcp/nodes/root_planner_node.h"
+#include "rbcp/plan_checker/plan_checker.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/scenario/scenario.h"
+#include "rbcp/transport/convert.h"
+#include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/process_status_t.hpp"
+#include "world_messages.h"
+
+namespace rbcp::nodes {
+namespace {
+
+const std::string kConfig = std::string(RBCP_SOURCE_DIR) + "/config";
+
+const RobotModel& Robot() {
+  static const RobotModel robot = RobotModel::LoadDefault(kConfig);
+  return robot;
+}
+
+const LimbDatabase& Database() {
+  static const LimbDatabase database = LoadLimbDatabase(Robot(), kConfig, false);
+  return database;
+}
+
+const Scenario& FlatGround() {
+  static const Scenario scenario = LoadScenario(kConfig + "/scenarios/flat_ground.yaml");
+  return scenario;
+}
+
+/// The ROOT_PATH message of the flat_ground scenario's start to goal (planned once).
+const rbcp_msgs::root_path_t& FlatGroundRootPath() {
+  static const rbcp_msgs::root_path_t msg = [] {
+    const Scenario& scenario = FlatGround();
+    const auto surfaces =
+        AffordanceExtractor(AffordanceConfig::Load(YamlMap::LoadFile(kConfig + "/affordance.yaml"))).Extract(scenario.terrain_mesh);
+    const RootPlanner planner(Robot(), RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig));
+    const auto start = planner.StandingPosition(scenario.terrain_mesh, scenario.start.position);
+    const auto goal = planner.StandingPosition(scenario.terrain_mesh, scenario.goal.position);
+    EXPECT_TRUE(start && goal);
+    const RootPlanResult r = planner.Plan(scenario.terrain_mesh, surfaces, *start, scenario.start.yaw, *goal,
+                                          scenario.goal.yaw, 3, 5.0);
+    EXPECT_TRUE(r.ok()) << r.reason;
+    return ToRootPathMsg(r, 200, 7);
+  }();
+  return msg;
+}
+
+class ContactPlannerNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(lcm_.good());
+    node_ = MakeNode(0);
+  }
+  std::unique_ptr<ContactPlannerNode> MakeNode(int horizon_steps) {
+    ContactPlannerNodeOptions options;
+    options.horizon_steps = horizon_steps;
+    auto node = std::make_unique<ContactPlannerNode>(
+        lcm_, Robot(), Database(), EquilibriumConfig::LoadFile(kConfig + "/equilibrium.yaml"),
+        ContactPlannerConfig::LoadFile(kConfig + "/contact_planner.yaml"), options);
+    node->set_verbose(false);
+    return node;
+  }
+  void Pump() {
+    while (lcm_.handleTimeout(0) > 0) {
+    }
+  }
+  void PublishWorld() { test::PublishWorld(lcm_, FlatGround(), kConfig); }
+  /// Publishes a path, steps the node once and expects FAILED with `reason` and no plan.
+  void ExpectRejected(const rbcp_msgs::root_path_t& path, const std::string& reason) {
+    lcm_.publish(channels::kRootPath, &path);
+    Pump();
+    ASSERT_TRUE(node_->Step());
+    Pump();
+    ASSERT_TRUE(status_.Latest().has_value());
+    EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+    EXPECT_EQ(status_.Latest()->process, "contact_planner");
+    EXPECT_EQ(status_.Latest()->reason, reason);
+    EXPECT_FALSE(plan_.Take().has_value());
+  }
+
+  lcm::LCM lcm_{"memq://"};
+  std::unique_ptr<ContactPlannerNode> node_;
+  transport::LatestMessage<rbcp_msgs::contact_plan_t> plan_{lcm_, channels::kContactPlan};
+  transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
+};
+
+TEST_F(ContactPlannerNodeTest, WaitsForTheWorldThenPlansACheckedPlan) {
+  const auto& path = FlatGroundRootPath();
+  lcm_.publish(channels::kRootPath, &path);
+  Pump();
+  EXPECT_FALSE(node_->Step()) << "no terrain yet: the path stays pending";
+  PublishWorld();
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  Pump();
+  auto msg = plan_.Take();
+  ASSERT_TRUE(msg.has_value()) << status_.Latest()->reason;
+  EXPECT_EQ(msg->request_id, 7);
+  const ContactPlan plan = transport::FromContactPlanMsg(*msg);
+  ASSERT_GE(plan.states.size(), 5u);
+  EXPECT_EQ(plan.states.front().moving_leg, -1);
+  const auto& first = path.points.front().position;
+  const auto& last = path.points.back().position;
+  EXPECT_LT((plan.states.front().base_position.head<2>() - Eigen::Vector2d(first[0], first[1])).norm(), 1e-6);
+  EXPECT_LT((plan.states.back().base_position.head<2>() - Eigen::Vector2d(last[0], last[1])).norm(), 0.2);
+  const PlanCheckReport report = CheckPlanForScenario(kConfig, FlatGround(), plan);
+  EXPECT_TRUE(report.ok) << report.Summary();
+
+  ASSERT_TRUE(status_.Latest().has_value());
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
+  EXPECT_NE(status_.Latest()->reason.find(std::to_string(plan.states.size() - 1) + " steps"), std::string::npos)
+      << status_.Latest()->reason;
+  ASSERT_TRUE(node_->last_result().has_value());
+  EXPECT_TRUE(node_->last_result()->reached_goal);
+  EXPECT_FALSE(node_->Step()) << "a path is planned once";
+}
+
+TEST_F(ContactPlannerNodeTest, InvalidPathsFailWithAReasonAndNoPlan) {
+  PublishWorld();
+  Pump();
+  EXPECT_FALSE(node_->Step()) << "nothing to plan yet";
+
+  auto path = FlatGroundRootPath();
+  path.points[3].position[1] = std::numeric_limits<double>::quiet_NaN();
+  ExpectRejected(path, "root path: point 3 is not finite");
+
+  path = FlatGroundRootPath();
+  path.points.clear();
+  path.num_points = 0;
+  ExpectRejected(path, "root path: no point");
+
+  path = FlatGroundRootPath();
+  path.points[5].orientation[0] = 0.0;
+  ExpectRejected(path, "root path: point 5: orientation is not a unit quaternion");
+
+  path = FlatGroundRootPath();
+  path.points[2].t = path.points[1].t;
+  ExpectRejected(path, "root path: point 2: times must increase, got t = " + std::to_string(path.points[2].t) +
+                           " s after " + std::to_string(path.points[1].t) + " s");
+
+  path = FlatGroundRootPath();
+  path.points.back().position[0] = 40.0;  // far beyond the floor
+  ExpectRejected(path, "root path: point " + std::to_string(path.num_points - 1) +
+                           " at (40, 0) is off the terrain (x in [-1.75, 3.25], y in [-1.5, 1.5])");
+
+  path = FlatGroundRootPath();
+  path.points.front().position[0] = -2.0;  // 0.25 m beyond the floor's edge
+  ExpectRejected(path, "root path: the start (-2, 0) is not above the terrain");
+  EXPECT_FALSE(node_->last_result().has_value());
+
+  // The node still plans a valid path afterwards.
+  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  Pump();
+  EXPECT_TRUE(plan_.Take().has_value()) << status_.Latest()->reason;
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
+}
+
+TEST_F(ContactPlannerNodeTest, HorizonModePlansAtMostKStepsFromTheMeasuredState) {
+  constexpr int kSteps = 3;
+  node_ = MakeNode(kSteps);
+  PublishWorld();
+  rbcp_msgs::robot_state_t state{};
+  state.utime = 300;
+  state.base_position[0] = 0.02;
+  state.base_position[1] = 0.01;
+  state.base_position[2] = 0.45;
+  state.base_orientation[0] = 1.0;
+  lcm_.publish(channels::kRobotState, &state);
+  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  Pump();
+  auto msg = plan_.Take();
+  ASSERT_TRUE(msg.has_value()) << status_.Latest()->reason;
+  const ContactPlan plan = transport::FromContactPlanMsg(*msg);
+  ASSERT_GE(plan.states.size(), 2u);
+  EXPECT_LE(plan.states.size(), static_cast<std::size_t>(kSteps + 1));
+  EXPECT_EQ(msg->utime, 300);
+  EXPECT_EQ(plan.states.front().moving_leg, -1);
+  EXPECT_LT((plan.states.front().base_position.head<2>() - Eigen::Vector2d(0.02, 0.01)).norm(), 1e-6)
+      << "the horizon starts at the measured base";
+  const PlanCheckReport report = CheckPlanForScenario(kConfig, FlatGround(), plan);
+  EXPECT_TRUE(report.ok) << report.Summary();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
+  EXPECT_FALSE(node_->last_result()->reached_goal);
+
+  // A measured state far from the path is rejected.
+  state.base_position[1] = 1.0;
+  lcm_.publish(channels::kRobotState, &state);
+  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  Pump();
+  EXPECT_FALSE(plan_.Take().has_value());
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(status_.Latest()->reason.find("from the root path"), std::string::npos) << status_.Latest()->reason;
+}
+
+TEST_F(ContactPlannerNodeTest, MalformedWorldFailsWithAReason) {
+  auto terrain = transport::ToTerrainMsg(FlatGround().terrain_mesh, 100, "flat_ground");
+  terrain.vertices[0][2] = std::numeric_limits<double>::quiet_NaN();
+  lcm_.publish(channels::kTerrain, &terrain);
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  Pump();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_FALSE(status_.Latest()->reason.empty());
+  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+  Pump();
+  EXPECT_FALSE(node_->Step()) << "no valid terrain: the path waits";
+  EXPECT_FALSE(plan_.Take().has_value());
+}
+
+}  // namespace
+}  // namespace rbcp::nodes
