@@ -821,6 +821,21 @@ struct ContactPlanner::Impl {
         last_reject = "self-collision";
         continue;
       }
+      // Look-ahead: the foot must stay keepable (workspace, kinematics, no collision) at the path
+      // pose lead_time_s later, so it is not placed where the advancing trunk would at once drag
+      // its shank into a riser or a block edge.
+      if (!option.goal_step) {
+        std::array<FootContact, kNumLegs> ahead_feet = parent.state.feet;
+        ahead_feet[static_cast<std::size_t>(j)].position = c.foothold;
+        const Eigen::Isometry3d ahead = StanceBase(LeadPose(option.t, config.foothold.lead_time_s),
+                                                   Eigen::Vector3d(0.0, 0.0, shift->z()), ahead_feet);
+        Eigen::Vector3d q_ahead;
+        double stretch_ahead = 0.0;
+        if (KeepLeg(leg, ahead, c.foothold, &q_ahead, &stretch_ahead) != KeepFailure::kNone) {
+          last_reject = "not keepable as the trunk advances";
+          continue;
+        }
+      }
       if (lp_evaluations >= config.foothold.max_stability_evaluations) {
         *why = "no stable foothold among the " + std::to_string(lp_evaluations) + " best candidates (last: " +
                last_reject + ")";
@@ -1008,7 +1023,8 @@ struct ContactPlanner::Impl {
         }
       }
       if (node.goal) break;
-      if (node.next_option < node.options.size()) {
+      if (node.next_option < node.options.size() &&
+          static_cast<int>(node.children.size()) < config.retry.max_children_per_state) {
         const Node::Option option = node.options[node.next_option++];
         const std::tuple<int, long, int> key{Index(option.leg), TimeKey(option.t), option.variant};
         if (node.exhausted.count(key)) continue;

@@ -78,6 +78,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.retry.earlier_step_s = ReadArray<3>(rt, "earlier_step_s");
   c.retry.max_backtracks = rt.Int("max_backtracks");
   c.retry.max_steps_at_one_time = rt.Int("max_steps_at_one_time");
+  c.retry.max_children_per_state = rt.Int("max_children_per_state");
   rt.RejectUnknownKeys();
 
   c.time_budget_s = map.Double("time_budget_s");
@@ -152,6 +153,9 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
     non_negative("retry.earlier_step_s[" + std::to_string(i) + "]", retry.earlier_step_s[i]);
   }
   if (retry.max_backtracks < 0) fail("retry.max_backtracks", "an integer >= 0", std::to_string(retry.max_backtracks));
+  if (retry.max_children_per_state < 1) {
+    fail("retry.max_children_per_state", "an integer >= 1", std::to_string(retry.max_children_per_state));
+  }
   if (retry.max_steps_at_one_time < 1) {
     fail("retry.max_steps_at_one_time", "an integer >= 1", std::to_string(retry.max_steps_at_one_time));
   }

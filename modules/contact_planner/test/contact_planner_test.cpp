@@ -137,11 +137,15 @@ TEST_P(ScenarioPlanTest, PlanIsValidOrFailsWithAReason) {
   }
 }
 
+/// Plans a scenario's root path; the search is bounded by its backtracking limit only (no wall
+/// clock), so the outcome does not depend on the machine.
 void ExpectPlanToTheGoal(const std::string& name, unsigned seed) {
   const World& world = ScenarioWorld(name);
   const RootPlanResult& root = ScenarioRootPath(name, seed);
   ASSERT_TRUE(root.ok()) << root.reason;
-  ContactPlanner planner = MakePlanner(world);
+  ContactPlannerConfig config = PlannerConfig();
+  config.time_budget_s = 600.0;
+  ContactPlanner planner = MakePlanner(world, config);
   const auto samples = root.path.SampleEvery(0.01);
   const ContactPlanResult result = planner.Plan(samples);
   ASSERT_TRUE(result.ok) << name << " seed " << seed << ": " << result.reason;
@@ -157,13 +161,16 @@ TEST_P(GoalPlanTest, PlanReachesTheGoal) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, GoalPlanTest,
-                         ::testing::Combine(::testing::Values("slalom_debris"), ::testing::Values(1u, 2u, 3u)),
+                         ::testing::Values(std::make_tuple("slalom_debris", 1u), std::make_tuple("slalom_debris", 2u),
+                                           std::make_tuple("slalom_debris", 3u), std::make_tuple("plinth", 2u),
+                                           std::make_tuple("plinth", 3u), std::make_tuple("darpa_rubble", 1u),
+                                           std::make_tuple("darpa_rubble", 3u)),
                          [](const auto& info) {
                            return std::get<0>(info.param) + "_seed" + std::to_string(std::get<1>(info.param));
                          });
 
-// The target: a plan to the goal on every seed. Not met yet on plinth and darpa_rubble (the
-// search runs out of backtracks on stair treads and among the rubble blocks); run with
+// The target: a plan to the goal on every seed. Not met yet on these (the search runs out of
+// backtracks on the plinth's top and among the rubble blocks); run with
 // --gtest_also_run_disabled_tests.
 TEST_P(ScenarioPlanTest, DISABLED_PlanReachesTheGoal) {
   const auto& [name, seed] = GetParam();
@@ -171,7 +178,7 @@ TEST_P(ScenarioPlanTest, DISABLED_PlanReachesTheGoal) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, ScenarioPlanTest,
-                         ::testing::Combine(::testing::Values("plinth", "darpa_rubble"), ::testing::Values(1u, 2u, 3u)),
+                         ::testing::Values(std::make_tuple("plinth", 1u), std::make_tuple("darpa_rubble", 2u)),
                          [](const auto& info) {
                            return std::get<0>(info.param) + "_seed" + std::to_string(std::get<1>(info.param));
                          });
