@@ -662,16 +662,23 @@ struct ContactPlanner::Impl {
       const Eigen::Vector2d goal = ClosestPointInTriangle(*eroded, com.head<2>());
       const Eigen::Vector3d delta = R.transpose() * Eigen::Vector3d(goal.x() - com.x(), goal.y() - com.y(), 0.0);
       bool moved = false;
-      for (double scale = 1.0; scale > 0.1; scale *= 0.5) {
-        const Eigen::Vector3d trial = clamp(shift + scale * delta);
-        const Eigen::Isometry3d trial_base = base_at(trial);
-        JointVector q = JointVector::Zero();
-        if (SolveStance(trial_base, parent.state.feet, &q)) {
-          shift = trial;
-          base = trial_base;
-          *q_pre = q;
-          moved = true;
-          break;
+      // Each update is tried at the same height, then lowered and raised by height_step_m: a
+      // stance spread over stairs or blocks often needs the body lower or higher to reach.
+      const double dz_step = config.base_shift.height_step_m;
+      for (double scale = 1.0; scale > 0.1 && !moved; scale *= 0.5) {
+        for (const double dz : {0.0, -dz_step, dz_step}) {
+          if (dz != 0.0 && dz_step <= 0.0) break;
+          Eigen::Vector3d trial = clamp(shift + scale * delta);
+          trial.z() += dz;
+          const Eigen::Isometry3d trial_base = base_at(trial);
+          JointVector q = JointVector::Zero();
+          if (SolveStance(trial_base, parent.state.feet, &q)) {
+            shift = trial;
+            base = trial_base;
+            *q_pre = q;
+            moved = true;
+            break;
+          }
         }
       }
       if (!moved) {

@@ -61,6 +61,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.base_shift.max_base_shift_m = bs.Double("max_base_shift_m");
   c.base_shift.shift_extra_margin_m = bs.Double("shift_extra_margin_m");
   c.base_shift.transit_checks = bs.Int("transit_checks");
+  c.base_shift.height_step_m = bs.Double("height_step_m");
   c.base_shift.lateral_offsets_m = ReadArray<2>(bs, "lateral_offsets_m");
   c.base_shift.height_offsets_m = ReadArray<2>(bs, "height_offsets_m");
   bs.RejectUnknownKeys();
@@ -133,6 +134,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   }
   non_negative("base_shift.max_base_shift_m", base_shift.max_base_shift_m);
   non_negative("base_shift.shift_extra_margin_m", base_shift.shift_extra_margin_m);
+  non_negative("base_shift.height_step_m", base_shift.height_step_m);
   if (base_shift.transit_checks < 0) {
     fail("base_shift.transit_checks", "an integer >= 0", std::to_string(base_shift.transit_checks));
   }

@@ -44,6 +44,9 @@ struct BaseShiftConfig {
   double max_base_shift_m = 0.12;      ///< [m] horizontal offset of the base from the path
   double shift_extra_margin_m = 0.01;  ///< [m] aimed beyond the required support margin
   int transit_checks = 6;              ///< intermediate poses checked between consecutive states
+  /// [m] a shift update that puts a stance foot out of reach is also tried with the base this
+  /// much lower and higher (0: height kept).
+  double height_step_m = 0.03;
   /// [m] lateral base offsets (path frame, + left) from which the shift search also starts when
   /// a step fails from the path itself.
   std::array<double, 2> lateral_offsets_m = {0.06, -0.06};
