@@ -49,32 +49,6 @@ TEST(RomTest, NominalStanceIsInsideEveryShape) {
   }
 }
 
-TEST(RomTest, FootBoxBoundsTheShapeAroundTheReferenceFoot) {
-  RomGenerationConfig config;
-  config.samples = 3000;
-  config.seed = 7;
-  config.max_triangles = 60;
-  config.tolerance = 0.0;
-  config.scale = 1.0;
-  const ConvexPolytope unbounded = GenerateRom(Robot(), Leg::kRF, config);
-  config.foot_box = RomGenerationConfig::FootBox{0.15, 0.1, 0.12, 0.05, 0.2, 0.1};
-  RomGenerationReport report;
-  const ConvexPolytope boxed = GenerateRom(Robot(), Leg::kRF, config, &report);
-  EXPECT_GT(report.outside_foot_box, 0);
-  EXPECT_LT(boxed.Volume(), unbounded.Volume());
-  // RF: outward is -y, inward +y.
-  const Eigen::Vector3d ref = Robot().ReferenceFootPosition(Leg::kRF);
-  for (const Eigen::Vector3d& v : boxed.vertices) {
-    const Eigen::Vector3d d = v - ref;
-    EXPECT_LE(d.x(), 0.15 + 1e-9);
-    EXPECT_GE(d.x(), -0.1 - 1e-9);
-    EXPECT_GE(d.y(), -0.12 - 1e-9);
-    EXPECT_LE(d.y(), 0.05 + 1e-9);
-    EXPECT_LE(d.z(), 0.2 + 1e-9);
-    EXPECT_GE(d.z(), -0.1 - 1e-9);
-  }
-}
-
 TEST(RomTest, FootBoxKeysAreChecked) {
   YAML::Node n = YAML::Load(
       "{samples: 1000, seed: 1, max_triangles: 50, tolerance: 0.0, scale: 1.0, scale_center: centroid, "
@@ -98,6 +72,27 @@ RomGenerationConfig SmallConfig() {
   config.tolerance = 0.0;
   config.scale = 1.0;
   return config;
+}
+
+TEST(RomTest, FootBoxBoundsTheShapeAroundTheReferenceFoot) {
+  RomGenerationConfig config = SmallConfig();
+  const ConvexPolytope unbounded = GenerateRom(Robot(), Leg::kRF, config);
+  config.foot_box = RomGenerationConfig::FootBox{0.15, 0.1, 0.12, 0.05, 0.2, 0.1};
+  RomGenerationReport report;
+  const ConvexPolytope boxed = GenerateRom(Robot(), Leg::kRF, config, &report);
+  EXPECT_GT(report.outside_foot_box, 0);
+  EXPECT_LT(boxed.Volume(), unbounded.Volume());
+  // RF: outward is -y, inward +y.
+  const Eigen::Vector3d ref = Robot().ReferenceFootPosition(Leg::kRF);
+  for (const Eigen::Vector3d& v : boxed.vertices) {
+    const Eigen::Vector3d d = v - ref;
+    EXPECT_LE(d.x(), 0.15 + 1e-9);
+    EXPECT_GE(d.x(), -0.1 - 1e-9);
+    EXPECT_GE(d.y(), -0.12 - 1e-9);
+    EXPECT_LE(d.y(), 0.05 + 1e-9);
+    EXPECT_LE(d.z(), 0.2 + 1e-9);
+    EXPECT_GE(d.z(), -0.1 - 1e-9);
+  }
 }
 
 TEST(RomTest, SelfCollisionsAreRejected) {
