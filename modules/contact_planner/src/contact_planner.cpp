@@ -481,23 +481,50 @@ struct ContactPlanner::Impl {
   /// workspace, ranked by distance to target_W and offline score (best first) and deduplicated
   /// by projected foothold.
   std::vector<Candidate> RankedCandidates(Leg leg, const Eigen::Isometry3d& base_W, const Eigen::Vector3d& target_W,
-                                          double target_yaw) {
+                                          double target_yaw, double near_half = 0.0) {
     const FootholdConfig& fc = config.foothold;
     std::vector<FootholdCandidate> raw;
-    // A square (world axes) around the reference foot position that contains the workspace box
-    // in any yaw.
-    const Eigen::Vector2d centre = (base_W * robot.ReferenceFootPosition(leg)).head<2>();
+    // The workspace box (base frame, around the reference foot) seen from above: the rectangle in
+    // the base's heading frame that holds its eight corners, widened by the query distance.
     const FootWorkspace& ws = config.workspace;
-    const double half = std::hypot(std::max(ws.max_forward_m, ws.max_backward_m), std::max(ws.max_outward_m, ws.max_inward_m)) +
-                        fc.query_distance_m;
+    const Eigen::Vector3d ref = robot.ReferenceFootPosition(leg);
+    const double side = LeftSign(leg);
+    const Eigen::Matrix3d& R = base_W.linear();
+    const double yaw = std::atan2(R(1, 0), R(0, 0));
+    const Eigen::Vector2d axis_x(std::cos(yaw), std::sin(yaw));
+    const Eigen::Vector2d axis_y(-axis_x.y(), axis_x.x());
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (const double dx : {-ws.max_backward_m, ws.max_forward_m}) {
+      for (const double dy : {-side * ws.max_inward_m, side * ws.max_outward_m}) {
+        for (const double dz : {-ws.max_down_m, ws.max_up_m}) {
+          const Eigen::Vector2d c = (base_W * (ref + Eigen::Vector3d(dx, dy, dz))).head<2>();
+          const Eigen::Vector2d local(axis_x.dot(c), axis_y.dot(c));
+          lo = lo.cwiseMin(local);
+          hi = hi.cwiseMax(local);
+        }
+      }
+    }
+    lo.array() -= fc.query_distance_m;
+    hi.array() += fc.query_distance_m;
+    const Eigen::Vector2d mid = 0.5 * (lo + hi);
+    const Eigen::Vector2d half_extent = 0.5 * (hi - lo);
+    const Eigen::Vector2d centre = mid.x() * axis_x + mid.y() * axis_y;
+    // World-axis bounds of the rectangle, to skip surfaces far from it.
+    const Eigen::Vector2d reach(half_extent.x() * std::abs(axis_x.x()) + half_extent.y() * std::abs(axis_y.x()),
+                                half_extent.x() * std::abs(axis_x.y()) + half_extent.y() * std::abs(axis_y.y()));
     for (std::size_t s = 0; s < surfaces.size(); ++s) {
       const ConvexPolygon3d& surface = surfaces[s];
-      if ((surface.MinXy().array() > (centre.array() + half)).any() ||
-          (surface.MaxXy().array() < (centre.array() - half)).any()) {
+      if ((surface.MinXy().array() > (centre + reach).array()).any() ||
+          (surface.MaxXy().array() < (centre - reach).array()).any()) {
         continue;
       }
-      const std::vector<Eigen::Vector3d> clipped = surface.ClipToSquare(centre, half);
+      std::vector<Eigen::Vector3d> clipped = surface.ClipToRectangle(centre, axis_x, half_extent.x(), half_extent.y());
       if (clipped.size() < 3) continue;
+      if (near_half > 0.0) {
+        clipped = ConvexPolygon3d(clipped, surface.Normal()).ClipToSquare(target_W.head<2>(), near_half);
+        if (clipped.size() < 3) continue;
+      }
       db.AppendCandidates(leg, base_W, clipped, surface.Normal(), fc.query_distance_m, static_cast<int>(s), &raw);
     }
     stats.candidates += static_cast<int>(raw.size());
@@ -789,100 +816,112 @@ struct ContactPlanner::Impl {
       target_pose = LeadPose(option.t, lead);
     }
     const Eigen::Vector3d target = PathBasePose(target_pose) * robot.ReferenceFootPosition(leg);
-    const std::vector<Candidate> cands = RankedCandidates(leg, base, target, target_pose.yaw);
-
     const Eigen::Isometry3d T_BW = base.inverse();
     const Eigen::Vector3d old_foot = parent.state.feet[static_cast<std::size_t>(j)].position;
     int lp_evaluations = 0;
-    std::string last_reject = cands.empty() ? "no database sample near a contact surface" : "";
-    for (const Candidate& c : cands) {
-      if (OutOfTime()) {
-        *why = "time budget exhausted";
-        return StepOutcome::kCapped;
-      }
-      ++stats.candidates_evaluated;
-      if ((c.foothold - old_foot).norm() < kMinStepLength) continue;
-      if (!FarEnoughFromFeet(parent.state.feet, j, c.foothold)) continue;
-      const Eigen::Vector3d p_B = T_BW * c.foothold;
-      if (WorkspaceRatio(leg, p_B) > 1.0) {
-        last_reject = "outside the workspace";
-        continue;
-      }
-      const IkResult ik = robot.SolveLegIk(leg, p_B);
-      if (!ik.ok()) {
-        last_reject = "kinematics";
-        continue;
-      }
-      JointVector q_post = q_pre;
-      SetLegJoints(q_post, leg, ik.q);
-      const Eigen::Vector3d com_post = CoM(base, q_post);
-      if (SupportPolygonMargin(stance, com_post) < eq_config.support_margin_m) {
-        last_reject = "CoM near the swing triangle edge at touch-down";
-        continue;
-      }
-      if (collision->CheckLeg(leg, base, ik.q, true).collision) {
-        last_reject = "leg collision";
-        continue;
-      }
-      if (collision->CheckSelf(q_post).collision) {
-        last_reject = "self-collision";
-        continue;
-      }
-      // Look-ahead: the foot must stay keepable (workspace, kinematics, no collision) at the path
-      // pose lead_time_s later, so it is not placed where the advancing trunk would at once drag
-      // its shank into a riser or a block edge.
-      if (!option.goal_step) {
-        std::array<FootContact, kNumLegs> ahead_feet = parent.state.feet;
-        ahead_feet[static_cast<std::size_t>(j)].position = c.foothold;
-        const Eigen::Isometry3d ahead = StanceBase(LeadPose(option.t, config.foothold.lead_time_s),
-                                                   Eigen::Vector3d(0.0, 0.0, shift->z()), ahead_feet);
-        Eigen::Vector3d q_ahead;
-        double stretch_ahead = 0.0;
-        if (KeepLeg(leg, ahead, c.foothold, &q_ahead, &stretch_ahead) != KeepFailure::kNone) {
-          last_reject = "not keepable as the trunk advances";
+    std::size_t candidates_seen = 0;
+    std::string last_reject;
+    // Footholds near the target first (most steps end there, and the database query is the
+    // planner's main cost), then the rest of the workspace.
+    const double near_half = config.foothold.near_query_half_m;
+    for (int stage = near_half > 0.0 ? 0 : 1; stage < 2; ++stage) {
+      const std::vector<Candidate> cands =
+          RankedCandidates(leg, base, target, target_pose.yaw, stage == 0 ? near_half : 0.0);
+      candidates_seen += stage == 0 ? cands.size() : 0;
+      for (const Candidate& c : cands) {
+        if (stage == 1 && near_half > 0.0 && ((c.foothold - target).head<2>().cwiseAbs().array() < near_half).all()) {
+          continue;  // evaluated in the first stage
+        }
+        if (stage == 1) ++candidates_seen;
+        if (OutOfTime()) {
+          *why = "time budget exhausted";
+          return StepOutcome::kCapped;
+        }
+        ++stats.candidates_evaluated;
+        if ((c.foothold - old_foot).norm() < kMinStepLength) continue;
+        if (!FarEnoughFromFeet(parent.state.feet, j, c.foothold)) continue;
+        const Eigen::Vector3d p_B = T_BW * c.foothold;
+        if (WorkspaceRatio(leg, p_B) > 1.0) {
+          last_reject = "outside the workspace";
           continue;
         }
+        const IkResult ik = robot.SolveLegIk(leg, p_B);
+        if (!ik.ok()) {
+          last_reject = "kinematics";
+          continue;
+        }
+        JointVector q_post = q_pre;
+        SetLegJoints(q_post, leg, ik.q);
+        const Eigen::Vector3d com_post = CoM(base, q_post);
+        if (SupportPolygonMargin(stance, com_post) < eq_config.support_margin_m) {
+          last_reject = "CoM near the swing triangle edge at touch-down";
+          continue;
+        }
+        if (collision->CheckLeg(leg, base, ik.q, true).collision) {
+          last_reject = "leg collision";
+          continue;
+        }
+        if (collision->CheckSelf(q_post).collision) {
+          last_reject = "self-collision";
+          continue;
+        }
+        // Look-ahead: the foot must stay keepable (workspace, kinematics, no collision) at the path
+        // pose lead_time_s later, so it is not placed where the advancing trunk would at once drag
+        // its shank into a riser or a block edge.
+        if (!option.goal_step) {
+          std::array<FootContact, kNumLegs> ahead_feet = parent.state.feet;
+          ahead_feet[static_cast<std::size_t>(j)].position = c.foothold;
+          const Eigen::Isometry3d ahead = StanceBase(LeadPose(option.t, config.foothold.lead_time_s),
+                                                     Eigen::Vector3d(0.0, 0.0, shift->z()), ahead_feet);
+          Eigen::Vector3d q_ahead;
+          double stretch_ahead = 0.0;
+          if (KeepLeg(leg, ahead, c.foothold, &q_ahead, &stretch_ahead) != KeepFailure::kNone) {
+            last_reject = "not keepable as the trunk advances";
+            continue;
+          }
+        }
+        if (lp_evaluations >= config.foothold.max_stability_evaluations) {
+          *why = "no stable foothold among the " + std::to_string(lp_evaluations) + " best candidates (last: " +
+                 last_reject + ")";
+          return StepOutcome::kCapped;
+        }
+        ++lp_evaluations;
+        ++stats.stability_evaluations;
+        std::array<FootContact, kNumLegs> feet = parent.state.feet;
+        feet[static_cast<std::size_t>(j)].position = c.foothold;
+        feet[static_cast<std::size_t>(j)].normal = surfaces[static_cast<std::size_t>(c.surface)].Normal();
+        const EquilibriumResult eq = equilibrium.Robustness(Contacts(feet, -1), com_post);
+        if (!equilibrium.MeetsThreshold(eq)) {
+          last_reject = "robustness " + Fixed(eq.robustness_N, 2) + " N";
+          continue;
+        }
+        std::string tw;
+        if (!TorquesWithinLimit(base, q_post, feet, -1, com_post, &tw)) {
+          last_reject = "four-foot stance: " + tw;
+          continue;
+        }
+        if (!TorquesWithinLimit(base, q_post, feet, j, com_post, &tw)) {
+          last_reject = "three-foot stance at touch-down: " + tw;
+          continue;
+        }
+        // Accepted.
+        child->state.base_position = base.translation();
+        child->state.base_rpy = rpy;
+        child->state.joints = q_post;
+        child->state.feet = feet;
+        child->state.moving_leg = j;
+        child->t = option.t;
+        child->shift = *shift;
+        const bool advanced = option.t > parent.t + 1e-9;
+        child->steps_at_time = advanced ? 1 : parent.steps_at_time + 1;
+        if (advanced) child->stepped_at_time.fill(false);
+        else child->stepped_at_time = parent.stepped_at_time;
+        child->stepped_at_time[static_cast<std::size_t>(j)] = true;
+        return StepOutcome::kFound;
       }
-      if (lp_evaluations >= config.foothold.max_stability_evaluations) {
-        *why = "no stable foothold among the " + std::to_string(lp_evaluations) + " best candidates (last: " +
-               last_reject + ")";
-        return StepOutcome::kCapped;
-      }
-      ++lp_evaluations;
-      ++stats.stability_evaluations;
-      std::array<FootContact, kNumLegs> feet = parent.state.feet;
-      feet[static_cast<std::size_t>(j)].position = c.foothold;
-      feet[static_cast<std::size_t>(j)].normal = surfaces[static_cast<std::size_t>(c.surface)].Normal();
-      const EquilibriumResult eq = equilibrium.Robustness(Contacts(feet, -1), com_post);
-      if (!equilibrium.MeetsThreshold(eq)) {
-        last_reject = "robustness " + Fixed(eq.robustness_N, 2) + " N";
-        continue;
-      }
-      std::string tw;
-      if (!TorquesWithinLimit(base, q_post, feet, -1, com_post, &tw)) {
-        last_reject = "four-foot stance: " + tw;
-        continue;
-      }
-      if (!TorquesWithinLimit(base, q_post, feet, j, com_post, &tw)) {
-        last_reject = "three-foot stance at touch-down: " + tw;
-        continue;
-      }
-      // Accepted.
-      child->state.base_position = base.translation();
-      child->state.base_rpy = rpy;
-      child->state.joints = q_post;
-      child->state.feet = feet;
-      child->state.moving_leg = j;
-      child->t = option.t;
-      child->shift = *shift;
-      const bool advanced = option.t > parent.t + 1e-9;
-      child->steps_at_time = advanced ? 1 : parent.steps_at_time + 1;
-      if (advanced) child->stepped_at_time.fill(false);
-      else child->stepped_at_time = parent.stepped_at_time;
-      child->stepped_at_time[static_cast<std::size_t>(j)] = true;
-      return StepOutcome::kFound;
     }
-    *why = "no valid foothold among " + std::to_string(cands.size()) + " candidates" +
+    if (candidates_seen == 0) last_reject = "no database sample near a contact surface";
+    *why = "no valid foothold among " + std::to_string(candidates_seen) + " candidates" +
            (last_reject.empty() ? "" : " (last rejected: " + last_reject + ")");
     return StepOutcome::kNoCandidate;
   }

@@ -53,6 +53,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.foothold.dedup_cell_m = fh.Double("dedup_cell_m");
   c.foothold.min_foot_separation_m = fh.Double("min_foot_separation_m");
   c.foothold.max_stability_evaluations = fh.Int("max_stability_evaluations");
+  c.foothold.near_query_half_m = fh.Double("near_query_half_m");
   fh.RejectUnknownKeys();
 
   c.torque_limit_fraction = map.Double("torque_limit_fraction");
@@ -125,6 +126,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   non_negative("foothold.weight_y", foothold.weight_y);
   non_negative("foothold.weight_z", foothold.weight_z);
   positive("foothold.dedup_cell_m", foothold.dedup_cell_m);
+  non_negative("foothold.near_query_half_m", foothold.near_query_half_m);
   non_negative("foothold.min_foot_separation_m", foothold.min_foot_separation_m);
   if (foothold.max_stability_evaluations < 1) {
     fail("foothold.max_stability_evaluations", "an integer >= 1", std::to_string(foothold.max_stability_evaluations));

@@ -93,19 +93,26 @@ std::optional<Eigen::Vector3d> ConvexPolygon3d::PointAt(const Eigen::Vector2d& x
 }
 
 std::vector<Eigen::Vector3d> ConvexPolygon3d::ClipToSquare(const Eigen::Vector2d& centre_xy, double half) const {
+  return ClipToRectangle(centre_xy, Eigen::Vector2d::UnitX(), half, half);
+}
+
+std::vector<Eigen::Vector3d> ConvexPolygon3d::ClipToRectangle(const Eigen::Vector2d& centre_xy,
+                                                              const Eigen::Vector2d& axis_x, double half_x,
+                                                              double half_y) const {
   std::vector<Eigen::Vector3d> poly = vertices_;
   std::vector<Eigen::Vector3d> next;
-  // Half-planes s * (p[axis] - bound) <= 0.
-  const std::array<std::pair<int, double>, 4> axes = {{{0, 1.0}, {0, -1.0}, {1, 1.0}, {1, -1.0}}};
-  for (const auto& [axis, sign] : axes) {
-    const double bound = centre_xy[axis] + sign * half;
+  const Eigen::Vector2d axis_y(-axis_x.y(), axis_x.x());
+  // Half-planes n . (p - centre) <= h.
+  const std::array<std::pair<Eigen::Vector2d, double>, 4> planes = {
+      {{axis_x, half_x}, {-axis_x, half_x}, {axis_y, half_y}, {-axis_y, half_y}}};
+  for (const auto& [n, h] : planes) {
     next.clear();
-    const std::size_t n = poly.size();
-    for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t count = poly.size();
+    for (std::size_t i = 0; i < count; ++i) {
       const Eigen::Vector3d& a = poly[i];
-      const Eigen::Vector3d& b = poly[(i + 1) % n];
-      const double da = sign * (a[axis] - bound);
-      const double db = sign * (b[axis] - bound);
+      const Eigen::Vector3d& b = poly[(i + 1) % count];
+      const double da = n.dot(a.head<2>() - centre_xy) - h;
+      const double db = n.dot(b.head<2>() - centre_xy) - h;
       if (da <= 0.0) next.push_back(a);
       if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) next.push_back(a + (da / (da - db)) * (b - a));
     }

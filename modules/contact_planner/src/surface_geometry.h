@@ -29,6 +29,11 @@ class ConvexPolygon3d {
   /// The part of the polygon whose x and y lie within `half` of centre_xy (vertices; fewer than
   /// three when nothing of positive area is left).
   std::vector<Eigen::Vector3d> ClipToSquare(const Eigen::Vector2d& centre_xy, double half) const;
+  /// The part of the polygon whose x and y lie within the rectangle centred at centre_xy with
+  /// unit axis `axis_x` (the other axis perpendicular, counter-clockwise) and half extents
+  /// half_x, half_y (same convention as ClipToSquare).
+  std::vector<Eigen::Vector3d> ClipToRectangle(const Eigen::Vector2d& centre_xy, const Eigen::Vector2d& axis_x,
+                                               double half_x, double half_y) const;
   const Eigen::Vector2d& MinXy() const { return min_xy_; }
   const Eigen::Vector2d& MaxXy() const { return max_xy_; }
 

@@ -58,6 +58,33 @@ TEST(SurfaceGeometryTest, ClipToSquareKeepsTheOverlap) {
   EXPECT_TRUE(s.ClipToSquare({3.0, 0.0}, 0.3).empty());
 }
 
+TEST(SurfaceGeometryTest, ClipToRectangleFollowsItsAxes) {
+  const ConvexPolygon3d s = Square(1.0, 0.0);
+  // A 0.4 x 0.2 rectangle turned by 45 degrees, centred inside the square: kept whole.
+  const Eigen::Vector2d axis(std::sqrt(0.5), std::sqrt(0.5));
+  const auto inside = s.ClipToRectangle({0.0, 0.0}, axis, 0.2, 0.1);
+  ASSERT_EQ(inside.size(), 4u);
+  double area = 0.0;
+  for (std::size_t i = 0; i < inside.size(); ++i) {
+    const Eigen::Vector3d& a = inside[i];
+    const Eigen::Vector3d& b = inside[(i + 1) % inside.size()];
+    area += 0.5 * (a.x() * b.y() - b.x() * a.y());
+  }
+  EXPECT_NEAR(std::abs(area), 0.4 * 0.2, 1e-12);
+  for (const auto& v : inside) {
+    EXPECT_LE(std::abs(axis.dot(v.head<2>())), 0.2 + 1e-12);
+    EXPECT_LE(std::abs(Eigen::Vector2d(-axis.y(), axis.x()).dot(v.head<2>())), 0.1 + 1e-12);
+  }
+  // Over the corner (1, 1): only the part inside the square is left.
+  const auto corner = s.ClipToRectangle({1.0, 1.0}, axis, 0.2, 0.1);
+  ASSERT_GE(corner.size(), 3u);
+  for (const auto& v : corner) {
+    EXPECT_LE(v.x(), 1.0 + 1e-12);
+    EXPECT_LE(v.y(), 1.0 + 1e-12);
+  }
+  EXPECT_TRUE(s.ClipToRectangle({3.0, 0.0}, axis, 0.2, 0.1).empty());
+}
+
 TEST(SurfaceGeometryTest, ErodedTriangleKeepsTheMargin) {
   const std::array<Eigen::Vector2d, 3> tri = {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)};
   const auto e = ErodeTriangle(tri, 0.1);

@@ -37,6 +37,9 @@ struct FootholdConfig {
   double dedup_cell_m = 0.01;      ///< [m] projected footholds in one grid cell count once
   double min_foot_separation_m = 0.10;  ///< [m] horizontal distance between any two footholds
   int max_stability_evaluations = 80;   ///< candidates reaching the LP tests per step attempt
+  /// [m] candidates are first taken from a square of this half-size around the target, then from
+  /// the rest of the workspace (0: the whole workspace at once).
+  double near_query_half_m = 0.1;
 };
 
 /// Body shift that puts the CoM inside the three-foot support triangle of a swing.
