@@ -45,8 +45,7 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
       planner_(robot, database, equilibrium, config),
       root_path_(lcm, options_.root_path_channel),
       robot_state_(lcm, options_.robot_state_channel),
-      terrain_(lcm, options_.terrain_channel),
-      affordances_(lcm, options_.affordances_channel),
+      world_(lcm, options_.terrain_channel, options_.affordances_channel),
       status_(lcm, kProcessName, options_.status_channel) {
   if (options_.horizon_steps < 0) {
     throw InputError("contact planner node: horizon_steps expected >= 0, got " + std::to_string(options_.horizon_steps));
@@ -67,44 +66,24 @@ void ContactPlannerNode::set_verbose(bool verbose) {
 std::optional<std::string> ContactPlannerNode::TakeInputs() {
   if (auto e = root_path_.TakeDecodeError()) return e;
   if (auto e = robot_state_.TakeDecodeError()) return e;
-  if (auto e = terrain_.TakeDecodeError()) return e;
-  if (auto e = affordances_.TakeDecodeError()) return e;
   if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
-  if (auto msg = terrain_.Take()) {
-    latest_utime_ = std::max(latest_utime_, msg->utime);
+  if (auto e = world_.Take(&latest_utime_)) return e;
+  if (world_.TakeChanged()) {
     world_set_ = false;
-    try {
-      terrain_mesh_ = transport::FromTerrainMsg(*msg);
-      terrain_min_xy_ = terrain_max_xy_ = terrain_mesh_->vertices.front().head<2>();
-      for (const Eigen::Vector3d& v : terrain_mesh_->vertices) {
+    if (world_.Ready()) {
+      const TriangleMesh& mesh = *world_.terrain();
+      terrain_min_xy_ = terrain_max_xy_ = mesh.vertices.front().head<2>();
+      for (const Eigen::Vector3d& v : mesh.vertices) {
         terrain_min_xy_ = terrain_min_xy_.cwiseMin(v.head<2>());
         terrain_max_xy_ = terrain_max_xy_.cwiseMax(v.head<2>());
       }
-      world_changed_ = true;
-    } catch (const InputError& e) {
-      terrain_mesh_.reset();
-      return std::string(e.what());
-    }
-  }
-  if (auto msg = affordances_.Take()) {
-    latest_utime_ = std::max(latest_utime_, msg->utime);
-    world_set_ = false;
-    try {
-      surfaces_ = transport::FromAffordanceMsg(*msg);
-      world_changed_ = true;
-    } catch (const InputError& e) {
-      surfaces_.reset();
-      return std::string(e.what());
-    }
-  }
-  if (world_changed_ && terrain_mesh_ && surfaces_) {
-    world_changed_ = false;
-    if (surfaces_->empty()) return std::string("affordances: the terrain has no contact surface");
-    try {
-      planner_.SetTerrain(*terrain_mesh_, *surfaces_);
-      world_set_ = true;
-    } catch (const std::exception& e) {
-      return std::string("terrain: ") + e.what();
+      if (world_.surfaces()->empty()) return std::string("affordances: the terrain has no contact surface");
+      try {
+        planner_.SetTerrain(mesh, *world_.surfaces());
+        world_set_ = true;
+      } catch (const std::exception& e) {
+        return std::string("terrain: ") + e.what();
+      }
     }
   }
   if (auto msg = root_path_.Take()) {
@@ -117,8 +96,8 @@ std::optional<std::string> ContactPlannerNode::TakeInputs() {
 void ContactPlannerNode::LogWaiting() {
   std::string waiting;
   auto add = [&](const char* what) { waiting += (waiting.empty() ? "" : ", ") + std::string(what); };
-  if (!terrain_mesh_) add(options_.terrain_channel.c_str());
-  if (!surfaces_) add(options_.affordances_channel.c_str());
+  if (!world_.terrain()) add(options_.terrain_channel.c_str());
+  if (!world_.surfaces()) add(options_.affordances_channel.c_str());
   if (!pending_ && !last_result_) add(options_.root_path_channel.c_str());
   if (waiting == logged_waiting_) return;
   logged_waiting_ = waiting;
@@ -178,7 +157,7 @@ std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_p
   // The robot stands at the path start: there must be terrain below it (elsewhere the trunk may
   // pass over gaps with its feet on either side).
   const Eigen::Vector2d start = samples->front().p.head<2>();
-  if (!TerrainHeightAt(*terrain_mesh_, start)) {
+  if (!TerrainHeightAt(*world_.terrain(), start)) {
     std::ostringstream os;
     os << "root path: the start (" << start.x() << ", " << start.y() << ") is not above the terrain";
     return os.str();

@@ -31,8 +31,7 @@ RootPlannerNode::RootPlannerNode(lcm::LCM& lcm, const RobotModel& robot, RootPla
       planner_(robot, std::move(config)),
       request_(lcm, options_.request_channel),
       robot_state_(lcm, options_.robot_state_channel),
-      terrain_(lcm, options_.terrain_channel),
-      affordances_(lcm, options_.affordances_channel),
+      world_(lcm, options_.terrain_channel, options_.affordances_channel),
       status_(lcm, kProcessName, options_.status_channel) {}
 
 int64_t RootPlannerNode::Now() const { return latest_utime_; }
@@ -40,26 +39,8 @@ int64_t RootPlannerNode::Now() const { return latest_utime_; }
 std::optional<std::string> RootPlannerNode::TakeInputs() {
   if (auto e = request_.TakeDecodeError()) return e;
   if (auto e = robot_state_.TakeDecodeError()) return e;
-  if (auto e = terrain_.TakeDecodeError()) return e;
-  if (auto e = affordances_.TakeDecodeError()) return e;
   if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
-  if (auto msg = terrain_.Take()) {
-    latest_utime_ = std::max(latest_utime_, msg->utime);
-    try {
-      terrain_mesh_ = transport::FromTerrainMsg(*msg);
-    } catch (const InputError& e) {
-      terrain_mesh_.reset();
-      return std::string(e.what());
-    }
-  }
-  if (auto msg = affordances_.Take()) {
-    try {
-      surfaces_ = transport::FromAffordanceMsg(*msg);
-    } catch (const InputError& e) {
-      surfaces_.reset();
-      return std::string(e.what());
-    }
-  }
+  if (auto e = world_.Take(&latest_utime_)) return e;
   if (auto msg = request_.Take()) {
     latest_utime_ = std::max(latest_utime_, msg->utime);
     const std::string problem = CheckRequest(*msg);
@@ -74,7 +55,7 @@ bool RootPlannerNode::Step() {
     status_.Failed(Now(), Now(), 0.0, *rejected);
     return true;
   }
-  if (!pending_ || !terrain_mesh_ || !surfaces_) return false;
+  if (!pending_ || !world_.Ready()) return false;
   if (!pending_->use_start && !robot_state_.Latest()) return false;  // waiting for the robot's state
   const rbcp_msgs::plan_request_t request = *pending_;
   pending_.reset();
@@ -95,14 +76,14 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request) {
       return;
     }
   }
-  const auto start = planner_.StandingPosition(*terrain_mesh_, start_xy);
-  const auto goal = planner_.StandingPosition(*terrain_mesh_, {request.goal_position[0], request.goal_position[1]});
+  const auto start = planner_.StandingPosition(*world_.terrain(), start_xy);
+  const auto goal = planner_.StandingPosition(*world_.terrain(), {request.goal_position[0], request.goal_position[1]});
   if (!start || !goal) {
     status_.Failed(Now(), request.utime, 0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
     return;
   }
   const double budget = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
-  last_result_ = planner_.Plan(*terrain_mesh_, *surfaces_, *start, start_yaw, *goal, request.goal_yaw,
+  last_result_ = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw,
                                static_cast<unsigned>(request.seed), budget);
   const double ms = 1000.0 * last_result_->planning_time_s;
   if (!last_result_->ok()) {

@@ -23,6 +23,7 @@
 
 #include "rbcp/contact_planner/contact_planner.h"
 #include "rbcp/limb_database/limb_database.h"
+#include "rbcp/nodes/world_input.h"
 #include "rbcp/root_planner/root_path.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
@@ -83,15 +84,11 @@ class ContactPlannerNode {
   ContactPlanner planner_;
   transport::LatestMessage<rbcp_msgs::root_path_t> root_path_;
   transport::LatestMessage<rbcp_msgs::robot_state_t> robot_state_;
-  transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_;
-  transport::LatestMessage<rbcp_msgs::affordance_set_t> affordances_;
+  WorldInput world_;
   transport::StatusReporter status_;
 
-  std::optional<TriangleMesh> terrain_mesh_;
   Eigen::Vector2d terrain_min_xy_ = Eigen::Vector2d::Zero();  ///< horizontal bounds of the terrain [m]
   Eigen::Vector2d terrain_max_xy_ = Eigen::Vector2d::Zero();
-  std::optional<std::vector<AffordanceSurface>> surfaces_;
-  bool world_changed_ = false;  ///< terrain or surfaces changed since the planner's last SetTerrain
   bool world_set_ = false;      ///< the planner holds the current terrain and surfaces
   std::optional<rbcp_msgs::root_path_t> pending_;
   std::optional<ContactPlanResult> last_result_;

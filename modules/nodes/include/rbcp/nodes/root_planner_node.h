@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "rbcp/nodes/world_input.h"
 #include "rbcp/root_planner/root_planner.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
@@ -58,12 +59,9 @@ class RootPlannerNode {
   RootPlanner planner_;
   transport::LatestMessage<rbcp_msgs::plan_request_t> request_;
   transport::LatestMessage<rbcp_msgs::robot_state_t> robot_state_;
-  transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_;
-  transport::LatestMessage<rbcp_msgs::affordance_set_t> affordances_;
+  WorldInput world_;
   transport::StatusReporter status_;
 
-  std::optional<TriangleMesh> terrain_mesh_;
-  std::optional<std::vector<AffordanceSurface>> surfaces_;
   std::optional<rbcp_msgs::plan_request_t> pending_;
   std::optional<RootPlanResult> last_result_;
   int64_t latest_utime_ = 0;

@@ -1,0 +1,46 @@
+#pragma once
+/// The world of a planner process: the latest TERRAIN mesh and AFFORDANCES contact surfaces,
+/// decoded and validated, with a flag raised whenever either changes.
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/transport/latest_message.h"
+#include "rbcp_msgs/affordance_set_t.hpp"
+#include "rbcp_msgs/terrain_mesh_t.hpp"
+
+namespace rbcp::nodes {
+
+class WorldInput {
+ public:
+  WorldInput(lcm::LCM& lcm, const std::string& terrain_channel, const std::string& affordances_channel);
+
+  /// Takes the messages received since the last call, raising *latest_utime to their time.
+  /// Returns why one was rejected (undecodable, or an invalid mesh or surface); that part of
+  /// the world is then unknown until a valid message arrives.
+  std::optional<std::string> Take(int64_t* latest_utime);
+
+  const std::optional<TriangleMesh>& terrain() const { return terrain_; }
+  const std::optional<std::vector<AffordanceSurface>>& surfaces() const { return surfaces_; }
+  bool Ready() const { return terrain_.has_value() && surfaces_.has_value(); }
+  /// True once after the terrain or the surfaces changed (the call clears it).
+  bool TakeChanged();
+
+  const std::string& terrain_channel() const { return terrain_msg_.channel(); }
+  const std::string& affordances_channel() const { return affordances_msg_.channel(); }
+
+ private:
+  transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_msg_;
+  transport::LatestMessage<rbcp_msgs::affordance_set_t> affordances_msg_;
+  std::optional<TriangleMesh> terrain_;
+  std::optional<std::vector<AffordanceSurface>> surfaces_;
+  bool changed_ = false;
+};
+
+}  // namespace rbcp::nodes
