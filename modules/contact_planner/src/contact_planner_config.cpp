@@ -1,18 +1,11 @@
 #include "rbcp/contact_planner/contact_planner_config.h"
 
 #include <cmath>
-#include <sstream>
 
-#include "rbcp/core/error.h"
+#include "rbcp/core/config_checks.h"
 
 namespace rbcp {
 namespace {
-
-std::string Num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
 
 template <std::size_t N>
 std::array<double, N> ReadArray(const YamlMap& map, const std::string& key) {
@@ -92,78 +85,62 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
 ContactPlannerConfig ContactPlannerConfig::LoadFile(const std::string& path) { return Load(YamlMap::LoadFile(path)); }
 
 void ContactPlannerConfig::Validate(const std::string& where) const {
-  auto fail = [&](const std::string& key, const std::string& expected, const std::string& got) {
-    throw InputError(where + ": '" + key + "': expected " + expected + ", got " + got);
-  };
-  auto positive = [&](const std::string& key, double v) {
-    if (!(std::isfinite(v) && v > 0.0)) fail(key, "a positive number", Num(v));
-  };
-  auto non_negative = [&](const std::string& key, double v) {
-    if (!(std::isfinite(v) && v >= 0.0)) fail(key, "a non-negative number", Num(v));
-  };
-  positive("path_step_s", path_step_s);
-  positive("step_time_resolution_s", step_time_resolution_s);
-  non_negative("path_yaw_smoothing_s", path_yaw_smoothing_s);
-  non_negative("gait_advance_s", gait_advance_s);
+  const ConfigChecks check(where);
+  check.Positive("path_step_s", path_step_s);
+  check.Positive("step_time_resolution_s", step_time_resolution_s);
+  check.NonNegative("path_yaw_smoothing_s", path_yaw_smoothing_s);
+  check.NonNegative("gait_advance_s", gait_advance_s);
   if (step_time_resolution_s > path_step_s) {
-    fail("step_time_resolution_s", "at most path_step_s (" + Num(path_step_s) + ")", Num(step_time_resolution_s));
+    check.Fail("step_time_resolution_s", "at most path_step_s (" + ConfigNumber(path_step_s) + ")",
+               ConfigNumber(step_time_resolution_s));
   }
-  positive("workspace.max_forward_m", workspace.max_forward_m);
-  positive("workspace.max_backward_m", workspace.max_backward_m);
-  positive("workspace.max_outward_m", workspace.max_outward_m);
-  positive("workspace.max_inward_m", workspace.max_inward_m);
-  positive("workspace.max_up_m", workspace.max_up_m);
-  positive("workspace.max_down_m", workspace.max_down_m);
-  positive("workspace.max_hip_distance_m", workspace.max_hip_distance_m);
-  positive("foothold.query_distance_m", foothold.query_distance_m);
-  non_negative("foothold.lead_time_s", foothold.lead_time_s);
+  check.Positive("workspace.max_forward_m", workspace.max_forward_m);
+  check.Positive("workspace.max_backward_m", workspace.max_backward_m);
+  check.Positive("workspace.max_outward_m", workspace.max_outward_m);
+  check.Positive("workspace.max_inward_m", workspace.max_inward_m);
+  check.Positive("workspace.max_up_m", workspace.max_up_m);
+  check.Positive("workspace.max_down_m", workspace.max_down_m);
+  check.Positive("workspace.max_hip_distance_m", workspace.max_hip_distance_m);
+  check.Positive("foothold.query_distance_m", foothold.query_distance_m);
+  check.NonNegative("foothold.lead_time_s", foothold.lead_time_s);
   for (std::size_t i = 0; i < foothold.lead_time_factors.size(); ++i) {
-    non_negative("foothold.lead_time_factors[" + std::to_string(i) + "]", foothold.lead_time_factors[i]);
+    check.NonNegative("foothold.lead_time_factors[" + std::to_string(i) + "]", foothold.lead_time_factors[i]);
   }
-  positive("foothold.max_lead_yaw_rad", foothold.max_lead_yaw_rad);
-  non_negative("foothold.static_weight", foothold.static_weight);
-  non_negative("foothold.weight_x", foothold.weight_x);
-  non_negative("foothold.weight_y", foothold.weight_y);
-  non_negative("foothold.weight_z", foothold.weight_z);
-  positive("foothold.dedup_cell_m", foothold.dedup_cell_m);
-  non_negative("foothold.near_query_half_m", foothold.near_query_half_m);
-  non_negative("foothold.min_foot_separation_m", foothold.min_foot_separation_m);
-  if (foothold.max_stability_evaluations < 1) {
-    fail("foothold.max_stability_evaluations", "an integer >= 1", std::to_string(foothold.max_stability_evaluations));
-  }
+  check.Positive("foothold.max_lead_yaw_rad", foothold.max_lead_yaw_rad);
+  check.NonNegative("foothold.static_weight", foothold.static_weight);
+  check.NonNegative("foothold.weight_x", foothold.weight_x);
+  check.NonNegative("foothold.weight_y", foothold.weight_y);
+  check.NonNegative("foothold.weight_z", foothold.weight_z);
+  check.Positive("foothold.dedup_cell_m", foothold.dedup_cell_m);
+  check.NonNegative("foothold.near_query_half_m", foothold.near_query_half_m);
+  check.NonNegative("foothold.min_foot_separation_m", foothold.min_foot_separation_m);
+  check.AtLeast("foothold.max_stability_evaluations", foothold.max_stability_evaluations, 1);
   if (!(std::isfinite(torque_limit_fraction) && torque_limit_fraction > 0.0 && torque_limit_fraction <= 1.0)) {
-    fail("torque_limit_fraction", "a number in (0, 1]", Num(torque_limit_fraction));
+    check.Fail("torque_limit_fraction", "a number in (0, 1]", ConfigNumber(torque_limit_fraction));
   }
-  non_negative("base_shift.max_base_shift_m", base_shift.max_base_shift_m);
-  non_negative("base_shift.shift_extra_margin_m", base_shift.shift_extra_margin_m);
-  non_negative("base_shift.height_step_m", base_shift.height_step_m);
-  if (base_shift.transit_checks < 0) {
-    fail("base_shift.transit_checks", "an integer >= 0", std::to_string(base_shift.transit_checks));
-  }
+  check.NonNegative("base_shift.max_base_shift_m", base_shift.max_base_shift_m);
+  check.NonNegative("base_shift.shift_extra_margin_m", base_shift.shift_extra_margin_m);
+  check.NonNegative("base_shift.height_step_m", base_shift.height_step_m);
+  check.AtLeast("base_shift.transit_checks", base_shift.transit_checks, 0);
   for (std::size_t i = 0; i < 2; ++i) {
     const std::string n = "[" + std::to_string(i) + "]";
     if (!(std::abs(base_shift.lateral_offsets_m[i]) <= base_shift.max_base_shift_m)) {
-      fail("base_shift.lateral_offsets_m" + n, "at most max_base_shift_m in magnitude", Num(base_shift.lateral_offsets_m[i]));
+      check.Fail("base_shift.lateral_offsets_m" + n, "at most max_base_shift_m in magnitude",
+                 ConfigNumber(base_shift.lateral_offsets_m[i]));
     }
-    if (!std::isfinite(base_shift.height_offsets_m[i])) {
-      fail("base_shift.height_offsets_m" + n, "a finite number", Num(base_shift.height_offsets_m[i]));
-    }
+    check.Finite("base_shift.height_offsets_m" + n, base_shift.height_offsets_m[i]);
   }
-  if (!std::isfinite(base_pose.height_offset_m)) fail("base_pose.height_offset_m", "a finite number", Num(base_pose.height_offset_m));
-  non_negative("base_pose.max_pitch_rad", base_pose.max_pitch_rad);
-  non_negative("base_pose.max_roll_rad", base_pose.max_roll_rad);
-  positive("goal_foot_tolerance_m", goal_foot_tolerance_m);
+  check.Finite("base_pose.height_offset_m", base_pose.height_offset_m);
+  check.NonNegative("base_pose.max_pitch_rad", base_pose.max_pitch_rad);
+  check.NonNegative("base_pose.max_roll_rad", base_pose.max_roll_rad);
+  check.Positive("goal_foot_tolerance_m", goal_foot_tolerance_m);
   for (std::size_t i = 0; i < retry.earlier_step_s.size(); ++i) {
-    non_negative("retry.earlier_step_s[" + std::to_string(i) + "]", retry.earlier_step_s[i]);
+    check.NonNegative("retry.earlier_step_s[" + std::to_string(i) + "]", retry.earlier_step_s[i]);
   }
-  if (retry.max_backtracks < 0) fail("retry.max_backtracks", "an integer >= 0", std::to_string(retry.max_backtracks));
-  if (retry.max_children_per_state < 1) {
-    fail("retry.max_children_per_state", "an integer >= 1", std::to_string(retry.max_children_per_state));
-  }
-  if (retry.max_steps_at_one_time < 1) {
-    fail("retry.max_steps_at_one_time", "an integer >= 1", std::to_string(retry.max_steps_at_one_time));
-  }
-  positive("time_budget_s", time_budget_s);
+  check.AtLeast("retry.max_backtracks", retry.max_backtracks, 0);
+  check.AtLeast("retry.max_children_per_state", retry.max_children_per_state, 1);
+  check.AtLeast("retry.max_steps_at_one_time", retry.max_steps_at_one_time, 1);
+  check.Positive("time_budget_s", time_budget_s);
 }
 
 }  // namespace rbcp

@@ -1,22 +1,10 @@
-#include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <limits>
-#include <sstream>
 
-#include "rbcp/core/error.h"
+#include "rbcp/core/config_checks.h"
 #include "rbcp/limb_database/limb_database.h"
 
 namespace rbcp {
-namespace {
-
-std::string Num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
-}  // namespace
 
 LimbDatabaseConfig LimbDatabaseConfig::Load(const YamlMap& map) {
   LimbDatabaseConfig c;
@@ -37,24 +25,17 @@ LimbDatabaseConfig LimbDatabaseConfig::Load(const YamlMap& map) {
 LimbDatabaseConfig LimbDatabaseConfig::LoadFile(const std::string& path) { return Load(YamlMap::LoadFile(path)); }
 
 void LimbDatabaseConfig::Validate(const std::string& where) const {
-  auto fail = [&](const std::string& key, const std::string& expected, const std::string& got) {
-    throw InputError(where + ": '" + key + "': expected " + expected + ", got " + got);
-  };
+  const ConfigChecks check(where);
   // Sample indices are stored as 32-bit integers; ten million per leg is far beyond any use.
-  if (samples_per_leg < 1 || samples_per_leg > 10'000'000) {
-    fail("samples_per_leg", "an integer in [1, 10000000]", std::to_string(samples_per_leg));
-  }
+  check.InRange("samples_per_leg", samples_per_leg, 1, 10'000'000);
   // The octree spans 65536 cells per axis around the base; 1 mm cells still cover +-32 m.
-  if (!(std::isfinite(octree_resolution) && octree_resolution >= 0.001 && octree_resolution <= 0.5)) {
-    fail("octree_resolution", "a number in [0.001, 0.5] [m]", Num(octree_resolution));
-  }
-  const double weights[3] = {weight_haa, weight_hfe, weight_kfe};
-  const char* names[3] = {"weight_haa", "weight_hfe", "weight_kfe"};
-  for (int j = 0; j < 3; ++j) {
-    if (!(std::isfinite(weights[j]) && weights[j] >= 0.0)) fail(names[j], "a non-negative number", Num(weights[j]));
-  }
+  check.InRange("octree_resolution", octree_resolution, 0.001, 0.5, "m");
+  check.NonNegative("weight_haa", weight_haa);
+  check.NonNegative("weight_hfe", weight_hfe);
+  check.NonNegative("weight_kfe", weight_kfe);
   if (weight_haa + weight_hfe + weight_kfe <= 0.0) {
-    fail("weight_haa + weight_hfe + weight_kfe", "a positive sum", Num(weight_haa + weight_hfe + weight_kfe));
+    check.Fail("weight_haa + weight_hfe + weight_kfe", "a positive sum",
+               ConfigNumber(weight_haa + weight_hfe + weight_kfe));
   }
 }
 

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "kinodynamic_birrt.h"
+#include "rbcp/core/config_checks.h"
 #include "rbcp/core/error.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/root_planner/rom.h"
@@ -23,12 +24,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-std::string Text(double x) {
-  std::ostringstream os;
-  os << x;
-  return os.str();
-}
 
 AxisLimits LoadAxis(const YamlMap& map) {
   AxisLimits axis;
@@ -146,37 +141,37 @@ RootPlannerConfig RootPlannerConfig::LoadFile(const std::string& path, const std
 std::string RootPlannerConfig::Problem() const {
   const std::string trunk_problem = trunk.Problem();
   if (!trunk_problem.empty()) return "trunk: " + trunk_problem;
-  if (!(surface_depth > 0.0)) return "'surface_depth': expected a depth > 0 m, got " + Text(surface_depth);
+  if (!(surface_depth > 0.0)) return "'surface_depth': expected a depth > 0 m, got " + ConfigNumber(surface_depth);
   if (!(limits.horizontal.v_max > 0.0 && limits.horizontal.a_max > 0.0)) {
-    return "'limits.horizontal': expected v_max > 0 and a_max > 0, got " + Text(limits.horizontal.v_max) + ", " +
-           Text(limits.horizontal.a_max);
+    return "'limits.horizontal': expected v_max > 0 and a_max > 0, got " + ConfigNumber(limits.horizontal.v_max) + ", " +
+           ConfigNumber(limits.horizontal.a_max);
   }
   if (!(limits.vertical.v_max >= 0.0 && limits.vertical.a_max >= 0.0) ||
       (limits.vertical.a_max > 0.0) != (limits.vertical.v_max > 0.0)) {
     return "'limits.vertical': expected v_max, a_max both > 0 (z moves) or both 0 (z fixed), got " +
-           Text(limits.vertical.v_max) + ", " + Text(limits.vertical.a_max);
+           ConfigNumber(limits.vertical.v_max) + ", " + ConfigNumber(limits.vertical.a_max);
   }
-  if (!(yaw.blend_speed > 0.0)) return "'yaw_blend_speed': expected a speed > 0 m/s, got " + Text(yaw.blend_speed);
-  if (!(max_yaw_rate > 0.0)) return "'max_yaw_rate': expected a rate > 0 rad/s, got " + Text(max_yaw_rate);
-  if (!(time_step > 0.0)) return "'time_step': expected a duration > 0 s, got " + Text(time_step);
+  if (!(yaw.blend_speed > 0.0)) return "'yaw_blend_speed': expected a speed > 0 m/s, got " + ConfigNumber(yaw.blend_speed);
+  if (!(max_yaw_rate > 0.0)) return "'max_yaw_rate': expected a rate > 0 rad/s, got " + ConfigNumber(max_yaw_rate);
+  if (!(time_step > 0.0)) return "'time_step': expected a duration > 0 s, got " + ConfigNumber(time_step);
   if (validation_substeps < 1) return "'validation_substeps': expected at least 1, got " + std::to_string(validation_substeps);
   if (!(area_weighted_probability >= 0.0 && area_weighted_probability <= 1.0)) {
-    return "'sampler.area_weighted_probability': expected a probability in [0, 1], got " + Text(area_weighted_probability);
+    return "'sampler.area_weighted_probability': expected a probability in [0, 1], got " + ConfigNumber(area_weighted_probability);
   }
   if (!(height_offset_min <= height_offset_max)) {
-    return "'sampler.height_offset': expected [min, max] with min <= max, got [" + Text(height_offset_min) + ", " +
-           Text(height_offset_max) + "]";
+    return "'sampler.height_offset': expected [min, max] with min <= max, got [" + ConfigNumber(height_offset_min) + ", " +
+           ConfigNumber(height_offset_max) + "]";
   }
   if (!(zero_velocity_probability >= 0.0 && zero_velocity_probability <= 1.0)) {
-    return "'sampler.zero_velocity_probability': expected a probability in [0, 1], got " + Text(zero_velocity_probability);
+    return "'sampler.zero_velocity_probability': expected a probability in [0, 1], got " + ConfigNumber(zero_velocity_probability);
   }
   if (sample_attempts < 1) return "'sampler.attempts': expected at least 1, got " + std::to_string(sample_attempts);
   if (repair_moves < 0) return "'sampler.repair_moves': expected at least 0, got " + std::to_string(repair_moves);
-  if (!(repair_step > 0.0)) return "'sampler.repair_step': expected a length > 0 m, got " + Text(repair_step);
-  if (!(bounds_margin >= 0.0)) return "'sampler.bounds_margin': expected a length >= 0 m, got " + Text(bounds_margin);
+  if (!(repair_step > 0.0)) return "'sampler.repair_step': expected a length > 0 m, got " + ConfigNumber(repair_step);
+  if (!(bounds_margin >= 0.0)) return "'sampler.bounds_margin': expected a length >= 0 m, got " + ConfigNumber(bounds_margin);
   if (shortcut_iterations < 0) return "'shortcut_iterations': expected at least 0, got " + std::to_string(shortcut_iterations);
   if (!(max_piece_duration > time_step)) {
-    return "'max_piece_duration': expected more than time_step, got " + Text(max_piece_duration);
+    return "'max_piece_duration': expected more than time_step, got " + ConfigNumber(max_piece_duration);
   }
   return "";
 }
@@ -224,7 +219,7 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
     throw InputError("root plan request: expected finite start and goal, got a non-finite value");
   }
   if (!(request.time_budget_s > 0.0)) {
-    throw InputError("root plan request: expected a time budget > 0 s, got " + Text(request.time_budget_s));
+    throw InputError("root plan request: expected a time budget > 0 s, got " + ConfigNumber(request.time_budget_s));
   }
   RootPlanResult result;
   auto done = [&](RootPlanStatus status, std::string reason) {
@@ -241,8 +236,8 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   for (int i = 0; i < 3; ++i) {
     const double v_max = limits.VerticalFixed() && i == 2 ? 0.0 : limits.Axis(i).v_max;
     if (std::abs(start.v[i]) > v_max + 1e-9) {
-      return done(RootPlanStatus::kStartInvalid, "start velocity " + Text(start.v[i]) + " m/s along axis " +
-                                                     std::to_string(i) + " exceeds the bound " + Text(v_max) + " m/s");
+      return done(RootPlanStatus::kStartInvalid, "start velocity " + ConfigNumber(start.v[i]) + " m/s along axis " +
+                                                     std::to_string(i) + " exceeds the bound " + ConfigNumber(v_max) + " m/s");
     }
   }
   if (surfaces.empty()) return done(RootPlanStatus::kStartInvalid, "no contact surfaces");
@@ -316,7 +311,7 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   result.tree_states = planner->Stats().start_tree_states + planner->Stats().goal_tree_states;
   if (status != ob::PlannerStatus::EXACT_SOLUTION || !pdef->hasExactSolution()) {
     result.validity_checks = checker.Queries();
-    return done(RootPlanStatus::kTimeout, "no path found within the time budget of " + Text(request.time_budget_s) +
+    return done(RootPlanStatus::kTimeout, "no path found within the time budget of " + ConfigNumber(request.time_budget_s) +
                                               " s (" + std::to_string(result.iterations) + " iterations, " +
                                               std::to_string(result.tree_states) + " tree states)");
   }

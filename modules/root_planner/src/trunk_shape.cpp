@@ -1,18 +1,10 @@
 #include "rbcp/root_planner/trunk_shape.h"
 
-#include <sstream>
 #include <vector>
 
+#include "rbcp/core/config_checks.h"
+
 namespace rbcp {
-namespace {
-
-std::string Text(double x) {
-  std::ostringstream os;
-  os << x;
-  return os.str();
-}
-
-}  // namespace
 
 TrunkShapeConfig TrunkShapeConfig::Load(const YamlMap& map) {
   TrunkShapeConfig c;
@@ -29,15 +21,16 @@ TrunkShapeConfig TrunkShapeConfig::Load(const YamlMap& map) {
 std::string TrunkShapeConfig::Problem() const {
   for (int i = 0; i < 3; ++i) {
     if (!(box_max[i] > box_min[i])) {
-      return "'box_max': expected every coordinate above box_min's, got " + Text(box_max[i]) + " <= " +
-             Text(box_min[i]);
+      return "'box_max': expected every coordinate above box_min's, got " + ConfigNumber(box_max[i]) + " <= " +
+             ConfigNumber(box_min[i]);
     }
   }
   if (!(keel_bottom_z <= box_min.z())) {
-    return "'keel_bottom_z': expected at most box_min z (" + Text(box_min.z()) + "), got " + Text(keel_bottom_z);
+    return "'keel_bottom_z': expected at most box_min z (" + ConfigNumber(box_min.z()) + "), got " +
+           ConfigNumber(keel_bottom_z);
   }
   if (!(keel_half_length > 0.0 && keel_half_length < 0.5 * (box_max.x() - box_min.x()))) {
-    return "'keel_half_length': expected a length in (0, half the box length), got " + Text(keel_half_length);
+    return "'keel_half_length': expected a length in (0, half the box length), got " + ConfigNumber(keel_half_length);
   }
   return "";
 }
