@@ -990,27 +990,24 @@ struct ContactPlanner::Impl {
     // Crawl timing: the next leg in the crawl order steps after at most gait_advance_s of path
     // time, from the parent's shift first, then from the path pose, with other leads and shift
     // starts.
+    // A leg at time t with every target lead, then from every other start of the shift search.
+    const auto add_every_variant = [&](Leg leg, double t) {
+      for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({leg, t, lead, false, 0});
+      for (int v = 1; v < kNumVariants; ++v) {
+        if ((BaseVariant(node, v) - BaseVariant(node, 0)).norm() < 1e-9) continue;  // same start
+        node.options.push_back({leg, t, 0, false, v});
+      }
+    };
     if (config.gait_advance_s > 0.0) {
       const double t_gait = std::min(keep.t_good, node.t + config.gait_advance_s);
       const Leg gait_leg = node.state.moving_leg < 0 ? ranking.front().leg
                                                      : CrawlNext(kAllLegs[static_cast<std::size_t>(node.state.moving_leg)]);
-      if (allowed(gait_leg, t_gait)) {
-        for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({gait_leg, t_gait, lead, false, 0});
-        for (int v = 1; v < kNumVariants; ++v) {
-          if ((BaseVariant(node, v) - BaseVariant(node, 0)).norm() < 1e-9) continue;  // same start
-          node.options.push_back({gait_leg, t_gait, 0, false, v});
-        }
-      }
+      if (allowed(gait_leg, t_gait)) add_every_variant(gait_leg, t_gait);
     }
     // Failing legs at the failure time, every lead, then with the other starts of the shift
     // search; then earlier; then the other legs.
     for (const LegRank& r : ranking) {
-      if (!r.failing || !allowed(r.leg, keep.t_good)) continue;
-      for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({r.leg, keep.t_good, lead, false, 0});
-      for (int v = 1; v < kNumVariants; ++v) {
-        if ((BaseVariant(node, v) - BaseVariant(node, 0)).norm() < 1e-9) continue;  // same start
-        node.options.push_back({r.leg, keep.t_good, 0, false, v});
-      }
+      if (r.failing && allowed(r.leg, keep.t_good)) add_every_variant(r.leg, keep.t_good);
     }
     for (std::size_t k = 1; k < times.size(); ++k) {
       for (const LegRank& r : ranking) {
