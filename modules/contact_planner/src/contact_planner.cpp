@@ -636,15 +636,18 @@ struct ContactPlanner::Impl {
   // ---- One step --------------------------------------------------------------------------------
 
   /// Start of the shift search of a step option: 0 the parent's shift (the body stays where it
-  /// is); 1 the path pose; 2, 3 the lateral offsets; 4, 5 the height offsets (path heading frame,
+  /// is); 1 the path pose; then the lateral offsets; then the height offsets (path heading frame,
   /// z = height added to the stance height).
-  static constexpr int kNumVariants = 6;
+  int NumVariants() const {
+    return 2 + static_cast<int>(config.base_shift.lateral_offsets_m.size() + config.base_shift.height_offsets_m.size());
+  }
   Eigen::Vector3d BaseVariant(const Node& parent, int variant) const {
     const BaseShiftConfig& bs = config.base_shift;
     if (variant == 0) return parent.shift;
-    if (variant == 2 || variant == 3) return {0.0, bs.lateral_offsets_m[static_cast<std::size_t>(variant - 2)], 0.0};
-    if (variant == 4 || variant == 5) return {0.0, 0.0, bs.height_offsets_m[static_cast<std::size_t>(variant - 4)]};
-    return Eigen::Vector3d::Zero();
+    if (variant == 1) return Eigen::Vector3d::Zero();
+    const std::size_t k = static_cast<std::size_t>(variant - 2);
+    if (k < bs.lateral_offsets_m.size()) return {0.0, bs.lateral_offsets_m[k], 0.0};
+    return {0.0, 0.0, bs.height_offsets_m.at(k - bs.lateral_offsets_m.size())};
   }
 
   /// Shift (path heading frame) that puts the CoM support_margin + extra inside the triangle of
@@ -993,7 +996,7 @@ struct ContactPlanner::Impl {
     // A leg at time t with every target lead, then from every other start of the shift search.
     const auto add_every_variant = [&](Leg leg, double t) {
       for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({leg, t, lead, false, 0});
-      for (int v = 1; v < kNumVariants; ++v) {
+      for (int v = 1; v < NumVariants(); ++v) {
         if ((BaseVariant(node, v) - BaseVariant(node, 0)).norm() < 1e-9) continue;  // same start
         node.options.push_back({leg, t, 0, false, v});
       }

@@ -56,8 +56,8 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.base_shift.shift_extra_margin_m = bs.Double("shift_extra_margin_m");
   c.base_shift.transit_checks = bs.Int("transit_checks");
   c.base_shift.height_step_m = bs.Double("height_step_m");
-  c.base_shift.lateral_offsets_m = ReadArray<2>(bs, "lateral_offsets_m");
-  c.base_shift.height_offsets_m = ReadArray<2>(bs, "height_offsets_m");
+  c.base_shift.lateral_offsets_m = bs.Numbers("lateral_offsets_m");
+  c.base_shift.height_offsets_m = bs.Numbers("height_offsets_m");
   bs.RejectUnknownKeys();
 
   const YamlMap bp = map.Map("base_pose");
@@ -122,13 +122,14 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   check.NonNegative("base_shift.shift_extra_margin_m", base_shift.shift_extra_margin_m);
   check.NonNegative("base_shift.height_step_m", base_shift.height_step_m);
   check.AtLeast("base_shift.transit_checks", base_shift.transit_checks, 0);
-  for (std::size_t i = 0; i < 2; ++i) {
-    const std::string n = "[" + std::to_string(i) + "]";
+  for (std::size_t i = 0; i < base_shift.lateral_offsets_m.size(); ++i) {
     if (!(std::abs(base_shift.lateral_offsets_m[i]) <= base_shift.max_base_shift_m)) {
-      check.Fail("base_shift.lateral_offsets_m" + n, "at most max_base_shift_m in magnitude",
+      check.Fail("base_shift.lateral_offsets_m[" + std::to_string(i) + "]", "at most max_base_shift_m in magnitude",
                  ConfigNumber(base_shift.lateral_offsets_m[i]));
     }
-    check.Finite("base_shift.height_offsets_m" + n, base_shift.height_offsets_m[i]);
+  }
+  for (std::size_t i = 0; i < base_shift.height_offsets_m.size(); ++i) {
+    check.Finite("base_shift.height_offsets_m[" + std::to_string(i) + "]", base_shift.height_offsets_m[i]);
   }
   check.Finite("base_pose.height_offset_m", base_pose.height_offset_m);
   check.NonNegative("base_pose.max_pitch_rad", base_pose.max_pitch_rad);

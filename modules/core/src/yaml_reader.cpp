@@ -77,15 +77,13 @@ std::string YamlMap::String(const std::string& key) const {
   return n.Scalar();
 }
 
-Eigen::VectorXd YamlMap::Vector(const std::string& key, int size) const {
+std::vector<double> YamlMap::Numbers(const std::string& key) const {
   YAML::Node n = Required(key);
-  if (!n.IsSequence() || static_cast<int>(n.size()) != size) {
-    Fail(key, "expected a list of " + std::to_string(size) + " numbers, got " + Describe(n));
-  }
-  Eigen::VectorXd v(size);
-  for (int i = 0; i < size; ++i) {
+  if (!n.IsSequence()) Fail(key, "expected a list of numbers, got " + Describe(n));
+  std::vector<double> v(n.size());
+  for (std::size_t i = 0; i < n.size(); ++i) {
     double x = 0.0;
-    const YAML::Node e = n[static_cast<std::size_t>(i)];
+    const YAML::Node e = n[i];
     if (!e.IsScalar() || !YAML::convert<double>::decode(e, x)) {
       Fail(key, "element " + std::to_string(i) + ": expected a number, got " + Describe(e));
     }
@@ -93,6 +91,15 @@ Eigen::VectorXd YamlMap::Vector(const std::string& key, int size) const {
     v[i] = x;
   }
   return v;
+}
+
+Eigen::VectorXd YamlMap::Vector(const std::string& key, int size) const {
+  const YAML::Node n = Required(key);
+  if (!n.IsSequence() || static_cast<int>(n.size()) != size) {
+    Fail(key, "expected a list of " + std::to_string(size) + " numbers, got " + Describe(n));
+  }
+  const std::vector<double> v = Numbers(key);
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), size);
 }
 
 YamlMap YamlMap::Map(const std::string& key) const {

@@ -31,12 +31,20 @@ TEST(YamlMap, ReadsTypedValues) {
   EXPECT_NO_THROW(m.RejectUnknownKeys());
 }
 
+TEST(YamlMap, NumbersReadsListsOfAnyLength) {
+  YamlMap m(YAML::Load("{empty: [], three: [1, -2.5, 3e-2]}"), "file.yaml");
+  EXPECT_TRUE(m.Numbers("empty").empty());
+  EXPECT_EQ(m.Numbers("three"), (std::vector<double>{1.0, -2.5, 0.03}));
+}
+
 TEST(YamlMap, ErrorsSayWhereAndWhat) {
   YamlMap m(YAML::Load("{a: x, v: [1, 2], w: [1, .nan, 3], extra: 1}"), "file.yaml");
   EXPECT_EQ(ErrorOf([&] { m.Double("a"); }), "file.yaml: 'a': expected a number, got 'x'");
   EXPECT_EQ(ErrorOf([&] { m.Vector3("v"); }), "file.yaml: 'v': expected a list of 3 numbers, got a list of 2");
   EXPECT_EQ(ErrorOf([&] { m.Vector3("w"); }), "file.yaml: 'w': element 1: expected a finite number, got .nan");
   EXPECT_EQ(ErrorOf([&] { m.Double("nope"); }), "file.yaml: 'nope': missing key");
+  EXPECT_EQ(ErrorOf([&] { m.Numbers("a"); }), "file.yaml: 'a': expected a list of numbers, got 'x'");
+  EXPECT_EQ(ErrorOf([&] { m.Numbers("w"); }), "file.yaml: 'w': element 1: expected a finite number, got .nan");
   EXPECT_EQ(ErrorOf([&] { m.RejectUnknownKeys(); }), "file.yaml: 'extra': unknown key");
   EXPECT_EQ(ErrorOf([] { YamlMap::LoadFile("/nonexistent/x.yaml"); }), "/nonexistent/x.yaml: cannot open file");
 }

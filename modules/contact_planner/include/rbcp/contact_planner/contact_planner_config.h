@@ -4,6 +4,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "rbcp/core/yaml_reader.h"
 
@@ -52,9 +53,9 @@ struct BaseShiftConfig {
   double height_step_m = 0.03;
   /// [m] lateral base offsets (path frame, + left) from which the shift search also starts when
   /// a step fails from the path itself.
-  std::array<double, 2> lateral_offsets_m = {0.06, -0.06};
+  std::vector<double> lateral_offsets_m = {0.06, -0.06};
   /// [m] base height offsets (added to the stance height) also tried when a step fails.
-  std::array<double, 2> height_offsets_m = {-0.04, -0.08};
+  std::vector<double> height_offsets_m = {-0.04, -0.08};
 };
 
 /// How the base pose follows the stance.

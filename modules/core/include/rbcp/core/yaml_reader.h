@@ -31,6 +31,8 @@ class YamlMap {
   std::string String(const std::string& key) const;
   /// A fixed-size list of finite numbers.
   Eigen::VectorXd Vector(const std::string& key, int size) const;
+  /// A list of finite numbers of any length (possibly empty).
+  std::vector<double> Numbers(const std::string& key) const;
   Eigen::Vector3d Vector3(const std::string& key) const { return Vector(key, 3); }
   Eigen::Vector2d Vector2(const std::string& key) const { return Vector(key, 2); }
   YamlMap Map(const std::string& key) const;
