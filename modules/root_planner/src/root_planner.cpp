@@ -88,6 +88,110 @@ RootPath Shortcut(RootPath path, const detail::KinodynamicMotionValidator& valid
   return path;
 }
 
+// Horizontal straightening: the path is cut into pieces of about knot_spacing [s] (on the
+// steering grid). Each iteration takes a run of knots (the whole path first, then random runs) and
+// moves the inner ones horizontally onto the straight line between the run's ends, or halfway
+// there, at the same fraction of the run's horizontal length, keeping their times and heights;
+// their horizontal velocities turn along the line with their speed kept. The pieces of the run are
+// re-steered and the move kept when every piece is valid and the run takes at most one time step
+// per piece longer (the steering grid), the whole path at most max_duration long. Random
+// shortcuts are straight in 3D, so across a plinth or a stair flight they cannot skip the tree
+// states the path climbs through, often far to one side; straightening in the horizontal plane
+// only keeps the height profile and draws such detours (and the heading) toward the straight line.
+constexpr double kStraightTolerance = 0.005;  // [m] knots this close to the line are not moved
+constexpr double kMaxStraightenGrowth = 1.1;  // straightening makes a path at most 10 % longer
+
+RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidator& validator, int iterations,
+                    double knot_spacing, double max_duration, std::uint64_t seed,
+                    const ompl::base::PlannerTerminationCondition& ptc) {
+  const double h = validator.Settings().time_step;
+  const double T = path.Duration();
+  const double spacing = h * std::max(1.0, std::round(knot_spacing / h));
+  std::vector<RootPathSample> knots;
+  for (double t = 0.0; t < T - 0.5 * spacing; t += spacing) knots.push_back(path.Sample(t));
+  knots.push_back(path.Sample(T));
+  const long n = static_cast<long>(knots.size()) - 1;
+  if (iterations <= 0 || n < 2) return path;
+  std::vector<RootPath> pieces;
+  for (long k = 0; k < n; ++k) {
+    pieces.push_back(path.Part(knots[static_cast<std::size_t>(k)].t, knots[static_cast<std::size_t>(k + 1)].t));
+  }
+  const KinodynamicLimits& limits = validator.Settings().limits;
+  const double v_max = limits.horizontal.v_max;
+  // Each run may take one time step per piece longer; the whole path at most max_duration.
+  double total = T;
+  const double max_total = std::max(T, max_duration);
+  std::mt19937_64 rng(seed);
+  for (int it = 0; it < iterations && !ptc(); ++it) {
+    long i = 0;
+    long j = n;
+    if (it > 0) {
+      i = std::uniform_int_distribution<long>(0, n - 2)(rng);
+      j = std::uniform_int_distribution<long>(i + 2, n)(rng);
+    }
+    const Eigen::Vector2d A = knots[static_cast<std::size_t>(i)].p.head<2>();
+    const Eigen::Vector2d B = knots[static_cast<std::size_t>(j)].p.head<2>();
+    if ((B - A).norm() < 1e-6) continue;
+    const Eigen::Vector2d dir = (B - A).normalized();
+    std::vector<double> arc{0.0};
+    for (long k = i + 1; k <= j; ++k) {
+      arc.push_back(arc.back() + (knots[static_cast<std::size_t>(k)].p - knots[static_cast<std::size_t>(k - 1)].p).head<2>().norm());
+    }
+    double deviation = 0.0;
+    for (long k = i + 1; k < j; ++k) {
+      const std::size_t m = static_cast<std::size_t>(k - i);
+      deviation = std::max(deviation, (knots[static_cast<std::size_t>(k)].p.head<2>() - (A + (arc[m] / arc.back()) * (B - A))).norm());
+    }
+    if (deviation < kStraightTolerance) continue;  // already straight
+    double old_duration = 0.0;
+    for (long k = i; k < j; ++k) old_duration += pieces[static_cast<std::size_t>(k)].Duration();
+    for (const double blend : {1.0, 0.5}) {
+      std::vector<RootPathSample> moved(knots.begin() + i, knots.begin() + j + 1);
+      for (std::size_t m = 1; m + 1 < moved.size(); ++m) {
+        const Eigen::Vector2d on_line = A + (arc[m] / arc.back()) * (B - A);
+        moved[m].p.head<2>() += blend * (on_line - moved[m].p.head<2>());
+        const Eigen::Vector2d v = moved[m].v.head<2>();
+        const Eigen::Vector2d heading = v.norm() > 1e-9 ? v.normalized() : dir;
+        const Eigen::Vector2d turned = (1.0 - blend) * heading + blend * dir;
+        if (turned.norm() > 1e-9) {
+          moved[m].v.head<2>() = (v.norm() * turned.normalized()).cwiseMax(-v_max).cwiseMin(v_max);
+        }
+      }
+      std::vector<RootSegment> steered;
+      double duration = 0.0;
+      bool ok = true;
+      for (std::size_t m = 0; ok && m + 1 < moved.size(); ++m) {
+        auto piece = validator.Steer(PointState{moved[m].p, moved[m].v}, moved[m].rest_yaw,
+                                     PointState{moved[m + 1].p, moved[m + 1].v}, moved[m + 1].rest_yaw);
+        ok = piece.has_value();
+        if (ok) {
+          duration += piece->Duration();
+          steered.push_back(*piece);
+        }
+      }
+      // Steered durations are rounded up to the time grid: up to one step per piece longer.
+      const double allowed = old_duration + h * static_cast<double>(j - i) + 1e-9;
+      if (!ok || duration > allowed || total - old_duration + duration > max_total) continue;
+      if (!std::all_of(steered.begin(), steered.end(), [&](const RootSegment& s) { return validator.IsValid(s); })) {
+        continue;
+      }
+      total += duration - old_duration;
+      for (std::size_t m = 0; m < steered.size(); ++m) {
+        knots[static_cast<std::size_t>(i) + m] = moved[m];
+        RootPath piece(path.Yaw());
+        piece.Append(steered[m]);
+        pieces[static_cast<std::size_t>(i) + m] = std::move(piece);
+      }
+      break;
+    }
+  }
+  RootPath straight(path.Yaw());
+  for (const RootPath& piece : pieces) {
+    for (const auto& segment : piece.Segments()) straight.Append(segment);
+  }
+  return straight;
+}
+
 }  // namespace
 
 std::string ToString(RootPlanStatus status) {
@@ -125,6 +229,8 @@ RootPlannerConfig RootPlannerConfig::Load(const YamlMap& map, const std::string&
   c.bounds_margin = sampler.Double("bounds_margin");
   sampler.RejectUnknownKeys();
   c.shortcut_iterations = map.Int("shortcut_iterations");
+  c.straighten_iterations = map.Int("straighten_iterations");
+  c.straighten_knot_spacing = map.Double("straighten_knot_spacing");
   c.max_piece_duration = map.Double("max_piece_duration");
   map.RejectUnknownKeys();
   const std::string problem = c.Problem();
@@ -170,6 +276,10 @@ std::string RootPlannerConfig::Problem() const {
   if (!(repair_step > 0.0)) return "'sampler.repair_step': expected a length > 0 m, got " + ConfigNumber(repair_step);
   if (!(bounds_margin >= 0.0)) return "'sampler.bounds_margin': expected a length >= 0 m, got " + ConfigNumber(bounds_margin);
   if (shortcut_iterations < 0) return "'shortcut_iterations': expected at least 0, got " + std::to_string(shortcut_iterations);
+  if (straighten_iterations < 0) return "'straighten_iterations': expected at least 0, got " + std::to_string(straighten_iterations);
+  if (!(straighten_knot_spacing >= time_step)) {
+    return "'straighten_knot_spacing': expected at least time_step, got " + ConfigNumber(straighten_knot_spacing);
+  }
   if (!(max_piece_duration > time_step)) {
     return "'max_piece_duration': expected more than time_step, got " + ConfigNumber(max_piece_duration);
   }
@@ -319,6 +429,9 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   result.duration_before_shortcut_s = found->Path().Duration();
   result.path = Shortcut(found->Path(), *validator, config_.shortcut_iterations,
                          static_cast<std::uint64_t>(request.seed) * 0x9E3779B97F4A7C15ULL + 1, ptc);
+  result.path = Straighten(result.path, *validator, config_.straighten_iterations, config_.straighten_knot_spacing,
+                           std::min(kMaxStraightenGrowth * result.path.Duration(), result.duration_before_shortcut_s),
+                           static_cast<std::uint64_t>(request.seed) * 0x9E3779B97F4A7C15ULL + 2, ptc);
   result.samples = result.path.SampleEvery(config_.time_step);
   result.validity_checks = checker.Queries();
   return done(RootPlanStatus::kOk, "");

@@ -127,6 +127,37 @@ TEST_P(ScenarioPlanningTest, FindsSoundPathsForSeveralSeeds) {
 INSTANTIATE_TEST_SUITE_P(BenchmarkScenarios, ScenarioPlanningTest,
                          ::testing::Values("flat_ground", "slalom_debris", "plinth", "darpa_rubble"));
 
+// Shortcuts cannot cut across the plinth's steps (they are straight in 3D), so the path keeps the
+// detours of the tree to either side; straightening in the horizontal plane takes it to the centre
+// line between the start and the goal (both at y = 0) and keeps it sound.
+TEST(RootPlannerTest, StraighteningDrawsThePlinthPathToTheCentreLine) {
+  RootPlannerConfig unstraightened = DefaultConfig();
+  unstraightened.straighten_iterations = 0;
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const RootPlanner raw_planner(Robot(), unstraightened);
+  const ScenarioCase c = LoadCase("plinth", planner);
+  const auto max_lateral = [](const RootPlanResult& r) {
+    double m = 0.0;
+    for (const RootPathSample& s : r.samples) m = std::max(m, std::abs(s.p.y()));
+    return m;
+  };
+  double raw_worst = 0.0;
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const RootPlanResult raw = raw_planner.Plan(c.scenario.terrain_mesh, c.surfaces, c.start, c.scenario.start.yaw,
+                                                c.goal, c.scenario.goal.yaw, seed, 20.0);
+    const RootPlanResult straight = planner.Plan(c.scenario.terrain_mesh, c.surfaces, c.start, c.scenario.start.yaw,
+                                                 c.goal, c.scenario.goal.yaw, seed, 20.0);
+    ASSERT_TRUE(raw.ok()) << raw.reason;
+    ExpectSoundPath(planner, c.scenario.terrain_mesh, c.surfaces, straight, c.start, c.scenario.start.yaw, c.goal,
+                    c.scenario.goal.yaw);
+    EXPECT_LT(max_lateral(straight), 0.05);
+    EXPECT_LE(straight.path.Duration(), 1.1 * raw.path.Duration() + 1e-9);
+    raw_worst = std::max(raw_worst, max_lateral(raw));
+  }
+  EXPECT_GT(raw_worst, 0.1);  // without straightening the detours are there
+}
+
 TEST(RootPlannerTest, SameSeedSamePath) {
   const RootPlanner planner(Robot(), DefaultConfig());
   const ScenarioCase c = LoadCase("darpa_rubble", planner);

@@ -1,7 +1,8 @@
 #pragma once
 /// Root (trunk) path planning: a kinodynamic bidirectional RRT (built on OMPL's planner
 /// framework) over root position and velocity whose states must satisfy the reachability
-/// condition, followed by random-shortcut smoothing.
+/// condition, followed by random-shortcut smoothing and straightening in the horizontal plane
+/// (RootPlannerConfig::straighten_iterations).
 ///
 /// States are (position, velocity) of the base in the world frame; yaw follows the horizontal
 /// velocity (see YawModel). Trees are extended with the time-optimal double-integrator steering
@@ -63,6 +64,11 @@ struct RootPlannerConfig {
   double bounds_margin = 0.5;        ///< [m] the state space extends this far beyond the surfaces
 
   int shortcut_iterations = 100;     ///< random-shortcut iterations after a path is found
+  /// Horizontal straightening after the shortcuts: runs of knots (every straighten_knot_spacing
+  /// [s] of path time) moved onto the straight line between the run's ends, heights and times
+  /// kept, while the path stays valid and gets no longer (0: none).
+  int straighten_iterations = 0;
+  double straighten_knot_spacing = 0.5;  ///< [s]
   double max_piece_duration = 50.0;  ///< [s] longer steered pieces are rejected
 
   /// Reads the keys of config/root_planner.yaml (strict) and the ROMs of rom_folder, resolved
