@@ -7,6 +7,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -25,7 +26,9 @@ namespace {
 
 using namespace rbcp;
 
-const std::string kConfigDir = std::string(RBCP_SOURCE_DIR) + "/config";
+// RBCP_CONFIG_DIR overrides the configuration folder (to compare parameter sets).
+const std::string kConfigDir =
+    std::getenv("RBCP_CONFIG_DIR") ? std::string(std::getenv("RBCP_CONFIG_DIR")) : std::string(RBCP_SOURCE_DIR) + "/config";
 constexpr unsigned kSeeds = 20;
 
 const RobotModel& Robot() {

@@ -224,6 +224,8 @@ struct ContactPlanner::Impl {
   // Stance leg that blocked the last lift-off tried (-1: none): it hit the terrain, or it is the
   // leg whose re-placement widens a support triangle the CoM cannot get into.
   int blocking_leg = -1;
+  // Crawl timing of the current search (gait_advance_s, or one of its retry values).
+  double gait_advance = 0.0;
   // The most informative failure seen (deepest along the path).
   double fail_t = -1.0;
   int fail_leg = -1;
@@ -1001,8 +1003,8 @@ struct ContactPlanner::Impl {
         node.options.push_back({leg, t, 0, false, v});
       }
     };
-    if (config.gait_advance_s > 0.0) {
-      const double t_gait = std::min(keep.t_good, node.t + config.gait_advance_s);
+    if (gait_advance > 0.0) {
+      const double t_gait = std::min(keep.t_good, node.t + gait_advance);
       const Leg gait_leg = node.state.moving_leg < 0 ? ranking.front().leg
                                                      : CrawlNext(kAllLegs[static_cast<std::size_t>(node.state.moving_leg)]);
       if (allowed(gait_leg, t_gait)) add_every_variant(gait_leg, t_gait);
@@ -1121,6 +1123,32 @@ struct ContactPlanner::Impl {
     return result;
   }
 
+  /// Search() with gait_advance_s; when that fails for want of footholds (not time), again from
+  /// the same root with each of retry.gait_advance_s in turn while time remains. The crawl timing
+  /// decides where every foot stands when the terrain gets hard, so a dead end under one timing is
+  /// rarely one under another.
+  ContactPlanResult SearchWithRetries(const Node& root, int max_steps) {
+    ContactPlanResult first = Search(root, max_steps);
+    if (first.ok || first.status != ContactPlanStatus::kNoFoothold) return first;
+    for (const double advance : config.retry.gait_advance_s) {
+      if (OutOfTime()) break;
+      gait_advance = advance;
+      fail_t = -1.0;
+      fail_leg = -1;
+      fail_why.clear();
+      ContactPlanResult again = Search(root, max_steps);
+      if (again.ok || again.status != ContactPlanStatus::kNoFoothold) return again;
+    }
+    if (!config.retry.gait_advance_s.empty()) {
+      first.reason += " (also with gait_advance_s " + [&] {
+        std::string list;
+        for (const double a : config.retry.gait_advance_s) list += (list.empty() ? "" : ", ") + Fixed(a, 2);
+        return list;
+      }() + " s)";
+    }
+    return first;
+  }
+
   void BeginQuery(std::vector<RootPathSample> samples) {
     start_time = std::chrono::steady_clock::now();
     stats = ContactPlanStats{};
@@ -1128,6 +1156,7 @@ struct ContactPlanner::Impl {
     fail_t = -1.0;
     fail_leg = -1;
     fail_why.clear();
+    gait_advance = config.gait_advance_s;
     path.emplace(std::move(samples), config.path_yaw_smoothing_s);
   }
 
@@ -1191,7 +1220,7 @@ ContactPlanResult ContactPlanner::Plan(const std::vector<RootPathSample>& sample
   Node root;
   root.state = *stance;
   root.t = m.path->Begin();
-  result = m.Search(std::move(root), -1);
+  result = m.SearchWithRetries(root, -1);
   result.planning_time_s = m.Elapsed();
   result.stats = m.stats;
   return result;
@@ -1226,7 +1255,7 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   const PathPose start = m.path->At(root.t);
   root.shift = Yaw(start.yaw).transpose() * (current.base_position - start.p);
   if (m.config.base_pose.follow_feet) root.shift.z() = 0.0;  // the height follows the feet
-  result = m.Search(std::move(root), max_steps);
+  result = m.SearchWithRetries(root, max_steps);
   result.planning_time_s = m.Elapsed();
   result.stats = m.stats;
   return result;

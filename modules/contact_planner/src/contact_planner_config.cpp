@@ -74,6 +74,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.retry.max_backtracks = rt.Int("max_backtracks");
   c.retry.max_steps_at_one_time = rt.Int("max_steps_at_one_time");
   c.retry.max_children_per_state = rt.Int("max_children_per_state");
+  c.retry.gait_advance_s = rt.Numbers("gait_advance_s");
   rt.RejectUnknownKeys();
 
   c.time_budget_s = map.Double("time_budget_s");
@@ -141,6 +142,9 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   check.AtLeast("retry.max_backtracks", retry.max_backtracks, 0);
   check.AtLeast("retry.max_children_per_state", retry.max_children_per_state, 1);
   check.AtLeast("retry.max_steps_at_one_time", retry.max_steps_at_one_time, 1);
+  for (std::size_t i = 0; i < retry.gait_advance_s.size(); ++i) {
+    check.NonNegative("retry.gait_advance_s[" + std::to_string(i) + "]", retry.gait_advance_s[i]);
+  }
   check.Positive("time_budget_s", time_budget_s);
 }
 

@@ -110,33 +110,6 @@ TEST(ContactPlannerTest, SamePathGivesTheSamePlan) {
   }
 }
 
-class ScenarioPlanTest : public ::testing::TestWithParam<std::tuple<std::string, unsigned>> {};
-
-// On every scenario and seed the planner returns either a plan that passes every check or a
-// failure that names the path time and the leg; never an exception or an invalid plan.
-TEST_P(ScenarioPlanTest, PlanIsValidOrFailsWithAReason) {
-  const auto& [name, seed] = GetParam();
-  const World& world = ScenarioWorld(name);
-  const RootPlanResult& root = ScenarioRootPath(name, seed);
-  ASSERT_TRUE(root.ok()) << root.reason;
-  ContactPlanner planner = MakePlanner(world);
-  const auto samples = root.path.SampleEvery(0.01);
-  const ContactPlanResult result = planner.Plan(samples);
-  std::cout << name << " seed " << seed << ": " << (result.ok ? "ok" : result.reason) << ", " << result.steps
-            << " steps, " << result.planning_time_s << " s, " << result.stats.backtracks << " backtracks\n";
-  if (result.ok) {
-    EXPECT_TRUE(result.reached_goal);
-    ExpectValidPlan(result.plan, world, samples);
-  } else {
-    EXPECT_TRUE(result.status == ContactPlanStatus::kNoFoothold || result.status == ContactPlanStatus::kTimeout)
-        << ToString(result.status);
-    EXPECT_NE(result.reason.find("path time"), std::string::npos) << result.reason;
-    EXPECT_GE(result.failure_leg, 0);
-    EXPECT_GE(result.failure_time_s, samples.front().t);
-    EXPECT_LE(result.failure_time_s, samples.back().t);
-  }
-}
-
 /// Plans a scenario's root path; the search is bounded by its backtracking limit only (no wall
 /// clock), so the outcome does not depend on the machine.
 void ExpectPlanToTheGoal(const std::string& name, unsigned seed) {
@@ -162,24 +135,10 @@ TEST_P(GoalPlanTest, PlanReachesTheGoal) {
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, GoalPlanTest,
                          ::testing::Values(std::make_tuple("slalom_debris", 1u), std::make_tuple("slalom_debris", 2u),
-                                           std::make_tuple("slalom_debris", 3u), std::make_tuple("plinth", 2u),
-                                           std::make_tuple("plinth", 3u),
+                                           std::make_tuple("slalom_debris", 3u), std::make_tuple("plinth", 1u),
+                                           std::make_tuple("plinth", 2u), std::make_tuple("plinth", 3u),
                                            std::make_tuple("darpa_rubble", 1u), std::make_tuple("darpa_rubble", 2u),
                                            std::make_tuple("darpa_rubble", 3u)),
-                         [](const auto& info) {
-                           return std::get<0>(info.param) + "_seed" + std::to_string(std::get<1>(info.param));
-                         });
-
-// The target: a plan to the goal on every seed. Not met yet on these (the search runs out of
-// backtracks where the trunk goes from the plinth's top down its steps); run with
-// --gtest_also_run_disabled_tests.
-TEST_P(ScenarioPlanTest, DISABLED_PlanReachesTheGoal) {
-  const auto& [name, seed] = GetParam();
-  ExpectPlanToTheGoal(name, seed);
-}
-
-INSTANTIATE_TEST_SUITE_P(Scenarios, ScenarioPlanTest,
-                         ::testing::Values(std::make_tuple("plinth", 1u)),
                          [](const auto& info) {
                            return std::get<0>(info.param) + "_seed" + std::to_string(std::get<1>(info.param));
                          });
@@ -188,11 +147,14 @@ TEST(ContactPlannerTest, PathOverAPitFailsWithAReason) {
   // Two platforms with a 1 m gap: no foothold bridges it.
   const World world = BoxWorld("pit", {{-3.0, -0.5}, {0.5, 3.0}});
   ContactPlannerConfig config = PlannerConfig();
+  config.time_budget_s = 600.0;  // bounded by the backtracking limit only
+  config.retry.gait_advance_s = {0.3};
   ContactPlanner planner = MakePlanner(world, config);
   const ContactPlanResult result = planner.Plan(StraightPath({-1.5, 0.0}, {1.5, 0.0}, 0.0));
   EXPECT_FALSE(result.ok);
-  EXPECT_TRUE(result.status == ContactPlanStatus::kNoFoothold || result.status == ContactPlanStatus::kTimeout)
-      << ToString(result.status);
+  EXPECT_EQ(result.status, ContactPlanStatus::kNoFoothold) << ToString(result.status);
+  // The search was run again with the other crawl timing before giving up.
+  EXPECT_NE(result.reason.find("also with gait_advance_s 0.30 s"), std::string::npos) << result.reason;
   EXPECT_FALSE(result.reason.empty());
   EXPECT_NE(result.reason.find("path time"), std::string::npos) << result.reason;
   EXPECT_GE(result.failure_leg, 0);

@@ -73,11 +73,14 @@ struct BasePoseConfig {
 struct RetryConfig {
   /// [s] a failed step is retried this much earlier on the path (before the failure time).
   std::array<double, 3> earlier_step_s = {0.1, 0.25, 0.5};
-  int max_backtracks = 1500;        ///< steps undone before giving up
+  int max_backtracks = 500;         ///< steps undone before giving up
   /// Steps explored from one state: once this many of its children failed, the state itself is
   /// undone, so the search goes back further instead of trying every variant at a dead end.
   int max_children_per_state = 4;
   int max_steps_at_one_time = 6;    ///< steps without the trunk advancing along the path
+  /// [s] when the search fails for want of footholds, it restarts with the crawl timing
+  /// gait_advance_s replaced by each of these in turn (within the time budget).
+  std::vector<double> gait_advance_s = {0.3, 0.4};
 };
 
 struct ContactPlannerConfig {
