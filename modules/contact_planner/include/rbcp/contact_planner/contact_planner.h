@@ -38,8 +38,9 @@
 /// with the previous state's four feet in place; intermediate poses are checked for kinematics
 /// and support. After a hind leg, the fore leg on the same side is tried first (crawl order). A
 /// step with no valid foothold is retried with other target lead times and shift starts, earlier
-/// on the path, with another leg, and then by undoing earlier steps (bounded); only then the
-/// planner fails, naming the path time and the leg. When a stance leg hits the terrain at
+/// on the path, with another leg, and then by undoing earlier steps (bounded); after that the
+/// whole search is run again with each of the crawl timings of retry.gait_advance_s; only then
+/// the planner fails, naming the path time and the leg. When a stance leg hits the terrain at
 /// lift-off (a riser, a wall), that leg is re-placed first.
 ///
 /// At the path end every foot farther than goal_foot_tolerance_m from its reference position at
