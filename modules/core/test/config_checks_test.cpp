@@ -6,18 +6,12 @@
 #include <limits>
 
 #include "rbcp/core/error.h"
+#include "rbcp/test_support/error_of.h"
 
 namespace rbcp {
 namespace {
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using rbcp::test_support::ErrorOf;
 
 TEST(ConfigChecksTest, PassingValuesThrowNothing) {
   const ConfigChecks check("cfg.yaml");

@@ -4,17 +4,12 @@
 
 #include <functional>
 
+#include "rbcp/test_support/error_of.h"
+
 namespace rbcp {
 namespace {
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using rbcp::test_support::ErrorOf;
 
 TEST(YamlMap, ReadsTypedValues) {
   YamlMap m(YAML::Load("{a: 1.5, n: 3, b: true, s: hi, v: [1, 2, 3], sub: {x: 2}, l: [{y: 1}, {y: 2}]}"), "test");

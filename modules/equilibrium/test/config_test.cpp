@@ -4,17 +4,12 @@
 
 #include <functional>
 
+#include "rbcp/test_support/error_of.h"
+
 namespace rbcp {
 namespace {
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using rbcp::test_support::ErrorOf;
 
 constexpr const char* kValid =
     "{friction: 0.7, generators_per_contact: 6, robustness_threshold_N: 3.5, support_margin_m: 0.04, "
