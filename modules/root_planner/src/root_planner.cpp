@@ -116,8 +116,7 @@ RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidat
   for (long k = 0; k < n; ++k) {
     pieces.push_back(path.Part(knots[static_cast<std::size_t>(k)].t, knots[static_cast<std::size_t>(k + 1)].t));
   }
-  const KinodynamicLimits& limits = validator.Settings().limits;
-  const double v_max = limits.horizontal.v_max;
+  const double v_max = validator.Settings().limits.horizontal.v_max;
   // Each run may take one time step per piece longer; the whole path at most max_duration.
   double total = T;
   const double max_total = std::max(T, max_duration);
@@ -133,14 +132,17 @@ RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidat
     const Eigen::Vector2d B = knots[static_cast<std::size_t>(j)].p.head<2>();
     if ((B - A).norm() < 1e-6) continue;
     const Eigen::Vector2d dir = (B - A).normalized();
+    // Each knot's point on the line, at its fraction of the run's horizontal length.
     std::vector<double> arc{0.0};
     for (long k = i + 1; k <= j; ++k) {
       arc.push_back(arc.back() + (knots[static_cast<std::size_t>(k)].p - knots[static_cast<std::size_t>(k - 1)].p).head<2>().norm());
     }
+    std::vector<Eigen::Vector2d> on_line;
     double deviation = 0.0;
-    for (long k = i + 1; k < j; ++k) {
+    for (long k = i; k <= j; ++k) {
       const std::size_t m = static_cast<std::size_t>(k - i);
-      deviation = std::max(deviation, (knots[static_cast<std::size_t>(k)].p.head<2>() - (A + (arc[m] / arc.back()) * (B - A))).norm());
+      on_line.push_back(A + (arc[m] / arc.back()) * (B - A));
+      deviation = std::max(deviation, (knots[static_cast<std::size_t>(k)].p.head<2>() - on_line.back()).norm());
     }
     if (deviation < kStraightTolerance) continue;  // already straight
     double old_duration = 0.0;
@@ -148,8 +150,7 @@ RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidat
     for (const double blend : {1.0, 0.5}) {
       std::vector<RootPathSample> moved(knots.begin() + i, knots.begin() + j + 1);
       for (std::size_t m = 1; m + 1 < moved.size(); ++m) {
-        const Eigen::Vector2d on_line = A + (arc[m] / arc.back()) * (B - A);
-        moved[m].p.head<2>() += blend * (on_line - moved[m].p.head<2>());
+        moved[m].p.head<2>() += blend * (on_line[m] - moved[m].p.head<2>());
         const Eigen::Vector2d v = moved[m].v.head<2>();
         const Eigen::Vector2d heading = v.norm() > 1e-9 ? v.normalized() : dir;
         const Eigen::Vector2d turned = (1.0 - blend) * heading + blend * dir;
@@ -427,11 +428,11 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   }
   const auto* found = pdef->getSolutionPath()->as<detail::RootTrajectoryPath>();
   result.duration_before_shortcut_s = found->Path().Duration();
-  result.path = Shortcut(found->Path(), *validator, config_.shortcut_iterations,
-                         static_cast<std::uint64_t>(request.seed) * 0x9E3779B97F4A7C15ULL + 1, ptc);
+  const std::uint64_t smoothing_seed = static_cast<std::uint64_t>(request.seed) * 0x9E3779B97F4A7C15ULL;
+  result.path = Shortcut(found->Path(), *validator, config_.shortcut_iterations, smoothing_seed + 1, ptc);
   result.path = Straighten(result.path, *validator, config_.straighten_iterations, config_.straighten_knot_spacing,
                            std::min(kMaxStraightenGrowth * result.path.Duration(), result.duration_before_shortcut_s),
-                           static_cast<std::uint64_t>(request.seed) * 0x9E3779B97F4A7C15ULL + 2, ptc);
+                           smoothing_seed + 2, ptc);
   result.samples = result.path.SampleEvery(config_.time_step);
   result.validity_checks = checker.Queries();
   return done(RootPlanStatus::kOk, "");
