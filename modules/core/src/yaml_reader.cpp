@@ -77,9 +77,7 @@ std::string YamlMap::String(const std::string& key) const {
   return n.Scalar();
 }
 
-std::vector<double> YamlMap::Numbers(const std::string& key) const {
-  YAML::Node n = Required(key);
-  if (!n.IsSequence()) Fail(key, "expected a list of numbers, got " + Describe(n));
+std::vector<double> YamlMap::NumbersOf(const YAML::Node& n, const std::string& key) const {
   std::vector<double> v(n.size());
   for (std::size_t i = 0; i < n.size(); ++i) {
     double x = 0.0;
@@ -93,12 +91,18 @@ std::vector<double> YamlMap::Numbers(const std::string& key) const {
   return v;
 }
 
+std::vector<double> YamlMap::Numbers(const std::string& key) const {
+  const YAML::Node n = Required(key);
+  if (!n.IsSequence()) Fail(key, "expected a list of numbers, got " + Describe(n));
+  return NumbersOf(n, key);
+}
+
 Eigen::VectorXd YamlMap::Vector(const std::string& key, int size) const {
   const YAML::Node n = Required(key);
   if (!n.IsSequence() || static_cast<int>(n.size()) != size) {
     Fail(key, "expected a list of " + std::to_string(size) + " numbers, got " + Describe(n));
   }
-  const std::vector<double> v = Numbers(key);
+  const std::vector<double> v = NumbersOf(n, key);
   return Eigen::Map<const Eigen::VectorXd>(v.data(), size);
 }
 

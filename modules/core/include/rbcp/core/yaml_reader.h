@@ -49,6 +49,8 @@ class YamlMap {
 
  private:
   YAML::Node Required(const std::string& key) const;
+  /// The finite numbers of a sequence node (errors name `key`).
+  std::vector<double> NumbersOf(const YAML::Node& n, const std::string& key) const;
   YAML::Node node_;
   std::string where_;
   mutable std::set<std::string> read_;
