@@ -249,6 +249,12 @@ struct ContactPlanner::Impl {
     return timed_out;
   }
 
+  void ResetFailure() {
+    fail_t = -1.0;
+    fail_leg = -1;
+    fail_why.clear();
+  }
+
   void NoteFailure(double t, Leg leg, const std::string& why) {
     if (t >= fail_t) {
       fail_t = t;
@@ -1130,22 +1136,16 @@ struct ContactPlanner::Impl {
   ContactPlanResult SearchWithRetries(const Node& root, int max_steps) {
     ContactPlanResult first = Search(root, max_steps);
     if (first.ok || first.status != ContactPlanStatus::kNoFoothold) return first;
+    std::string tried;
     for (const double advance : config.retry.gait_advance_s) {
       if (OutOfTime()) break;
       gait_advance = advance;
-      fail_t = -1.0;
-      fail_leg = -1;
-      fail_why.clear();
+      ResetFailure();
       ContactPlanResult again = Search(root, max_steps);
       if (again.ok || again.status != ContactPlanStatus::kNoFoothold) return again;
+      tried += (tried.empty() ? "" : ", ") + Fixed(advance, 2);
     }
-    if (!config.retry.gait_advance_s.empty()) {
-      first.reason += " (also with gait_advance_s " + [&] {
-        std::string list;
-        for (const double a : config.retry.gait_advance_s) list += (list.empty() ? "" : ", ") + Fixed(a, 2);
-        return list;
-      }() + " s)";
-    }
+    if (!tried.empty()) first.reason += " (also with gait_advance_s " + tried + " s)";
     return first;
   }
 
@@ -1153,9 +1153,7 @@ struct ContactPlanner::Impl {
     start_time = std::chrono::steady_clock::now();
     stats = ContactPlanStats{};
     timed_out = false;
-    fail_t = -1.0;
-    fail_leg = -1;
-    fail_why.clear();
+    ResetFailure();
     gait_advance = config.gait_advance_s;
     path.emplace(std::move(samples), config.path_yaw_smoothing_s);
   }

@@ -150,7 +150,8 @@ TEST(ContactPlannerTest, PathOverAPitFailsWithAReason) {
   config.time_budget_s = 600.0;  // bounded by the backtracking limit only
   config.retry.gait_advance_s = {0.3};
   ContactPlanner planner = MakePlanner(world, config);
-  const ContactPlanResult result = planner.Plan(StraightPath({-1.5, 0.0}, {1.5, 0.0}, 0.0));
+  const RootPath path = StraightPath({-1.5, 0.0}, {1.5, 0.0}, 0.0);
+  const ContactPlanResult result = planner.Plan(path);
   EXPECT_FALSE(result.ok);
   EXPECT_EQ(result.status, ContactPlanStatus::kNoFoothold) << ToString(result.status);
   // The search was run again with the other crawl timing before giving up.
@@ -160,6 +161,7 @@ TEST(ContactPlannerTest, PathOverAPitFailsWithAReason) {
   EXPECT_GE(result.failure_leg, 0);
   // The failure lies at the edge of the pit: a front foot cannot reach across.
   EXPECT_GT(result.failure_time_s, 0.0);
+  EXPECT_LE(result.failure_time_s, path.Duration());
   EXPECT_TRUE(result.plan.states.empty());
 }
 
