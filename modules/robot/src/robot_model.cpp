@@ -96,6 +96,40 @@ Eigen::Vector3d RobotModel::StaticTorques(Leg leg, const Eigen::Vector3d& q_leg,
   return -FootJacobian(leg, q_leg).transpose() * foot_force_base;
 }
 
+Eigen::Vector3d RobotModel::LegGravityTorques(Leg leg, const Eigen::Vector3d& q_leg,
+                                              const Eigen::Vector3d& gravity_base) const {
+  const LegChain& c = legs_[static_cast<std::size_t>(Index(leg))];
+  // Joint origins and axes, and the lumped mass and world CoM of each joint's child body.
+  std::array<Eigen::Vector3d, kJointsPerLeg> origin;
+  std::array<Eigen::Vector3d, kJointsPerLeg> axis;
+  std::array<Eigen::Vector3d, kJointsPerLeg> moment;  // m_k * c_k of child body k
+  std::array<double, kJointsPerLeg> mass{};
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int j = 0; j < kJointsPerLeg; ++j) {
+    const std::size_t k = static_cast<std::size_t>(j);
+    p += R * c.origin_translation[k];
+    const Eigen::Matrix3d F = R * c.origin_rotation[k];
+    origin[k] = p;
+    axis[k] = F * c.axis[k];
+    R = F * AxisRotation(c.axis[k], q_leg[j]);
+    const std::size_t body = static_cast<std::size_t>(1 + kJointsPerLeg * Index(leg) + j);
+    mass[k] = body_mass_[body];
+    moment[k] = body_mass_[body] * (p + R * body_com_[body]);
+  }
+  // The actuator of joint j cancels the gravity moment of every body it carries about its axis.
+  Eigen::Vector3d tau = Eigen::Vector3d::Zero();
+  for (int j = 0; j < kJointsPerLeg; ++j) {
+    for (int k = j; k < kJointsPerLeg; ++k) {
+      const std::size_t jj = static_cast<std::size_t>(j);
+      const std::size_t kk = static_cast<std::size_t>(k);
+      const Eigen::Vector3d lever = moment[kk] - mass[kk] * origin[jj];  // m_k (c_k - p_j)
+      tau[j] -= axis[jj].dot(lever.cross(gravity_base));
+    }
+  }
+  return tau;
+}
+
 bool RobotModel::WithinJointBounds(Leg leg, const Eigen::Vector3d& q_leg) const {
   const int base = kJointsPerLeg * Index(leg);
   for (int j = 0; j < kJointsPerLeg; ++j) {

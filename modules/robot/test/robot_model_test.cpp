@@ -163,6 +163,29 @@ TEST(RobotModel, StaticTorquesSatisfyVirtualWork) {
   }
 }
 
+TEST(RobotModel, LegGravityTorquesAreThePotentialEnergyGradient) {
+  // Holding a leg still against gravity takes tau = dV/dq, V = -m_total CoM(q) . g.
+  const Eigen::Vector3d g = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 0.5).normalized()) * Eigen::Vector3d(0, 0, -9.81);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> angle(-1.2, 1.2);
+  for (int trial = 0; trial < 20; ++trial) {
+    JointVector q;
+    for (int i = 0; i < kNumJoints; ++i) q[i] = angle(rng);
+    for (Leg leg : kAllLegs) {
+      const Eigen::Vector3d tau = Anymal().LegGravityTorques(leg, LegJoints(q, leg), g);
+      for (int j = 0; j < kJointsPerLeg; ++j) {
+        const double h = 1e-6;
+        JointVector qp = q, qm = q;
+        qp[kJointsPerLeg * Index(leg) + j] += h;
+        qm[kJointsPerLeg * Index(leg) + j] -= h;
+        const double vp = -Anymal().TotalMass() * Anymal().CenterOfMass(qp).dot(g);
+        const double vm = -Anymal().TotalMass() * Anymal().CenterOfMass(qm).dot(g);
+        EXPECT_NEAR(tau[j], (vp - vm) / (2 * h), 1e-6) << LegName(leg) << " joint " << j;
+      }
+    }
+  }
+}
+
 TEST(RobotModel, CenterOfMassMatchesPublishedValues) {
   const RobotModel& m = Anymal();
   // anymal_b.md section 4 / 7.1 (derived whole-body CoM in the base frame).

@@ -106,6 +106,11 @@ class RobotModel {
   /// tau = -J^T f. A positive component acts in the positive joint direction.
   Eigen::Vector3d StaticTorques(Leg leg, const Eigen::Vector3d& q_leg, const Eigen::Vector3d& foot_force_base) const;
 
+  /// Joint torques [N m] that hold the leg's own links still against gravity with the trunk held
+  /// fixed: gravity_base is the gravity acceleration in base axes [m/s^2], e.g.
+  /// R_WB^T (0, 0, -9.81). A positive component acts in the positive joint direction.
+  Eigen::Vector3d LegGravityTorques(Leg leg, const Eigen::Vector3d& q_leg, const Eigen::Vector3d& gravity_base) const;
+
   // ---- Whole body ------------------------------------------------------------------------------
 
   /// Sum of all link masses [kg].

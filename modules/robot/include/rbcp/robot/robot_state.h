@@ -1,0 +1,33 @@
+#pragma once
+/// The measured state of the robot, as the simulator (or the robot's drivers and state
+/// estimator) reports it at its state rate and ROBOT_STATE carries it. The onboard controller
+/// sees only this (and the terrain).
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+
+#include "rbcp/core/leg.h"
+#include "rbcp/robot/robot_model.h"
+
+namespace rbcp {
+
+struct RobotState {
+  double t = 0.0;  ///< simulated time [s]
+
+  Eigen::Vector3d base_position_W = Eigen::Vector3d::Zero();                 ///< [m], world frame
+  Eigen::Quaterniond base_orientation_W = Eigen::Quaterniond::Identity();    ///< base to world
+  Eigen::Vector3d base_linear_velocity_W = Eigen::Vector3d::Zero();          ///< [m/s], world frame
+  Eigen::Vector3d base_angular_velocity_B = Eigen::Vector3d::Zero();         ///< [rad/s], base frame
+
+  JointVector q = JointVector::Zero();    ///< joint positions [rad], LF, RF, LH, RH x (HAA, HFE, KFE)
+  JointVector qd = JointVector::Zero();   ///< joint velocities [rad/s]
+  JointVector tau = JointVector::Zero();  ///< joint torques applied in the last step [N m]
+
+  std::array<bool, kNumLegs> foot_contact{};  ///< foot touches the terrain, LF, RF, LH, RH
+  /// Contact force the terrain exerts on each foot [N], world frame (zero without contact).
+  std::array<Eigen::Vector3d, kNumLegs> foot_force_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                                     Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+};
+
+}  // namespace rbcp
