@@ -1,0 +1,146 @@
+#pragma once
+/// The robot's onboard controller: it executes a contact plan as a static crawl, from the
+/// measured state only (RobotState) and the terrain, at the control rate.
+///
+/// For each state i of the plan, reached from state i-1 by moving leg L:
+///  1. shift: with four feet down, the base moves to the state's base pose, moved further (at most
+///     base.max_margin_shift_m) until the CoM's ground projection lies base.support_margin_m
+///     inside the triangle of the three feet that stay;
+///  2. unload: L's share of the load ramps to zero;
+///  3. swing: L's foot follows a SwingTrajectory that clears the terrain under its path; a contact
+///     after swing.touchdown_phase is a touchdown (early if the path was not finished);
+///  4. search: a foot that reaches the end of its path without contact reaches down along the
+///     normal (a late touchdown), and fails as "no ground" beyond swing.search_depth_m;
+///  5. load: L's share ramps back to one; the step is done.
+/// After the last state the base moves to the final base pose and holds it.
+///
+/// Stance legs carry a wrench from a virtual model on the base pose (PD plus gravity), spread
+/// over the feet within friction cones (DistributeWrench); their torques are -J^T f plus the
+/// legs' gravity torques plus a joint PD towards the inverse kinematics of the measured feet at
+/// the desired base pose. Swing legs follow the inverse kinematics of their path under joint PD
+/// with gravity compensation. Every torque is clipped at torque_limit_Nm.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <optional>
+#include <string>
+
+#include "rbcp/controller/controller_config.h"
+#include "rbcp/controller/force_distribution.h"
+#include "rbcp/controller/swing_trajectory.h"
+#include "rbcp/core/contact_plan.h"
+#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/robot/robot_state.h"
+
+namespace rbcp {
+
+enum class ControllerPhase {
+  kHold,        ///< no plan: holds the stance it has
+  kSettle,      ///< moves the base to the plan's first state
+  kShift,       ///< base shift before a lift-off
+  kUnload,      ///< the stepping leg's load ramps down
+  kSwing,       ///< the stepping foot follows its swing path
+  kSearch,      ///< the stepping foot reaches down for ground it has not found yet
+  kLoad,        ///< the stepping leg's load ramps up after touchdown
+  kFinalShift,  ///< after the last step: base to the final base pose
+  kDone,        ///< the plan is executed; holds the final stance
+  kFailed,      ///< a step cannot go on (see failure); holds the stance it has
+};
+
+const char* ToString(ControllerPhase phase);
+
+struct ControllerStatus {
+  ControllerPhase phase = ControllerPhase::kHold;
+  int step = 0;                   ///< index of the plan state being walked to (0 before the first step)
+  int steps_done = 0;             ///< states reached so far, not counting the first
+  std::optional<Leg> swing_leg;   ///< the leg unloading, swinging, searching or reloading
+  std::array<bool, kNumLegs> stance{true, true, true, true};  ///< legs pushing on the ground
+  double support_margin_m = 0.0;  ///< CoM projection inside the stance feet's polygon [m]
+  int early_touchdowns = 0;
+  int late_touchdowns = 0;
+  std::string failure;            ///< kFailed: why
+  std::optional<Leg> failure_leg;
+  double phase_start_s = 0.0;     ///< when the current phase began [s]
+  double plan_start_s = 0.0;      ///< when the current plan began [s]
+};
+
+/// The base pose the controller is steering to, with its rates (world frame).
+struct BaseReference {
+  Eigen::Vector3d position_W = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation_W = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d linear_velocity_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity_W = Eigen::Vector3d::Zero();
+};
+
+class PlanController {
+ public:
+  /// `robot` and `terrain` (may be null: no clearance planning) must outlive the controller.
+  /// Throws InputError for an invalid config.
+  PlanController(const RobotModel& robot, const ControllerConfig& config, const TriangleMesh* terrain);
+
+  /// Executes `plan` from its first state, starting at the next Update. The robot should stand
+  /// on the first state's footholds. Throws InputError for an empty plan, a state with non-finite
+  /// numbers or a moving leg out of range.
+  void StartPlan(const ContactPlan& plan);
+
+  /// Replaces the rest of the current plan at the next step boundary (immediately when holding,
+  /// settling or done): its first state is the stance at that boundary and its later states are
+  /// executed next. Throws InputError as StartPlan.
+  void ReplacePlan(const ContactPlan& plan);
+
+  /// The terrain used for swing clearance (may be null); it must outlive the controller.
+  void SetTerrain(const TriangleMesh* terrain) { terrain_ = terrain; }
+
+  /// One control tick: joint torque commands [N m] for the measured state.
+  JointVector Update(const RobotState& state);
+
+  const ControllerStatus& Status() const { return status_; }
+  const BaseReference& Reference() const { return reference_; }
+  /// The plan being executed (empty before StartPlan).
+  const ContactPlan& Plan() const { return plan_; }
+  const ControllerConfig& Config() const { return config_; }
+
+ private:
+  struct BaseSegment {
+    double t0 = 0.0;
+    double duration = 1.0;
+    Eigen::Vector3d p0 = Eigen::Vector3d::Zero(), p1 = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity(), q1 = Eigen::Quaterniond::Identity();
+    bool Done(double t) const { return t >= t0 + duration; }
+  };
+  struct Measured;
+
+  void Enter(ControllerPhase phase, double t);
+  void Advance(const Measured& m);
+  void BeginStep(int index, const Measured& m);
+  void FinishStep(const Measured& m);
+  void Fail(const Measured& m, Leg leg, const std::string& why);
+  void MoveBaseTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double min_duration);
+  Eigen::Vector3d MarginShift(int index, Leg leg, const Measured& m) const;
+  void EvaluateReference(double t);
+  JointVector Torques(const Measured& m);
+  static void CheckPlan(const ContactPlan& plan);
+
+  const RobotModel& robot_;
+  ControllerConfig config_;
+  const TriangleMesh* terrain_ = nullptr;
+
+  ContactPlan plan_;
+  std::optional<ContactPlan> pending_;
+  bool started_ = false;      // the first Update has run
+  bool plan_started_ = false; // StartPlan was called and the plan not begun yet
+  ControllerStatus status_;
+  BaseSegment segment_;
+  BaseReference reference_;
+  std::array<double, kNumLegs> load_{1.0, 1.0, 1.0, 1.0};
+  std::array<Eigen::Vector3d, kNumLegs> normal_W_;
+  SwingTrajectory swing_;
+  Eigen::Vector3d swing_target_W_ = Eigen::Vector3d::Zero();  // current point of the swing or search
+  Eigen::Vector3d swing_velocity_W_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d search_start_W_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d swing_q_des_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace rbcp

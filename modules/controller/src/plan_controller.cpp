@@ -1,0 +1,446 @@
+#include "rbcp/controller/plan_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "rbcp/core/error.h"
+#include "rbcp/equilibrium/static_equilibrium.h"
+#include "rbcp/equilibrium/support_polygon.h"
+
+namespace rbcp {
+namespace {
+
+double MinJerk(double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); }
+double MinJerkRate(double u) { return 30.0 * u * u * (1.0 - u) * (1.0 - u); }
+
+Eigen::Quaterniond QuaternionFromRpy(const Eigen::Vector3d& rpy) {
+  return Eigen::Quaterniond(RotationFromRpy(rpy)).normalized();
+}
+
+/// Rotation vector of q (angle times axis), angle in [0, pi].
+Eigen::Vector3d RotationVector(Eigen::Quaterniond q) {
+  if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+  const Eigen::AngleAxisd aa(q);
+  return aa.angle() * aa.axis();
+}
+
+/// The incentre of a triangle's xy.
+Eigen::Vector2d Incentre(const std::vector<Eigen::Vector3d>& tri) {
+  const Eigen::Vector2d a = tri[0].head<2>(), b = tri[1].head<2>(), c = tri[2].head<2>();
+  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
+  const double sum = la + lb + lc;
+  if (sum <= 0.0) return a;
+  return (la * a + lb * b + lc * c) / sum;
+}
+
+std::string Fixed(double v, int digits = 3) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+const char* ToString(ControllerPhase phase) {
+  switch (phase) {
+    case ControllerPhase::kHold: return "hold";
+    case ControllerPhase::kSettle: return "settle";
+    case ControllerPhase::kShift: return "shift";
+    case ControllerPhase::kUnload: return "unload";
+    case ControllerPhase::kSwing: return "swing";
+    case ControllerPhase::kSearch: return "search";
+    case ControllerPhase::kLoad: return "load";
+    case ControllerPhase::kFinalShift: return "final_shift";
+    case ControllerPhase::kDone: return "done";
+    case ControllerPhase::kFailed: return "failed";
+  }
+  return "?";
+}
+
+/// The measured state in the forms the controller needs, computed once per tick.
+struct PlanController::Measured {
+  double t = 0.0;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // base to world
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_W = Eigen::Vector3d::Zero();
+  JointVector q = JointVector::Zero();
+  JointVector qd = JointVector::Zero();
+  std::array<Eigen::Vector3d, kNumLegs> feet_W;
+  std::array<bool, kNumLegs> contact{};
+  Eigen::Vector3d com_W = Eigen::Vector3d::Zero();
+};
+
+PlanController::PlanController(const RobotModel& robot, const ControllerConfig& config, const TriangleMesh* terrain)
+    : robot_(robot), config_(config), terrain_(terrain) {
+  config_.Validate();
+  normal_W_.fill(Eigen::Vector3d::UnitZ());
+}
+
+void PlanController::CheckPlan(const ContactPlan& plan) {
+  if (plan.states.empty()) throw InputError("controller: expected a plan with at least one state, got none");
+  for (std::size_t i = 0; i < plan.states.size(); ++i) {
+    const WholeBodyState& s = plan.states[i];
+    bool finite = s.base_position.allFinite() && s.base_rpy.allFinite() && s.joints.allFinite();
+    for (const FootContact& f : s.feet) finite = finite && f.position.allFinite() && f.normal.allFinite();
+    if (!finite) throw InputError("controller: plan state " + std::to_string(i) + ": expected finite numbers");
+    for (const FootContact& f : s.feet) {
+      if (f.normal.norm() < 0.5) {
+        throw InputError("controller: plan state " + std::to_string(i) + ": expected unit foot normals, got |n| = " +
+                         Fixed(f.normal.norm()));
+      }
+    }
+    if (i > 0 && (s.moving_leg < 0 || s.moving_leg >= kNumLegs)) {
+      throw InputError("controller: plan state " + std::to_string(i) + ": expected a moving leg in 0..3, got " +
+                       std::to_string(s.moving_leg));
+    }
+  }
+}
+
+void PlanController::StartPlan(const ContactPlan& plan) {
+  CheckPlan(plan);
+  plan_ = plan;
+  pending_.reset();
+  plan_started_ = true;
+}
+
+void PlanController::ReplacePlan(const ContactPlan& plan) {
+  CheckPlan(plan);
+  const ControllerPhase ph = status_.phase;
+  if (ph == ControllerPhase::kHold || ph == ControllerPhase::kSettle || ph == ControllerPhase::kDone ||
+      ph == ControllerPhase::kFinalShift) {
+    StartPlan(plan);
+  } else {
+    pending_ = plan;
+  }
+}
+
+void PlanController::Enter(ControllerPhase phase, double t) {
+  status_.phase = phase;
+  status_.phase_start_s = t;
+}
+
+void PlanController::MoveBaseTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double min_duration) {
+  BaseSegment s;
+  s.t0 = t;
+  s.p0 = reference_.position_W;
+  s.q0 = reference_.orientation_W;
+  s.p1 = p;
+  s.q1 = q;
+  if (s.q0.dot(s.q1) < 0.0) s.q1.coeffs() = -s.q1.coeffs();
+  const double distance = (s.p1 - s.p0).norm();
+  const double angle = s.q0.angularDistance(s.q1);
+  // Min-jerk peaks at 1.875 times its mean speed: time it so the peak stays at the set speeds.
+  s.duration = std::max({min_duration, 1.875 * distance / config_.base.speed_mps,
+                         1.875 * angle / config_.base.yaw_rate_radps});
+  segment_ = s;
+}
+
+void PlanController::EvaluateReference(double t) {
+  const BaseSegment& s = segment_;
+  const double u = std::clamp((t - s.t0) / s.duration, 0.0, 1.0);
+  const double x = MinJerk(u);
+  const double xd = (u > 0.0 && u < 1.0) ? MinJerkRate(u) / s.duration : 0.0;
+  reference_.position_W = s.p0 + x * (s.p1 - s.p0);
+  reference_.linear_velocity_W = xd * (s.p1 - s.p0);
+  reference_.orientation_W = s.q0.slerp(x, s.q1);
+  reference_.angular_velocity_W = xd * RotationVector(s.q1 * s.q0.conjugate());
+}
+
+Eigen::Vector3d PlanController::MarginShift(int index, Leg leg, const Measured& m) const {
+  const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
+  const Eigen::Matrix3d R = RotationFromRpy(target.base_rpy);
+  const Eigen::Vector3d com_B = robot_.CenterOfMass(target.joints);
+  std::vector<Eigen::Vector3d> stay;
+  for (Leg other : kAllLegs) {
+    if (other != leg) stay.push_back(m.feet_W[static_cast<std::size_t>(Index(other))]);
+  }
+  auto margin_at = [&](const Eigen::Vector3d& shift) {
+    return SupportPolygonMargin(stay, target.base_position + shift + R * com_B);
+  };
+  auto reachable = [&](const Eigen::Vector3d& shift) {
+    const Eigen::Vector3d p = target.base_position + shift;
+    for (Leg l : kAllLegs) {
+      const Eigen::Vector3d foot_B = R.transpose() * (m.feet_W[static_cast<std::size_t>(Index(l))] - p);
+      if (!robot_.SolveLegIk(l, foot_B).ok()) return false;
+    }
+    return true;
+  };
+  const double wanted = config_.base.support_margin_m;
+  const Eigen::Vector3d com0 = target.base_position + R * com_B;
+  if (margin_at(Eigen::Vector3d::Zero()) >= wanted) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  direction.head<2>() = Incentre(stay) - com0.head<2>();
+  const double to_incentre = direction.norm();
+  if (to_incentre < 1e-9) return Eigen::Vector3d::Zero();
+  direction /= to_incentre;
+  // The margin grows along the way to the incentre: bisect for the least shift that gives it.
+  const double longest = std::min(to_incentre, config_.base.max_margin_shift_m);
+  double lo = 0.0, hi = longest;
+  if (margin_at(hi * direction) >= wanted) {
+    for (int k = 0; k < 30; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (margin_at(mid * direction) >= wanted ? hi : lo) = mid;
+    }
+  }
+  double shift = hi;
+  // Keep every foot within reach of the shifted base.
+  if (!reachable(shift * direction)) {
+    double ok = 0.0, bad = shift;
+    for (int k = 0; k < 20; ++k) {
+      const double mid = 0.5 * (ok + bad);
+      (reachable(mid * direction) ? ok : bad) = mid;
+    }
+    shift = ok;
+  }
+  return shift * direction;
+}
+
+void PlanController::BeginStep(int index, const Measured& m) {
+  const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
+  const Leg leg = static_cast<Leg>(target.moving_leg);
+  status_.step = index;
+  status_.swing_leg = leg;
+  const Eigen::Vector3d shift = MarginShift(index, leg, m);
+  MoveBaseTo(target.base_position + shift, QuaternionFromRpy(target.base_rpy), m.t, config_.base.min_shift_s);
+  Enter(ControllerPhase::kShift, m.t);
+}
+
+void PlanController::FinishStep(const Measured& m) {
+  status_.steps_done += 1;
+  status_.swing_leg.reset();
+  if (pending_) {
+    plan_ = std::move(*pending_);
+    pending_.reset();
+    status_.plan_start_s = m.t;
+    if (plan_.states.size() > 1) {
+      BeginStep(1, m);
+      return;
+    }
+  } else if (status_.step + 1 < static_cast<int>(plan_.states.size())) {
+    BeginStep(status_.step + 1, m);
+    return;
+  }
+  const WholeBodyState& last = plan_.states.back();
+  MoveBaseTo(last.base_position, QuaternionFromRpy(last.base_rpy), m.t, config_.base.min_shift_s);
+  Enter(ControllerPhase::kFinalShift, m.t);
+}
+
+void PlanController::Fail(const Measured& m, Leg leg, const std::string& why) {
+  status_.failure = why;
+  status_.failure_leg = leg;
+  // Hold the base where it is now, on the feet that are down.
+  MoveBaseTo(reference_.position_W, reference_.orientation_W, m.t, config_.base.min_shift_s);
+  Enter(ControllerPhase::kFailed, m.t);
+}
+
+void PlanController::Advance(const Measured& m) {
+  const double t = m.t;
+  if (plan_started_) {
+    plan_started_ = false;
+    status_ = ControllerStatus{};
+    status_.plan_start_s = t;
+    load_.fill(1.0);
+    for (Leg leg : kAllLegs) normal_W_[static_cast<std::size_t>(Index(leg))] = plan_.states.front().feet[static_cast<std::size_t>(Index(leg))].normal.normalized();
+    const WholeBodyState& first = plan_.states.front();
+    MoveBaseTo(first.base_position, QuaternionFromRpy(first.base_rpy), t, config_.base.settle_s);
+    Enter(ControllerPhase::kSettle, t);
+  }
+  // Phases may end within one tick; a few transitions at most follow each other.
+  for (int guard = 0; guard < 4; ++guard) {
+    const double elapsed = t - status_.phase_start_s;
+    const ControllerPhase before = status_.phase;
+    const std::size_t sl = status_.swing_leg ? static_cast<std::size_t>(Index(*status_.swing_leg)) : 0;
+    switch (status_.phase) {
+      case ControllerPhase::kHold:
+      case ControllerPhase::kDone:
+      case ControllerPhase::kFailed:
+        break;
+      case ControllerPhase::kSettle:
+        if (segment_.Done(t)) {
+          if (plan_.states.size() > 1) {
+            BeginStep(1, m);
+          } else {
+            Enter(ControllerPhase::kFinalShift, t);
+          }
+        }
+        break;
+      case ControllerPhase::kShift:
+        if (segment_.Done(t)) Enter(ControllerPhase::kUnload, t);
+        break;
+      case ControllerPhase::kUnload:
+        load_[sl] = std::clamp(1.0 - elapsed / config_.stance.unload_s, 0.0, 1.0);
+        if (elapsed >= config_.stance.unload_s) {
+          const WholeBodyState& target = plan_.states[static_cast<std::size_t>(status_.step)];
+          load_[sl] = 0.0;
+          status_.stance[sl] = false;
+          swing_ = SwingTrajectory::Plan(m.feet_W[sl], normal_W_[sl], target.feet[sl].position,
+                                         target.feet[sl].normal, terrain_, robot_.FootRadius(), config_.swing);
+          swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
+          Enter(ControllerPhase::kSwing, t);
+        }
+        break;
+      case ControllerPhase::kSwing: {
+        const double phase = swing_.Phase(elapsed);
+        if (m.contact[sl] && phase >= config_.swing.touchdown_phase) {
+          if (phase < 1.0) status_.early_touchdowns += 1;
+          status_.stance[sl] = true;
+          load_[sl] = 0.0;
+          normal_W_[sl] = plan_.states[static_cast<std::size_t>(status_.step)].feet[sl].normal.normalized();
+          Enter(ControllerPhase::kLoad, t);
+        } else if (elapsed >= swing_.Duration()) {
+          status_.late_touchdowns += 1;
+          search_start_W_ = swing_.Position(swing_.Duration());
+          Enter(ControllerPhase::kSearch, t);
+        }
+        break;
+      }
+      case ControllerPhase::kSearch:
+        if (m.contact[sl]) {
+          status_.stance[sl] = true;
+          load_[sl] = 0.0;
+          normal_W_[sl] = plan_.states[static_cast<std::size_t>(status_.step)].feet[sl].normal.normalized();
+          Enter(ControllerPhase::kLoad, t);
+        } else if (elapsed * config_.swing.search_speed_mps >= config_.swing.search_depth_m) {
+          Fail(m, static_cast<Leg>(sl),
+               std::string(LegName(static_cast<Leg>(sl))) + " found no ground within " +
+                   Fixed(config_.swing.search_depth_m + config_.swing.touchdown_depth_m) + " m below its foothold (step " +
+                   std::to_string(status_.step) + ")");
+        }
+        break;
+      case ControllerPhase::kLoad:
+        load_[sl] = std::clamp(elapsed / config_.stance.load_s, 0.0, 1.0);
+        if (elapsed >= config_.stance.load_s) {
+          load_[sl] = 1.0;
+          FinishStep(m);
+        }
+        break;
+      case ControllerPhase::kFinalShift:
+        if (segment_.Done(t) && elapsed >= segment_.duration + config_.base.final_hold_s) {
+          Enter(ControllerPhase::kDone, t);
+        }
+        break;
+    }
+    if (status_.phase == before) break;
+  }
+}
+
+JointVector PlanController::Update(const RobotState& state) {
+  Measured m;
+  m.t = state.t;
+  m.R = state.base_orientation_W.normalized().toRotationMatrix();
+  m.p = state.base_position_W;
+  m.v = state.base_linear_velocity_W;
+  m.w_W = m.R * state.base_angular_velocity_B;
+  m.q = state.q;
+  m.qd = state.qd;
+  m.contact = state.foot_contact;
+  for (Leg leg : kAllLegs) {
+    m.feet_W[static_cast<std::size_t>(Index(leg))] = m.p + m.R * robot_.FootPosition(leg, LegJoints(m.q, leg));
+  }
+  m.com_W = m.p + m.R * robot_.CenterOfMass(m.q);
+
+  if (!started_) {
+    // Hold the pose the robot is found in until a plan arrives.
+    started_ = true;
+    reference_.position_W = m.p;
+    reference_.orientation_W = Eigen::Quaterniond(m.R);
+    MoveBaseTo(m.p, reference_.orientation_W, m.t, config_.base.min_shift_s);
+    status_.phase_start_s = m.t;
+  }
+  Advance(m);
+  EvaluateReference(m.t);
+  return Torques(m);
+}
+
+JointVector PlanController::Torques(const Measured& m) {
+  const double mass = robot_.TotalMass();
+  const Eigen::Matrix3d& R = m.R;
+  const BaseReference& ref = reference_;
+  const Eigen::Matrix3d Rd = ref.orientation_W.toRotationMatrix();
+
+  // Virtual model: the wrench on the trunk about the CoM that holds the base on its reference.
+  const Eigen::Vector3d e_p = ref.position_W - m.p;
+  const Eigen::Vector3d e_v = ref.linear_velocity_W - m.v;
+  const Eigen::Vector3d e_R = RotationVector(ref.orientation_W * Eigen::Quaterniond(R).conjugate());
+  const Eigen::Vector3d e_w = ref.angular_velocity_W - m.w_W;
+  const BaseMotionConfig& b = config_.base;
+  Wrench wrench;
+  wrench.head<3>() = Eigen::Vector3d(0, 0, mass * kGravity) +
+                     R * (b.kp_linear.cwiseProduct(R.transpose() * e_p) + b.kd_linear.cwiseProduct(R.transpose() * e_v));
+  wrench.tail<3>() =
+      R * (b.kp_angular.cwiseProduct(R.transpose() * e_R) + b.kd_angular.cwiseProduct(R.transpose() * e_w));
+
+  std::vector<StanceFoot> feet;
+  std::vector<Eigen::Vector3d> support;
+  for (Leg leg : kAllLegs) {
+    const std::size_t i = static_cast<std::size_t>(Index(leg));
+    if (!status_.stance[i] || load_[i] <= 0.0) continue;
+    StanceFoot f;
+    f.leg = leg;
+    f.position_W = m.feet_W[i];
+    f.normal_W = normal_W_[i];
+    f.load = load_[i];
+    feet.push_back(f);
+    if (load_[i] >= 0.5) support.push_back(m.feet_W[i]);
+  }
+  // A leg loading after touchdown pushes at least a little from the start.
+  for (StanceFoot& f : feet) f.load = std::max(f.load, 0.05);
+  status_.support_margin_m = support.empty() ? -1.0 : SupportPolygonMargin(support, m.com_W);
+
+  ForceDistributionParams params;
+  params.friction = config_.stance.friction;
+  params.min_normal_force_N = config_.stance.min_normal_force_N;
+  const ForceDistribution forces = DistributeWrench(feet, m.com_W, wrench, params);
+
+  const Eigen::Vector3d gravity_B = R.transpose() * Eigen::Vector3d(0, 0, -kGravity);
+  JointVector tau = JointVector::Zero();
+  for (Leg leg : kAllLegs) {
+    const std::size_t i = static_cast<std::size_t>(Index(leg));
+    const Eigen::Vector3d q = LegJoints(m.q, leg);
+    const Eigen::Vector3d qd = LegJoints(m.qd, leg);
+    Eigen::Vector3d foot_B;
+    Eigen::Matrix3d J;
+    robot_.FootPositionAndJacobian(leg, q, &foot_B, &J);
+    Eigen::Vector3d t = robot_.LegGravityTorques(leg, q, gravity_B);
+    if (status_.stance[i]) {
+      t -= J.transpose() * (R.transpose() * forces.forces_W[i]);
+      // Joint servo: the joints that keep the measured foot where it is with the base on its reference.
+      const IkResult ik = robot_.SolveLegIk(leg, Rd.transpose() * (m.feet_W[i] - ref.position_W));
+      if (ik.status != IkResult::Status::kOutOfReach) {
+        t += config_.stance.kp.cwiseProduct(ik.q - q);
+      }
+      t -= config_.stance.kd.cwiseProduct(qd);
+    } else {
+      // Swing or search: follow the path under joint PD.
+      const double elapsed = m.t - status_.phase_start_s;
+      if (status_.phase == ControllerPhase::kSwing) {
+        swing_target_W_ = swing_.Position(elapsed);
+        swing_velocity_W_ = swing_.Velocity(elapsed);
+      } else if (status_.phase == ControllerPhase::kSearch) {
+        const Eigen::Vector3d n = plan_.states[static_cast<std::size_t>(status_.step)].feet[i].normal.normalized();
+        const double depth = std::min(elapsed * config_.swing.search_speed_mps, config_.swing.search_depth_m);
+        swing_target_W_ = search_start_W_ - depth * n;
+        swing_velocity_W_ = -config_.swing.search_speed_mps * n;
+      } else {
+        swing_velocity_W_.setZero();
+      }
+      const IkResult ik = robot_.SolveLegIk(leg, R.transpose() * (swing_target_W_ - m.p));
+      if (ik.status != IkResult::Status::kOutOfReach) swing_q_des_ = ik.q;
+      const Eigen::Vector3d v_rel_B =
+          R.transpose() * (swing_velocity_W_ - m.v - m.w_W.cross(swing_target_W_ - m.p));
+      Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
+      if (std::abs(J.determinant()) > 1e-4) qd_des = J.partialPivLu().solve(v_rel_B);
+      t += config_.swing.kp.cwiseProduct(swing_q_des_ - q) + config_.swing.kd.cwiseProduct(qd_des - qd);
+    }
+    SetLegJoints(tau, leg, t);
+  }
+  const double limit = config_.torque_limit_Nm;
+  return tau.cwiseMax(-limit).cwiseMin(limit);
+}
+
+}  // namespace rbcp
