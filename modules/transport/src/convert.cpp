@@ -145,4 +145,57 @@ ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg) {
   return plan;
 }
 
+rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state) {
+  rbcp_msgs::robot_state_t msg{};
+  msg.utime = static_cast<int64_t>(std::llround(state.t * 1e6));
+  for (int k = 0; k < 3; ++k) {
+    msg.base_position[k] = state.base_position_W[k];
+    msg.base_linear_velocity[k] = state.base_linear_velocity_W[k];
+    msg.base_angular_velocity[k] = state.base_angular_velocity_B[k];
+  }
+  msg.base_orientation[0] = state.base_orientation_W.w();
+  msg.base_orientation[1] = state.base_orientation_W.x();
+  msg.base_orientation[2] = state.base_orientation_W.y();
+  msg.base_orientation[3] = state.base_orientation_W.z();
+  for (int j = 0; j < kNumJoints; ++j) {
+    msg.joint_position[j] = state.q[j];
+    msg.joint_velocity[j] = state.qd[j];
+    msg.joint_torque[j] = state.tau[j];
+  }
+  for (int i = 0; i < kNumLegs; ++i) {
+    msg.foot_contact[i] = state.foot_contact[static_cast<std::size_t>(i)];
+    for (int k = 0; k < 3; ++k) msg.foot_force[i][k] = state.foot_force_W[static_cast<std::size_t>(i)][k];
+  }
+  return msg;
+}
+
+RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg) {
+  const bool finite = AllFinite(msg.base_position, 3) && AllFinite(msg.base_orientation, 4) &&
+                      AllFinite(msg.base_linear_velocity, 3) && AllFinite(msg.base_angular_velocity, 3) &&
+                      AllFinite(msg.joint_position, kNumJoints) && AllFinite(msg.joint_velocity, kNumJoints) &&
+                      AllFinite(msg.joint_torque, kNumJoints) && AllFinite(&msg.foot_force[0][0], 3 * kNumLegs);
+  if (!finite) throw InputError("robot state: expected finite values");
+  const Eigen::Quaterniond q(msg.base_orientation[0], msg.base_orientation[1], msg.base_orientation[2],
+                             msg.base_orientation[3]);
+  if (std::abs(q.norm() - 1.0) > 1e-3) {
+    throw InputError("robot state: expected a unit base orientation quaternion, got norm " + std::to_string(q.norm()));
+  }
+  RobotState state;
+  state.t = static_cast<double>(msg.utime) * 1e-6;
+  state.base_position_W = Vec3(msg.base_position);
+  state.base_orientation_W = q.normalized();
+  state.base_linear_velocity_W = Vec3(msg.base_linear_velocity);
+  state.base_angular_velocity_B = Vec3(msg.base_angular_velocity);
+  for (int j = 0; j < kNumJoints; ++j) {
+    state.q[j] = msg.joint_position[j];
+    state.qd[j] = msg.joint_velocity[j];
+    state.tau[j] = msg.joint_torque[j];
+  }
+  for (int i = 0; i < kNumLegs; ++i) {
+    state.foot_contact[static_cast<std::size_t>(i)] = msg.foot_contact[i];
+    state.foot_force_W[static_cast<std::size_t>(i)] = Vec3(msg.foot_force[i]);
+  }
+  return state;
+}
+
 }  // namespace rbcp::transport

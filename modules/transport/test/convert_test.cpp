@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <limits>
 
 #include "rbcp/core/error.h"
@@ -41,6 +42,41 @@ TEST(Convert, MalformedTerrainIsRejectedWithAReason) {
   bad.num_triangles = 0;
   bad.triangles.clear();
   EXPECT_THROW(FromTerrainMsg(bad), InputError);
+}
+
+TEST(Convert, RobotStateRoundTripAndValidation) {
+  RobotState state;
+  state.t = 1.2345;
+  state.base_position_W = {1, 2, 0.45};
+  state.base_orientation_W = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(0, 0.6, 0.8)));
+  state.base_linear_velocity_W = {0.1, -0.2, 0.3};
+  state.base_angular_velocity_B = {-0.4, 0.5, 0.6};
+  for (int j = 0; j < kNumJoints; ++j) {
+    state.q[j] = 0.1 * j;
+    state.qd[j] = -0.2 * j;
+    state.tau[j] = 1.5 * j;
+  }
+  state.foot_contact = {true, false, true, true};
+  state.foot_force_W[2] = {3, 4, 70};
+  const RobotState back = FromRobotStateMsg(ToRobotStateMsg(state));
+  EXPECT_EQ(ToRobotStateMsg(state).utime, 1234500);
+  EXPECT_DOUBLE_EQ(back.t, 1.2345);
+  EXPECT_EQ(back.base_position_W, state.base_position_W);
+  EXPECT_NEAR(back.base_orientation_W.angularDistance(state.base_orientation_W), 0.0, 1e-12);
+  EXPECT_EQ(back.base_linear_velocity_W, state.base_linear_velocity_W);
+  EXPECT_EQ(back.base_angular_velocity_B, state.base_angular_velocity_B);
+  EXPECT_EQ(back.q, state.q);
+  EXPECT_EQ(back.qd, state.qd);
+  EXPECT_EQ(back.tau, state.tau);
+  EXPECT_EQ(back.foot_contact, state.foot_contact);
+  EXPECT_EQ(back.foot_force_W[2], state.foot_force_W[2]);
+
+  auto bad = ToRobotStateMsg(state);
+  bad.joint_velocity[4] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(FromRobotStateMsg(bad), InputError);
+  bad = ToRobotStateMsg(state);
+  bad.base_orientation[0] = 2.0;
+  EXPECT_THROW(FromRobotStateMsg(bad), InputError);
 }
 
 TEST(Convert, AffordanceRoundTripAndValidation) {

@@ -10,8 +10,10 @@
 #include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/core/triangle_mesh.h"
+#include "rbcp/robot/robot_state.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
 namespace rbcp::transport {
@@ -39,5 +41,12 @@ rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utim
 
 /// Throws InputError if counts disagree, a value is not finite or a moving leg is out of range.
 ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg);
+
+/// The message of a measured state; utime = round(state.t * 1e6).
+rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state);
+
+/// Throws InputError if a value is not finite or the orientation is not a unit quaternion
+/// (within 1e-3).
+RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg);
 
 }  // namespace rbcp::transport
