@@ -76,9 +76,20 @@ struct PlanController::Measured {
 };
 
 PlanController::PlanController(const RobotModel& robot, const ControllerConfig& config, const TriangleMesh* terrain)
-    : robot_(robot), config_(config), terrain_(terrain) {
+    : robot_(robot), config_(config) {
   config_.Validate();
   normal_W_.fill(Eigen::Vector3d::UnitZ());
+  SetTerrain(terrain);
+}
+
+void PlanController::SetTerrain(const TriangleMesh* terrain) {
+  terrain_ = terrain;
+  collision_.reset();
+  if (terrain_ != nullptr && !terrain_->triangles.empty()) {
+    CollisionOptions options;
+    options.measure_penetration = false;
+    collision_ = std::make_unique<RobotTerrainCollision>(robot_, *terrain_, options);
+  }
 }
 
 void PlanController::CheckPlan(const ContactPlan& plan) {
@@ -162,13 +173,19 @@ Eigen::Vector3d PlanController::MarginShift(int index, Leg leg, const Measured& 
   auto margin_at = [&](const Eigen::Vector3d& shift) {
     return SupportPolygonMargin(stay, target.base_position + shift + R * com_B);
   };
+  // Every foot within reach of the shifted base, and the robot clear of the terrain there.
   auto reachable = [&](const Eigen::Vector3d& shift) {
-    const Eigen::Vector3d p = target.base_position + shift;
+    Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
+    base_W.linear() = R;
+    base_W.translation() = target.base_position + shift;
+    JointVector q;
     for (Leg l : kAllLegs) {
-      const Eigen::Vector3d foot_B = R.transpose() * (m.feet_W[static_cast<std::size_t>(Index(l))] - p);
-      if (!robot_.SolveLegIk(l, foot_B).ok()) return false;
+      const Eigen::Vector3d foot_B = base_W.inverse() * m.feet_W[static_cast<std::size_t>(Index(l))];
+      const IkResult ik = robot_.SolveLegIk(l, foot_B);
+      if (!ik.ok()) return false;
+      SetLegJoints(q, l, ik.q);
     }
-    return true;
+    return !collision_ || !collision_->CheckRobot(base_W, q, {true, true, true, true}).collision;
   };
   const double wanted = config_.base.support_margin_m;
   const Eigen::Vector3d com0 = target.base_position + R * com_B;
@@ -278,8 +295,18 @@ void PlanController::Advance(const Measured& m) {
           const WholeBodyState& target = plan_.states[static_cast<std::size_t>(status_.step)];
           load_[sl] = 0.0;
           status_.stance[sl] = false;
-          swing_ = SwingTrajectory::Plan(m.feet_W[sl], normal_W_[sl], target.feet[sl].position,
-                                         target.feet[sl].normal, terrain_, robot_.FootRadius(), config_.swing);
+          const Leg leg = static_cast<Leg>(sl);
+          // The base holds its pose during the swing: the leg must clear the terrain from there.
+          Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
+          base_W.linear() = segment_.q1.toRotationMatrix();
+          base_W.translation() = segment_.p1;
+          const SwingTrajectory::LegCheck leg_clear = [&](const Eigen::Vector3d& foot_W) {
+            const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * foot_W);
+            if (ik.status == IkResult::Status::kOutOfReach) return false;
+            return !collision_->CheckLeg(leg, base_W, ik.q, false).collision;
+          };
+          swing_ = SwingTrajectory::Plan(m.feet_W[sl], target.feet[sl].position, terrain_, robot_.FootRadius(),
+                                         config_.swing, collision_ ? leg_clear : SwingTrajectory::LegCheck());
           swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
           Enter(ControllerPhase::kSwing, t);
         }

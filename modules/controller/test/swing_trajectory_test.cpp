@@ -18,7 +18,7 @@ TEST(SwingTrajectory, StartsAndEndsAtRestOnItsFootholds) {
   const SwingConfig config;
   const Eigen::Vector3d a(0, 0, 0), b(0.2, 0.0, 0.0);
   const SwingTrajectory s =
-      SwingTrajectory::Plan(a, Eigen::Vector3d::UnitZ(), b, Eigen::Vector3d::UnitZ(), nullptr, 0.031, config);
+      SwingTrajectory::Plan(a, b, nullptr, 0.031, config);
   EXPECT_GE(s.Duration(), config.min_duration_s);
   EXPECT_NEAR((s.Position(0.0) - a).norm(), 0.0, 1e-12);
   EXPECT_NEAR((s.Position(s.Duration()) - (b - config.touchdown_depth_m * Eigen::Vector3d::UnitZ())).norm(), 0.0, 1e-12);
@@ -31,8 +31,7 @@ TEST(SwingTrajectory, StartsAndEndsAtRestOnItsFootholds) {
 }
 
 TEST(SwingTrajectory, VelocityIsTheDerivativeOfPosition) {
-  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d::UnitZ(),
-                                                  Eigen::Vector3d(0.3, 0.1, 0.15), Eigen::Vector3d::UnitZ(), nullptr,
+  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0.1, 0.15), nullptr,
                                                   0.031, SwingConfig());
   for (double t = 0.05; t < s.Duration() - 0.05; t += 0.05) {
     const double h = 1e-6;
@@ -49,9 +48,8 @@ TEST(SwingTrajectory, RisesOverAnObstacleBetweenTheFootholds) {
   const int offset = static_cast<int>(terrain.vertices.size());
   terrain.vertices.insert(terrain.vertices.end(), wall.vertices.begin(), wall.vertices.end());
   for (auto t : wall.triangles) terrain.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d::UnitZ(),
-                                                  Eigen::Vector3d(0.3, 0, 0), Eigen::Vector3d::UnitZ(), &terrain,
-                                                  0.031, config);
+  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0, 0), &terrain, 0.031,
+                                                  config);
   EXPECT_GE(s.Clearance(), config.terrain_clearance_m);
   for (int k = 0; k <= 200; ++k) {
     const Eigen::Vector3d p = s.Position(s.Duration() * k / 200.0);
@@ -59,6 +57,44 @@ TEST(SwingTrajectory, RisesOverAnObstacleBetweenTheFootholds) {
       EXPECT_GT(p.z(), 0.15) << "at x = " << p.x();
     }
   }
+}
+
+TEST(SwingTrajectory, StepsOntoARiserWithoutTouchingItsEdge) {
+  // A 0.17 m step whose riser is 4.5 cm ahead of the lifting foot (as on the plinth).
+  SwingConfig config;
+  TriangleMesh terrain = Box(Eigen::Vector3d(-1, -1, -0.5), Eigen::Vector3d(0.045, 1, 0.0));
+  const TriangleMesh step = Box(Eigen::Vector3d(0.045, -1, -0.5), Eigen::Vector3d(1, 1, 0.17));
+  const int offset = static_cast<int>(terrain.vertices.size());
+  terrain.vertices.insert(terrain.vertices.end(), step.vertices.begin(), step.vertices.end());
+  for (auto t : step.triangles) terrain.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  const Eigen::Vector3d target(0.13, 0.0, 0.17);
+  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), target, &terrain, 0.031, config);
+  for (int k = 0; k <= 400; ++k) {
+    const Eigen::Vector3d p = s.Position(s.Duration() * k / 400.0);
+    // The sphere (centre 0.031 above the contact point) stays off the riser's top edge.
+    const Eigen::Vector2d centre(p.x(), p.z() + 0.031);
+    if (p.z() < 0.17 - 0.011) {
+      EXPECT_LT(p.x(), 0.045 - 0.031 + 1e-9) << "k " << k;
+    }
+    const double edge = (centre - Eigen::Vector2d(0.045, 0.17)).norm();
+    if (p.x() < target.x() - 0.03) {
+      EXPECT_GT(edge, 0.031) << "k " << k;
+    }
+  }
+  EXPECT_NEAR(s.Position(s.Duration()).x(), target.x(), 1e-12);
+}
+
+TEST(SwingTrajectory, RaisesTheApexUntilTheLegIsClear) {
+  SwingConfig config;
+  // A leg check that fails below 0.2 m at the middle of the path.
+  const SwingTrajectory::LegCheck clear = [](const Eigen::Vector3d& p) {
+    return !(std::abs(p.x() - 0.1) < 0.05 && p.z() < 0.2);
+  };
+  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0, 0), nullptr, 0.031,
+                                                  config, clear);
+  EXPECT_EQ(s.LegCollisions(), 0);
+  EXPECT_GE(s.Apex(), 0.2);
+  EXPECT_LT(s.Apex(), 0.24);
 }
 
 }  // namespace

@@ -23,11 +23,13 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "rbcp/controller/controller_config.h"
 #include "rbcp/controller/force_distribution.h"
+#include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/controller/swing_trajectory.h"
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/core/triangle_mesh.h"
@@ -77,7 +79,8 @@ struct BaseReference {
 class PlanController {
  public:
   /// `robot` and `terrain` (may be null: no clearance planning) must outlive the controller.
-  /// Throws InputError for an invalid config.
+  /// With a terrain, swing paths are raised until the whole swinging leg clears it, and base
+  /// shifts stay collision-free. Throws InputError for an invalid config or terrain mesh.
   PlanController(const RobotModel& robot, const ControllerConfig& config, const TriangleMesh* terrain);
 
   /// Executes `plan` from its first state, starting at the next Update. The robot should stand
@@ -91,7 +94,7 @@ class PlanController {
   void ReplacePlan(const ContactPlan& plan);
 
   /// The terrain used for swing clearance (may be null); it must outlive the controller.
-  void SetTerrain(const TriangleMesh* terrain) { terrain_ = terrain; }
+  void SetTerrain(const TriangleMesh* terrain);
 
   /// One control tick: joint torque commands [N m] for the measured state.
   JointVector Update(const RobotState& state);
@@ -126,6 +129,7 @@ class PlanController {
   const RobotModel& robot_;
   ControllerConfig config_;
   const TriangleMesh* terrain_ = nullptr;
+  std::unique_ptr<RobotTerrainCollision> collision_;
 
   ContactPlan plan_;
   std::optional<ContactPlan> pending_;

@@ -1,10 +1,13 @@
 #pragma once
-/// The path of a swinging foot: a cubic Bezier curve from the lift-off point to a point just below
-/// the new foothold, leaving and arriving along the surface normals, raised until it clears the
-/// terrain under it, run on a smooth (zero end velocity) time scaling.
+/// The path of a swinging foot: it rises vertically from its lift-off point, crosses at an apex
+/// height to above its new foothold and descends vertically onto it (to touchdown_depth_m below
+/// the foothold, so that it touches down), each part blended smoothly into the next: the height
+/// reaches the apex over the first 40 % of the swing while the horizontal motion runs from 20 %
+/// to 80 %. The apex is raised until the path clears the terrain under it (and, when a check is
+/// given, until the whole leg does).
 
 #include <Eigen/Core>
-#include <array>
+#include <functional>
 
 #include "rbcp/controller/controller_config.h"
 #include "rbcp/core/triangle_mesh.h"
@@ -15,13 +18,18 @@ class SwingTrajectory {
  public:
   SwingTrajectory() = default;
 
-  /// Plans the swing from start_W (normal start_normal) to target_W (normal target_normal),
-  /// world frame [m]. With a terrain, the apex is raised until the foot (a sphere of radius
+  /// A check of a foot position along the path [m, world]: true when the leg is clear there.
+  using LegCheck = std::function<bool(const Eigen::Vector3d& foot_W)>;
+
+  /// Plans the swing from start_W to target_W (contact points, world frame [m]). With a terrain,
+  /// the apex is raised in 2 cm steps (up to 0.3 m) until the foot (a sphere of radius
   /// foot_radius_m above its contact point) stays terrain_clearance_m above the terrain over the
-  /// middle of the path and never enters it elsewhere, up to a rise of 0.3 m.
-  static SwingTrajectory Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& start_normal,
-                              const Eigen::Vector3d& target_W, const Eigen::Vector3d& target_normal,
-                              const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config);
+  /// middle of the path and never enters it near the ends, and `leg_clear` (if given) holds at
+  /// every sample. The lowest apex that satisfies everything is kept; if none does, the one with
+  /// the fewest leg collisions, highest first.
+  static SwingTrajectory Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
+                              const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config,
+                              const LegCheck& leg_clear = {});
 
   double Duration() const { return duration_s_; }
   /// Phase in [0, 1] after t [s] of swing.
@@ -30,18 +38,23 @@ class SwingTrajectory {
   Eigen::Vector3d Position(double t) const;
   Eigen::Vector3d Velocity(double t) const;
 
-  /// Least height of the path above the terrain over the middle of the swing [m] (+inf without terrain).
+  /// Least height of the foot above the terrain over the middle of the swing [m] (+inf without terrain).
   double Clearance() const { return clearance_m_; }
-  const std::array<Eigen::Vector3d, 4>& ControlPoints() const { return points_; }
+  /// Height of the apex [m, world z].
+  double Apex() const { return apex_z_; }
+  /// Samples at which `leg_clear` failed (0 when it held everywhere or was not given).
+  int LegCollisions() const { return leg_collisions_; }
 
  private:
-  Eigen::Vector3d Bezier(double s) const;
-  Eigen::Vector3d BezierDerivative(double s) const;
+  /// Position and d/ds at path parameter s in [0, 1].
+  Eigen::Vector3d At(double s, Eigen::Vector3d* ds = nullptr) const;
 
-  std::array<Eigen::Vector3d, 4> points_{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
-                                         Eigen::Vector3d::Zero()};
+  Eigen::Vector3d start_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end_ = Eigen::Vector3d::Zero();
+  double apex_z_ = 0.0;
   double duration_s_ = 1.0;
   double clearance_m_ = 0.0;
+  int leg_collisions_ = 0;
 };
 
 }  // namespace rbcp
