@@ -1,0 +1,393 @@
+// BulletWorld: ANYmal B as a btMultiBody on static terrain, fixed-step integration, measured state.
+
+#include "rbcp/sim/bullet_world.h"
+
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "bullet_eigen.h"
+#include "rbcp/core/error.h"
+#include "robot_description.h"
+#include "terrain_shapes.h"
+#include "urdf_multibody.h"
+
+namespace rbcp::sim {
+namespace {
+
+// ---- Contact solver parameters ------------------------------------------------------------------
+// btMultiBody contacts are velocity constraints: a penetration d is removed by adding erp2 * d / dt
+// to the separating velocity target (multibodies get no split impulse), and points still apart by
+// a gap g let the bodies approach by at most g within the step (speculative contacts, up to the
+// colliders' 4 mm breaking threshold), so an impact does not sink a foot into the ground. With the
+// solver converged a standing foot penetrates by well under a micrometre, so erp2 only acts after
+// an impact; 0.02 removes that (at most ~1 mm after a 30 cm drop) with a time constant of
+// dt / erp2 = 42 ms at 1/1200 s, the same as pybullet's 0.08 at 1/240 s. Stiffer values (0.1 and
+// more) make the feet chatter after hard landings and while sliding.
+constexpr double kContactErp = 0.02;
+// Warm starting with the previous step's impulses: Bullet's default factor.
+constexpr double kWarmStartingFactor = 0.85;
+// Generalized velocity clamp of the btMultiBody [m/s, rad/s], as a multiple of the joint speed
+// bound (and at least 50): a numerical safety net only.
+double MaxCoordinateVelocity(const PhysicsConfig& c) { return std::max(50.0, 4.0 * c.joint_velocity_limit_radps); }
+
+/// The planning parameters next to the URDF (same name, .yaml): the reference configuration.
+std::string RobotYamlPath(const std::string& urdf_path) {
+  return std::filesystem::path(urdf_path).replace_extension(".yaml").string();
+}
+
+/// Result callback recording the deepest overlap of one shape pair.
+struct OverlapCallback : btCollisionWorld::ContactResultCallback {
+  double min_distance = std::numeric_limits<double>::infinity();
+  btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper*, int, int, const btCollisionObjectWrapper*,
+                           int, int) override {
+    min_distance = std::min(min_distance, static_cast<double>(cp.getDistance()));
+    return 0;
+  }
+};
+
+/// The collision dispatcher, with robot-robot manifolds processed by the solver only where the
+/// shapes touch (distance <= 0): Bullet otherwise turns every point within the breaking threshold
+/// into speculative constraint rows, and the trunk and thighs sit a few millimetres apart in any
+/// stance, which would double the solver's work for contacts that never happen. Robot-terrain
+/// manifolds keep their speculative points (an approaching foot is stopped at the surface).
+class Dispatcher : public btCollisionDispatcher {
+ public:
+  using btCollisionDispatcher::btCollisionDispatcher;
+  btPersistentManifold* getNewManifold(const btCollisionObject* b0, const btCollisionObject* b1) override {
+    btPersistentManifold* manifold = btCollisionDispatcher::getNewManifold(b0, b1);
+    if (b0->getUserIndex2() == kRobotColliderTag && b1->getUserIndex2() == kRobotColliderTag) {
+      manifold->setContactProcessingThreshold(0.0);
+    }
+    return manifold;
+  }
+};
+
+/// A manifold point that is a contact of the last step: the shapes overlap or the solver pushed.
+bool IsActive(const btManifoldPoint& p) { return p.getDistance() <= 0.0 || p.getAppliedImpulse() > 0.0; }
+
+}  // namespace
+
+struct BulletWorld::Impl {
+  PhysicsConfig config;
+  RobotDescription description;
+  JointVector q_reference = JointVector::Zero();
+
+  std::unique_ptr<btDefaultCollisionConfiguration> collision_configuration;
+  std::unique_ptr<Dispatcher> dispatcher;
+  std::unique_ptr<btDbvtBroadphase> broadphase;
+  std::unique_ptr<btMultiBodyConstraintSolver> solver;
+  std::unique_ptr<btMultiBodyDynamicsWorld> world;
+  MultiBodyRobot robot;
+  std::vector<TerrainObject> terrain;
+  bool robot_in_world = false;
+
+  Eigen::Isometry3d base_com_from_link = Eigen::Isometry3d::Identity();  ///< base link frame in the base CoM frame
+  JointVector command = JointVector::Zero();  ///< saturated command, held
+  JointVector applied = JointVector::Zero();  ///< applied in the last step
+  long long steps = 0;
+  btAlignedObjectArray<btQuaternion> scratch_rotations;
+  btAlignedObjectArray<btVector3> scratch_origins;
+
+  ~Impl() {
+    if (!world) return;
+    for (auto it = terrain.rbegin(); it != terrain.rend(); ++it) world->removeRigidBody(it->body.get());
+    if (robot_in_world) robot.RemoveFrom(world.get());
+  }
+
+  btMultiBody& Mb() const { return *robot.multibody; }
+
+  void Place(const Eigen::Vector3d& p, const Eigen::Quaterniond& orientation, const JointVector& q) {
+    Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
+    base_W.linear() = orientation.normalized().toRotationMatrix();
+    base_W.translation() = p;
+    btMultiBody& mb = Mb();
+    mb.setBaseWorldTransform(ToBt(Eigen::Isometry3d(base_W * base_com_from_link.inverse())));
+    mb.clearVelocities();
+    for (int i = 0; i < kNumJoints; ++i) mb.setJointPos(i, q[i]);
+    mb.clearForcesAndTorques();
+    mb.clearConstraintForces();
+    mb.forwardKinematics(scratch_rotations, scratch_origins);
+    mb.updateCollisionObjectWorldTransforms(scratch_rotations, scratch_origins);
+    // Forget contacts: drop the cached collision algorithms and manifolds of every robot pair.
+    for (const auto& collider : robot.colliders) {
+      if (collider && collider->getBroadphaseHandle()) {
+        world->getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(collider->getBroadphaseHandle(),
+                                                                                dispatcher.get());
+      }
+    }
+    command.setZero();
+    applied.setZero();
+    steps = 0;
+  }
+
+  /// Primitive pairs on different bodies that Bullet would test and that overlap in the
+  /// reference configuration (e.g. a thigh's upper protector around the HAA actuator): they
+  /// overlap by construction, so they are not self-collisions. Same rule as the planners'
+  /// self-collision check.
+  void ExcludeOverlapsByConstruction() {
+    Place(Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity(), q_reference);
+    const int num_bodies = static_cast<int>(robot.colliders.size());
+    for (int a = 0; a < num_bodies; ++a) {
+      for (int b = a + 1; b < num_bodies; ++b) {
+        const auto& ca = robot.colliders[static_cast<std::size_t>(a)];
+        const auto& cb = robot.colliders[static_cast<std::size_t>(b)];
+        if (!ca || !cb || !ca->checkCollideWithOverride(cb.get())) continue;
+        for (int ia : robot.body_shapes[static_cast<std::size_t>(a)]) {
+          for (int ib : robot.body_shapes[static_cast<std::size_t>(b)]) {
+            btCollisionObject oa, ob;
+            const auto* compound_a = robot.compounds[static_cast<std::size_t>(a)].get();
+            const auto* compound_b = robot.compounds[static_cast<std::size_t>(b)].get();
+            const int child_a = robot.shapes[static_cast<std::size_t>(ia)].child;
+            const int child_b = robot.shapes[static_cast<std::size_t>(ib)].child;
+            oa.setCollisionShape(const_cast<btCollisionShape*>(compound_a->getChildShape(child_a)));
+            ob.setCollisionShape(const_cast<btCollisionShape*>(compound_b->getChildShape(child_b)));
+            oa.setWorldTransform(ca->getWorldTransform() * compound_a->getChildTransform(child_a));
+            ob.setWorldTransform(cb->getWorldTransform() * compound_b->getChildTransform(child_b));
+            OverlapCallback overlap;
+            world->contactPairTest(&oa, &ob, overlap);
+            if (overlap.min_distance < 0.0) robot.filter->Exclude(ia, ib);
+          }
+        }
+      }
+    }
+  }
+
+  enum class Side { kOther, kRobot, kTerrain };
+  Side Classify(const btCollisionObject* o) const {
+    switch (o->getUserIndex2()) {
+      case kRobotColliderTag:
+        return Side::kRobot;
+      case kTerrainObjectTag:
+        return Side::kTerrain;
+      default:
+        return Side::kOther;
+    }
+  }
+
+  std::string LinkOf(int body, int child) const {
+    const int id = robot.ShapeId(body, child);
+    return id >= 0 ? robot.shapes[static_cast<std::size_t>(id)].link
+                   : description.bodies[static_cast<std::size_t>(body)].name;
+  }
+
+  /// Calls f(robot body, robot is body 0 of the manifold, point) for every active robot-terrain point.
+  template <typename F>
+  void ForEachTerrainContact(F&& f) const {
+    const int n = dispatcher->getNumManifolds();
+    for (int m = 0; m < n; ++m) {
+      const btPersistentManifold* manifold = dispatcher->getManifoldByIndexInternal(m);
+      const Side s0 = Classify(manifold->getBody0());
+      const Side s1 = Classify(manifold->getBody1());
+      bool robot_is_0;
+      if (s0 == Side::kRobot && s1 == Side::kTerrain) {
+        robot_is_0 = true;
+      } else if (s1 == Side::kRobot && s0 == Side::kTerrain) {
+        robot_is_0 = false;
+      } else {
+        continue;
+      }
+      const int body = (robot_is_0 ? manifold->getBody0() : manifold->getBody1())->getUserIndex();
+      for (int p = 0; p < manifold->getNumContacts(); ++p) {
+        const btManifoldPoint& pt = manifold->getContactPoint(p);
+        if (IsActive(pt)) f(body, robot_is_0, pt);
+      }
+    }
+  }
+};
+
+BulletWorld::BulletWorld(const std::string& urdf_path, const std::vector<TerrainElement>& terrain,
+                         const PhysicsConfig& config)
+    : impl_(std::make_unique<Impl>()) {
+  config.Validate();
+  Impl& m = *impl_;
+  m.config = config;
+  m.description = RobotDescription::FromUrdf(urdf_path);
+  m.q_reference = RobotModel::Load(urdf_path, RobotYamlPath(urdf_path)).ReferenceConfiguration();
+  m.base_com_from_link = m.description.bodies[RobotDescription::kBase].inertial_frame.inverse();
+
+  m.collision_configuration = std::make_unique<btDefaultCollisionConfiguration>();
+  m.dispatcher = std::make_unique<Dispatcher>(m.collision_configuration.get());
+  m.broadphase = std::make_unique<btDbvtBroadphase>();
+  m.solver = std::make_unique<btMultiBodyConstraintSolver>();
+  m.world = std::make_unique<btMultiBodyDynamicsWorld>(m.dispatcher.get(), m.broadphase.get(), m.solver.get(),
+                                                       m.collision_configuration.get());
+  m.world->setGravity(btVector3(0, 0, -config.gravity_mps2));
+  btContactSolverInfo& info = m.world->getSolverInfo();
+  info.m_numIterations = config.solver_iterations;
+  info.m_erp2 = kContactErp;
+  info.m_globalCfm = 0.0;
+  info.m_linearSlop = 0.0;
+  info.m_warmstartingFactor = kWarmStartingFactor;
+  info.m_restitution = 0.0;
+  // Two friction directions per contact point (the multibody world's default), solved as a
+  // pyramid: Bullet's implicit cone friction lets quadruped feet creep on slopes.
+  info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS | SOLVER_DISABLE_IMPLICIT_CONE_FRICTION;
+  info.m_solverMode &= ~SOLVER_RANDMIZE_ORDER;  // deterministic order
+  info.m_timeStep = config.time_step_s;
+
+  InstallSelfCollisionCallbacks();
+  m.robot = MultiBodyRobot::Build(m.description, config.friction, MaxCoordinateVelocity(config));
+  m.robot.AddTo(m.world.get());
+  m.robot_in_world = true;
+  m.ExcludeOverlapsByConstruction();
+
+  m.terrain = BuildTerrain(terrain);
+  for (TerrainObject& o : m.terrain) m.world->addRigidBody(o.body.get());  // static: StaticFilter group
+
+  m.Place(Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity(), m.q_reference);
+}
+
+BulletWorld::~BulletWorld() = default;
+
+void BulletWorld::ResetRobot(const Eigen::Vector3d& base_position_W, const Eigen::Quaterniond& base_orientation_W,
+                             const JointVector& q) {
+  if (!base_position_W.allFinite() || !base_orientation_W.coeffs().allFinite() || !(base_orientation_W.norm() > 0.0) ||
+      !q.allFinite()) {
+    throw InputError("BulletWorld::ResetRobot: expected a finite base pose and joint vector, got non-finite values");
+  }
+  impl_->Place(base_position_W, base_orientation_W, q);
+}
+
+JointVector BulletWorld::SetJointTorques(const JointVector& tau_command) {
+  Impl& m = *impl_;
+  JointVector next = JointVector::Zero();
+  for (int i = 0; i < kNumJoints; ++i) {
+    if (!std::isfinite(tau_command[i])) {
+      throw InputError("BulletWorld::SetJointTorques: '" + JointName(i) + "': expected a finite torque, got " +
+                       std::to_string(tau_command[i]));
+    }
+    m.command[i] = std::clamp(tau_command[i], -m.config.torque_limit_Nm, m.config.torque_limit_Nm);
+    next[i] = ActuatorTorque(m.command[i], m.Mb().getJointVel(i), m.config.torque_limit_Nm,
+                             m.config.joint_velocity_limit_radps);
+  }
+  return next;
+}
+
+void BulletWorld::Step() {
+  Impl& m = *impl_;
+  btMultiBody& mb = m.Mb();
+  // The speed bound is re-evaluated every step: the command is held over several steps.
+  // Bullet clears joint torques after each stepSimulation and addJointTorque accumulates, so
+  // each torque is added exactly once per step.
+  for (int i = 0; i < kNumJoints; ++i) {
+    m.applied[i] = ActuatorTorque(m.command[i], mb.getJointVel(i), m.config.torque_limit_Nm,
+                                  m.config.joint_velocity_limit_radps);
+    mb.addJointTorque(i, m.applied[i]);
+  }
+  // maxSubSteps = 0: one step of exactly time_step_s (no accumulation, no interpolation).
+  m.world->stepSimulation(m.config.time_step_s, 0, m.config.time_step_s);
+  ++m.steps;
+}
+
+double BulletWorld::Time() const { return static_cast<double>(impl_->steps) * impl_->config.time_step_s; }
+
+RobotState BulletWorld::State() const {
+  const Impl& m = *impl_;
+  const btMultiBody& mb = m.Mb();
+  RobotState s;
+  s.t = Time();
+  const Eigen::Isometry3d com_W = ToEigen(mb.getBaseWorldTransform());
+  const Eigen::Isometry3d base_W = com_W * m.base_com_from_link;
+  s.base_position_W = base_W.translation();
+  s.base_orientation_W = Eigen::Quaterniond(base_W.linear()).normalized();
+  const Eigen::Vector3d omega_W = ToEigen(mb.getBaseOmega());
+  s.base_linear_velocity_W = ToEigen(mb.getBaseVel()) + omega_W.cross(base_W.translation() - com_W.translation());
+  s.base_angular_velocity_B = base_W.linear().transpose() * omega_W;
+  for (int i = 0; i < kNumJoints; ++i) {
+    s.q[i] = mb.getJointPos(i);
+    s.qd[i] = mb.getJointVel(i);
+  }
+  s.tau = m.applied;
+
+  const double dt = m.config.time_step_s;
+  m.ForEachTerrainContact([&](int body, bool robot_is_0, const btManifoldPoint& pt) {
+    const RobotBody& b = m.description.bodies[static_cast<std::size_t>(body)];
+    if (!b.is_foot) return;
+    const std::size_t l = static_cast<std::size_t>(Index(*b.leg));
+    s.foot_contact[l] = true;
+    // Impulses act along +normal / +friction directions on the manifold's body 0.
+    const btVector3 impulse = pt.m_normalWorldOnB * pt.getAppliedImpulse() +
+                              pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
+                              pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
+    s.foot_force_W[l] += (robot_is_0 ? 1.0 : -1.0) * ToEigen(impulse) / dt;
+  });
+  return s;
+}
+
+std::array<Eigen::Vector3d, kNumLegs> BulletWorld::FootCentersW() const {
+  const Impl& m = *impl_;
+  std::array<Eigen::Vector3d, kNumLegs> centers;
+  for (Leg leg : kAllLegs) {
+    const int b = RobotDescription::FootBody(leg);
+    const auto& collider = m.robot.colliders[static_cast<std::size_t>(b)];
+    const btCompoundShape& compound = *m.robot.compounds[static_cast<std::size_t>(b)];
+    int sphere = -1;
+    for (int c = 0; c < compound.getNumChildShapes(); ++c) {
+      if (compound.getChildShape(c)->getShapeType() == SPHERE_SHAPE_PROXYTYPE) sphere = c;
+    }
+    RBCP_CHECK(sphere >= 0, "every foot body has a sphere");
+    centers[static_cast<std::size_t>(Index(leg))] =
+        ToEigen(collider->getWorldTransform() * compound.getChildTransform(sphere).getOrigin());
+  }
+  return centers;
+}
+
+std::vector<TerrainContact> BulletWorld::TerrainContacts() const {
+  const Impl& m = *impl_;
+  std::vector<TerrainContact> contacts;
+  const double dt = m.config.time_step_s;
+  m.ForEachTerrainContact([&](int body, bool robot_is_0, const btManifoldPoint& pt) {
+    const RobotBody& b = m.description.bodies[static_cast<std::size_t>(body)];
+    TerrainContact c;
+    c.link = m.LinkOf(body, robot_is_0 ? pt.m_index0 : pt.m_index1);
+    c.leg = b.leg;
+    c.is_foot = b.is_foot;
+    c.position_W = ToEigen(robot_is_0 ? pt.getPositionWorldOnA() : pt.getPositionWorldOnB());
+    c.normal_W = (robot_is_0 ? 1.0 : -1.0) * ToEigen(pt.m_normalWorldOnB);
+    c.normal_force_N = pt.getAppliedImpulse() / dt;
+    c.penetration_m = -pt.getDistance();
+    contacts.push_back(std::move(c));
+  });
+  return contacts;
+}
+
+std::vector<std::pair<std::string, std::string>> BulletWorld::SelfContacts() const {
+  const Impl& m = *impl_;
+  std::vector<std::pair<std::string, std::string>> pairs;
+  const int n = m.dispatcher->getNumManifolds();
+  for (int k = 0; k < n; ++k) {
+    const btPersistentManifold* manifold = m.dispatcher->getManifoldByIndexInternal(k);
+    if (m.Classify(manifold->getBody0()) != Impl::Side::kRobot || m.Classify(manifold->getBody1()) != Impl::Side::kRobot) {
+      continue;
+    }
+    const int b0 = manifold->getBody0()->getUserIndex();
+    const int b1 = manifold->getBody1()->getUserIndex();
+    for (int p = 0; p < manifold->getNumContacts(); ++p) {
+      const btManifoldPoint& pt = manifold->getContactPoint(p);
+      if (!IsActive(pt)) continue;
+      std::pair<std::string, std::string> pair(m.LinkOf(b0, pt.m_index0), m.LinkOf(b1, pt.m_index1));
+      if (std::find(pairs.begin(), pairs.end(), pair) == pairs.end()) pairs.push_back(std::move(pair));
+    }
+  }
+  return pairs;
+}
+
+double BulletWorld::RobotMass() const {
+  const btMultiBody& mb = impl_->Mb();
+  double mass = mb.getBaseMass();
+  for (int i = 0; i < mb.getNumLinks(); ++i) mass += mb.getLinkMass(i);
+  return mass;
+}
+
+const PhysicsConfig& BulletWorld::Config() const { return impl_->config; }
+
+}  // namespace rbcp::sim
