@@ -1,9 +1,11 @@
-// scenario_publisher: drives a scenario through the pipeline's processes, standing in for the
-// simulator's world publication and for the operator. It waits until every process it needs
-// reports on STATUS, publishes the scenario's terrain on TERRAIN until AFFORDANCES answers, then
-// a PLAN_REQUEST from the scenario's start to its goal, waits for ROOT_PATH and CONTACT_PLAN,
-// checks the plan with the plan checker and prints a summary. A FAILED status from any process
-// (on an input handled after the start) ends the run with the process's name and reason.
+// scenario_publisher: drives a scenario through the pipeline's processes as the operator does.
+// It waits until every process it needs reports on STATUS. Without the simulator it stands in for
+// the world and publishes the scenario's terrain on TERRAIN until AFFORDANCES answers; with
+// --until sim the simulator (anymal_sim) is the world and publishes it. Then a PLAN_REQUEST from
+// the scenario's start to its goal; it waits for ROOT_PATH and CONTACT_PLAN, checks the plan with
+// the plan checker, with --until sim waits for the simulator's verdict on the walked plan, and
+// prints a summary. A FAILED status from any process (on an input handled after the start) ends
+// the run with the process's name and reason.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -135,16 +137,20 @@ void PrintSurfaces(const Scenario& scenario, const std::vector<AffordanceSurface
 int main(int argc, char** argv) {
   CLI::App app{"Drives a scenario through the pipeline's processes: TERRAIN -> AFFORDANCES, then a PLAN_REQUEST\n"
                "from the scenario's start to its goal -> ROOT_PATH -> CONTACT_PLAN; checks the plan and prints a\n"
-               "summary. Exit status: 0 answered (and the plan passes the checker), 1 a process failed or the plan\n"
-               "fails the checker, 2 bad input, 3 no answer in time."};
+               "summary; with --until sim the simulator (anymal_sim) publishes the terrain, walks the plan and reports\n"
+               "the outcome. Exit status: 0 answered (the plan passes the checker and, with --until sim, the robot\n"
+               "reached the goal), 1 a process failed, the plan fails the checker or the run failed, 2 bad input,\n"
+               "3 no answer in time."};
   nodes::CommonOptions common;
   nodes::AddCommonOptions(app, common);
   std::string scenario_path, until = "contact";
-  double timeout_s = 10.0, period_s = 0.5, budget_s = 5.0;
+  double timeout_s = 10.0, period_s = 0.5, budget_s = 5.0, sim_timeout_s = 900.0;
   int seed = 1;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
-  app.add_option("--until", until, "last answer to wait for: affordance, root or contact")
-      ->capture_default_str()->check(CLI::IsMember({"affordance", "root", "contact"}));
+  app.add_option("--until", until, "last answer to wait for: affordance, root, contact or sim")
+      ->capture_default_str()->check(CLI::IsMember({"affordance", "root", "contact", "sim"}));
+  app.add_option("--sim-timeout", sim_timeout_s, "with --until sim: give up after this many seconds of walking")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--timeout", timeout_s, "give up after this many seconds without the awaited answer")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--period", period_s, "republish the terrain this often until answered [s]")
@@ -163,7 +169,9 @@ int main(int argc, char** argv) {
 
     std::vector<std::string> processes = {"affordance_extractor"};
     if (until != "affordance") processes.push_back("root_planner");
-    if (until == "contact") processes.push_back("contact_planner");
+    if (until == "contact" || until == "sim") processes.push_back("contact_planner");
+    const bool simulated = until == "sim";
+    if (simulated) processes.push_back("anymal_sim");
     std::string summary = "summary: " + scenario.name;
     auto finish = [&](int rc, const std::string& last) {
       std::cout << summary << (last.empty() ? "" : ", ") << last << std::endl;
@@ -187,14 +195,14 @@ int main(int argc, char** argv) {
       if (w != Waited::kDone) return stopped_or_failed(w, "startup");
     }
 
-    // TERRAIN until AFFORDANCES.
+    // TERRAIN (from the simulator, or published here) until AFFORDANCES.
     int64_t utime = 0;
     auto next = Clock::now();
     std::optional<rbcp_msgs::affordance_set_t> surfaces_msg;
     Waited w = WaitUntil(
         *lcm, board, timeout_s, [&] { return (surfaces_msg = affordances.Take()).has_value(); },
         [&] {
-          if (Clock::now() < next) return;
+          if (simulated || Clock::now() < next) return;
           const auto msg = transport::ToTerrainMsg(scenario.terrain_mesh, utime, scenario.name);
           lcm->publish(channels::kTerrain, &msg);
           utime += static_cast<int64_t>(period_s * 1e6);
@@ -268,11 +276,26 @@ int main(int argc, char** argv) {
           CheckPlanForScenario(common.config_dir, scenario, transport::FromContactPlanMsg(*plan_msg));
       for (const auto& v : report.violations) std::cout << "  state " << v.state << ": " << v.check << ": " << v.detail << "\n";
       std::cout << "plan check: " << report.Summary() << "\n";
-      return finish(report.ok ? kOk : kPlanningFailed,
-                    report.ok ? "the plan passes the checker" : "the plan does not pass the checker");
+      summary += report.ok ? ", the plan passes the checker" : ", the plan does not pass the checker";
+      if (!simulated) return finish(report.ok ? kOk : kPlanningFailed, "");
     } catch (const InputError& e) {
       std::cout << "plan check: cannot check the plan: " << e.what() << "\n";
       return finish(kPlanningFailed, "the plan cannot be checked");
     }
+
+    // The simulator walks the plan and judges the run.
+    std::cout << "anymal_sim: walking the plan ..." << std::endl;
+    const auto walk_start = Clock::now();
+    w = WaitUntil(*lcm, board, sim_timeout_s, [&] { return board.NewOk("anymal_sim").has_value(); });
+    const double walk_s = std::chrono::duration<double>(Clock::now() - walk_start).count();
+    if (w == Waited::kTimeout) return no_answer("outcome", "anymal_sim");
+    if (w == Waited::kFailed && board.last_failure()->process == "anymal_sim") {
+      std::cout << "anymal_sim: FAILED: " << board.last_failure()->reason << "\n";
+      return finish(kPlanningFailed, "the robot did not reach the goal: " + board.last_failure()->reason);
+    }
+    if (w != Waited::kDone) return stopped_or_failed(w, "execution");
+    const auto walked = board.NewOk("anymal_sim");
+    std::cout << "anymal_sim: " << walked->reason << " (" << Fixed(walk_s, 1) << " s wall)\n";
+    return finish(kOk, "the robot walked the plan: " + walked->reason);
   });
 }

@@ -303,10 +303,15 @@ void PlanController::Advance(const Measured& m) {
           const SwingTrajectory::LegCheck leg_clear = [&](const Eigen::Vector3d& foot_W) {
             const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * foot_W);
             if (ik.status == IkResult::Status::kOutOfReach) return false;
-            return !collision_->CheckLeg(leg, base_W, ik.q, false).collision;
+            // The foot itself is kept clear by the path's terrain check (it starts and ends on the ground).
+            return !collision_->CheckLeg(leg, base_W, ik.q, true).collision;
           };
+          // Towards the body: from the middle of the swing to the base, across the swing direction.
+          const Eigen::Vector2d across = (target.feet[sl].position - m.feet_W[sl]).head<2>();
+          Eigen::Vector2d inward = (segment_.p1 - 0.5 * (target.feet[sl].position + m.feet_W[sl])).head<2>();
+          if (across.norm() > 1e-6) inward -= inward.dot(across.normalized()) * across.normalized();
           swing_ = SwingTrajectory::Plan(m.feet_W[sl], target.feet[sl].position, terrain_, robot_.FootRadius(),
-                                         config_.swing, collision_ ? leg_clear : SwingTrajectory::LegCheck());
+                                         config_.swing, collision_ ? leg_clear : SwingTrajectory::LegCheck(), inward);
           swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
           Enter(ControllerPhase::kSwing, t);
         }

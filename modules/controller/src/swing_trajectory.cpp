@@ -16,6 +16,8 @@ constexpr double kRiseStep = 0.02;   // [m]
 constexpr double kRiseEnd = 0.4;     // the height reaches the apex over s in [0, kRiseEnd] (and back)
 constexpr double kCrossBegin = 0.2;  // the horizontal motion runs over s in [kCrossBegin, 1 - kCrossBegin]
 constexpr double kEndSkip = 0.97;    // beyond this the path dips below the foothold on purpose
+constexpr int kBows = 4;             // sideways bows tried: 0, 3, 6, 9 cm
+constexpr double kBowStep = 0.03;    // [m]
 
 double SmoothStep(double u, double* rate = nullptr) {
   if (u <= 0.0 || u >= 1.0) {
@@ -26,16 +28,22 @@ double SmoothStep(double u, double* rate = nullptr) {
   return u * u * (3.0 - 2.0 * u);
 }
 
-/// Highest terrain within `radius` of xy (centre and eight points on the circle), or nullopt.
-std::optional<double> TerrainTop(const TriangleMesh& terrain, const Eigen::Vector2d& xy, double radius) {
-  std::optional<double> top;
-  for (int k = -1; k < 8; ++k) {
-    const double a = k * M_PI / 4.0;
-    const Eigen::Vector2d p = k < 0 ? xy : Eigen::Vector2d(xy + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
-    const std::optional<double> h = TerrainHeightAt(terrain, p);
-    if (h && (!top || *h > *top)) top = h;
+/// Least vertical gap [m] between the foot sphere (radius r, resting on the
+/// contact point p) and the terrain under it, sampled on rings around its
+/// centre; +inf with no terrain below.
+double SphereGap(const TriangleMesh& terrain, const Eigen::Vector3d& p, double r) {
+  double gap = std::numeric_limits<double>::infinity();
+  const double centre_z = p.z() + r;
+  for (double d : {0.0, 0.5 * r, 0.9 * r}) {
+    const double bottom = centre_z - std::sqrt(r * r - d * d);  // sphere surface above ring point
+    for (int k = 0; k < (d > 0.0 ? 8 : 1); ++k) {
+      const double a = k * M_PI / 4.0;
+      const std::optional<double> h =
+          TerrainHeightAt(terrain, p.head<2>() + d * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      if (h) gap = std::min(gap, bottom - *h);
+    }
   }
-  return top;
+  return gap;
 }
 
 }  // namespace
@@ -46,26 +54,28 @@ Eigen::Vector3d SwingTrajectory::At(double s, Eigen::Vector3d* ds) const {
   h_rate /= (1.0 - 2.0 * kCrossBegin);
   Eigen::Vector3d p;
   p.head<2>() = start_.head<2>() + h * (end_.head<2>() - start_.head<2>());
-  double z_rate = 0.0;
+  // lift in [0, 1]: how far up the foot is (0 at the footholds, 1 at the apex).
+  double lift = 0.0, lift_rate = 0.0;
   if (s <= 0.5) {
-    double r = 0.0;
-    p.z() = start_.z() + (apex_z_ - start_.z()) * SmoothStep(s / kRiseEnd, &r);
-    z_rate = (apex_z_ - start_.z()) * r / kRiseEnd;
+    lift = SmoothStep(s / kRiseEnd, &lift_rate);
+    lift_rate /= kRiseEnd;
+    p.z() = start_.z() + (apex_z_ - start_.z()) * lift;
   } else {
-    double r = 0.0;
-    p.z() = end_.z() + (apex_z_ - end_.z()) * SmoothStep((1.0 - s) / kRiseEnd, &r);
-    z_rate = -(apex_z_ - end_.z()) * r / kRiseEnd;
+    lift = SmoothStep((1.0 - s) / kRiseEnd, &lift_rate);
+    lift_rate /= -kRiseEnd;
+    p.z() = end_.z() + (apex_z_ - end_.z()) * lift;
   }
+  p.head<2>() += lift * bow_;
   if (ds) {
-    ds->head<2>() = h_rate * (end_.head<2>() - start_.head<2>());
-    ds->z() = z_rate;
+    ds->head<2>() = h_rate * (end_.head<2>() - start_.head<2>()) + lift_rate * bow_;
+    ds->z() = (s <= 0.5 ? apex_z_ - start_.z() : apex_z_ - end_.z()) * lift_rate;
   }
   return p;
 }
 
 SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
                                       const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config,
-                                      const LegCheck& leg_clear) {
+                                      const LegCheck& leg_clear, const Eigen::Vector2d& inward_W) {
   SwingTrajectory s;
   s.start_ = start_W;
   s.end_ = target_W - Eigen::Vector3d(0, 0, config.touchdown_depth_m);
@@ -75,37 +85,51 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
   const bool check_terrain = terrain != nullptr && !terrain->triangles.empty();
   if (check_terrain || leg_clear) {
     std::optional<SwingTrajectory> best;
-    for (double rise = 0.0; rise <= kMaxRise + 1e-9; rise += kRiseStep) {
-      SwingTrajectory c = s;
-      c.apex_z_ = base_apex + rise;
-      double middle = std::numeric_limits<double>::infinity();
-      bool enters = false;
-      for (int k = 1; k < kSamples; ++k) {
-        const double u = static_cast<double>(k) / kSamples;
-        if (u > kEndSkip) break;
-        const Eigen::Vector3d p = c.At(u);
-        if (check_terrain) {
-          const std::optional<double> top = TerrainTop(*terrain, p.head<2>(), foot_radius_m);
-          if (top) {
-            // Away from its footholds the foot keeps the clearance; next to them it only must
-            // not touch the terrain (it rises from and descends to a surface there).
-            const double gap = p.z() - *top;
+    const bool can_bow = leg_clear && inward_W.norm() > 1e-9;
+    const int bows = can_bow ? kBows : 1;
+    bool found = false;
+    for (int bow = 0; bow < bows && !found; ++bow) {
+      for (double rise = 0.0; rise <= kMaxRise + 1e-9; rise += kRiseStep) {
+        SwingTrajectory c = s;
+        c.apex_z_ = base_apex + rise;
+        if (can_bow) c.bow_ = kBowStep * bow * inward_W.normalized();
+        double middle = std::numeric_limits<double>::infinity();
+        bool enters = false;
+        for (int k = 1; k < kSamples; ++k) {
+          const double u = static_cast<double>(k) / kSamples;
+          if (u > kEndSkip) break;
+          const Eigen::Vector3d p = c.At(u);
+          if (check_terrain) {
+            // Away from its footholds the foot keeps the clearance; next to
+            // them it only must not sink into the terrain (it rises from and
+            // descends to a surface there; the last part of the path dips below
+            // the new foothold on purpose).
             const double near = foot_radius_m + 0.02;
-            const bool away = (p.head<2>() - c.start_.head<2>()).norm() > near &&
-                              (p.head<2>() - target_W.head<2>()).norm() > near;
-            if (away) middle = std::min(middle, gap);
-            if (gap < 0.005 && !(u > 1.0 - kRiseEnd && !away)) enters = true;
+            const bool near_end = (p.head<2>() - target_W.head<2>()).norm() <= near;
+            const bool away = (p.head<2>() - c.start_.head<2>()).norm() > near && !near_end;
+            Eigen::Vector3d probe = p;
+            if (near_end) probe.z() = std::max(p.z(), target_W.z());
+            const double gap = SphereGap(*terrain, probe, foot_radius_m);
+            if (std::isfinite(gap)) {
+              if (away) middle = std::min(middle, gap);
+              if (gap < (away ? 0.005 : -0.003)) enters = true;
+            }
           }
+          // The leg is checked once the foot is off the ground (at its
+          // footholds the plan's own stances hold, and a foot on the ground
+          // touches it).
+          const bool lifted = p.z() > std::max(start_W.z(), target_W.z()) + 0.02;
+          if (leg_clear && lifted && k % 2 == 0 && !leg_clear(p)) c.leg_collisions_ += 1;
         }
-        if (leg_clear && k % 2 == 0 && !leg_clear(p)) c.leg_collisions_ += 1;
+        c.clearance_m_ = middle;
+        const bool terrain_ok = !enters && middle >= config.terrain_clearance_m;
+        if (terrain_ok && c.leg_collisions_ == 0) {
+          best = c;
+          found = true;
+          break;
+        }
+        if (terrain_ok && (!best || c.leg_collisions_ < best->leg_collisions_)) best = c;
       }
-      c.clearance_m_ = middle;
-      const bool terrain_ok = !enters && middle >= config.terrain_clearance_m;
-      if (terrain_ok && c.leg_collisions_ == 0) {
-        best = c;
-        break;
-      }
-      if (terrain_ok && (!best || c.leg_collisions_ <= best->leg_collisions_)) best = c;
     }
     if (best) {
       s = *best;
@@ -113,9 +137,9 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
       s.apex_z_ = base_apex + kMaxRise;
     }
   }
-  // Duration from the path length: up, across, down.
+  // Duration from the path length: up, across, down (and the bow out and back).
   const double length = (s.apex_z_ - s.start_.z()) + (s.end_.head<2>() - s.start_.head<2>()).norm() +
-                        (s.apex_z_ - s.end_.z());
+                        (s.apex_z_ - s.end_.z()) + 2.0 * s.bow_.norm();
   s.duration_s_ = std::max(config.min_duration_s, length / config.speed_mps);
   return s;
 }

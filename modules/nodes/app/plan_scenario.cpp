@@ -7,7 +7,8 @@
 int main(int argc, char** argv) {
   using namespace rbcp;
   CLI::App app{"Runs affordance extraction, root planning and contact planning on a scenario file in one process.\n"
-               "With --stage contact --json the plan is under 'states', in the form check_plan reads.\n"
+               "With --stage contact --json the plan is under 'states', in the form check_plan reads; --stage sim\n"
+               "then walks the plan in the simulator and adds its outcome (sim_ok, failure, sim_trace, ...).\n"
                "Exit status: 0 planned, 1 a stage failed (reason in 'failure'), 2 bad input."};
   nodes::CommonOptions common;
   nodes::AddCommonOptions(app, common);
@@ -17,7 +18,7 @@ int main(int argc, char** argv) {
   bool json = false;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
   app.add_option("--seed", seed, "random seed of the planners")->capture_default_str();
-  app.add_option("--stage", stage, "last stage to run: affordance, root or contact")->capture_default_str();
+  app.add_option("--stage", stage, "last stage to run: affordance, root, contact or sim")->capture_default_str();
   app.add_option("--time-budget", budget, "root planning time budget [s]")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_flag("--json", json, "print one JSON object instead of a summary");
   return nodes::GuardedMain("plan_scenario", app, argc, argv, [&] {
@@ -35,6 +36,10 @@ int main(int argc, char** argv) {
       if (result.contact) {
         std::cout << "; contact " << ToString(result.contact->status) << " in " << result.contact->planning_time_s << " s";
         if (result.contact->ok) std::cout << ", " << result.contact->steps << " steps";
+      }
+      if (result.sim) {
+        std::cout << "; sim " << (result.sim->ok() ? "goal reached" : "failed") << " after " << result.sim->sim_time_s
+                  << " s simulated in " << result.sim_wall_s << " s";
       }
       std::cout << "\n";
       if (!result.ok()) std::cout << "failure: " << result.failure << "\n";

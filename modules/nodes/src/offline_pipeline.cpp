@@ -21,7 +21,8 @@ PipelineStage ParseStage(const std::string& name) {
   if (name == "affordance") return PipelineStage::kAffordance;
   if (name == "root") return PipelineStage::kRoot;
   if (name == "contact") return PipelineStage::kContact;
-  throw InputError("stage: expected 'affordance', 'root' or 'contact', got '" + name + "'");
+  if (name == "sim") return PipelineStage::kSim;
+  throw InputError("stage: expected 'affordance', 'root', 'contact' or 'sim', got '" + name + "'");
 }
 
 OfflinePipeline::OfflinePipeline(const std::string& config_dir)
@@ -32,7 +33,9 @@ OfflinePipeline::OfflinePipeline(const std::string& config_dir)
           *robot_, RootPlannerConfig::LoadFile(config_dir + "/root_planner.yaml", config_dir))),
       equilibrium_config_(EquilibriumConfig::LoadFile(config_dir + "/equilibrium.yaml")),
       contact_config_(ContactPlannerConfig::LoadFile(config_dir + "/contact_planner.yaml")),
-      limb_database_config_(LimbDatabaseConfig::LoadFile(config_dir + "/limb_database.yaml")) {}
+      limb_database_config_(LimbDatabaseConfig::LoadFile(config_dir + "/limb_database.yaml")),
+      sim_config_(sim::SimConfig::LoadFile(config_dir + "/sim.yaml")),
+      controller_config_(ControllerConfig::LoadFile(config_dir + "/controller.yaml")) {}
 
 const LimbDatabase& OfflinePipeline::limb_database() const {
   std::call_once(limb_database_once_, [this] {
@@ -78,6 +81,22 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
   result.contact = contact_planner.Plan(result.root->samples);
   if (!result.contact->ok) {
     result.failure = "contact: " + ToString(result.contact->status) + ": " + result.contact->reason;
+    return result;
+  }
+  if (stage == PipelineStage::kContact) return result;
+
+  start = std::chrono::steady_clock::now();
+  sim::PlanExecution execution(*robot_, config_dir_ + "/robots/anymal_b.urdf", scenario, sim_config_,
+                               controller_config_);
+  execution.Start(result.contact->plan);
+  result.sim = execution.Run();
+  result.sim_wall_s = MsSince(start) / 1000.0;
+  if (!result.sim->ok()) {
+    const auto& f = result.sim->failure;
+    result.failure = "sim: " + (f ? f->what + " at " + std::to_string(f->t) + " s, step " + std::to_string(f->step) +
+                                        (f->leg.empty() ? "" : " (" + f->leg + ")") + " during " + f->phase + ": " +
+                                        f->detail
+                                  : std::string("the goal was not reached"));
   }
   return result;
 }
@@ -113,11 +132,22 @@ nlohmann::json ToJson(const PipelineResult& result) {
     j["steps"] = contact.ok ? contact.steps : 0;
     j["reached_goal"] = contact.reached_goal;
     j["states"] = contact.ok ? ContactPlanToJson(contact.plan) : nlohmann::json::array();
-  } else if (result.stage == PipelineStage::kContact) {
+  } else if (result.stage == PipelineStage::kContact || result.stage == PipelineStage::kSim) {
     j["contact_ok"] = false;
     j["contact_s"] = 0.0;
     j["steps"] = 0;
     j["states"] = nlohmann::json::array();
+  }
+  if (result.sim) {
+    j.update(sim::OutcomeToJson(*result.sim));
+    j["sim_wall_s"] = result.sim_wall_s;
+  } else if (result.stage == PipelineStage::kSim) {
+    j["sim_ok"] = false;
+    j["reached_goal"] = false;
+    j["fell"] = false;
+    j["sim_time_s"] = 0.0;
+    j["sim_wall_s"] = 0.0;
+    j["sim_trace"] = nlohmann::json::array();
   }
   j["failure"] = result.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(result.failure);
   return j;

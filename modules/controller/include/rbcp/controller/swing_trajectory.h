@@ -4,7 +4,9 @@
 /// the foothold, so that it touches down), each part blended smoothly into the next: the height
 /// reaches the apex over the first 40 % of the swing while the horizontal motion runs from 20 %
 /// to 80 %. The apex is raised until the path clears the terrain under it (and, when a check is
-/// given, until the whole leg does).
+/// given, until the whole leg does); if raising alone does not clear the leg, the path also bows
+/// sideways towards the body (a lifted foot under an abducted leg swings its knee outwards, into
+/// a wall beside the robot; drawing the foot in keeps the leg upright).
 
 #include <Eigen/Core>
 #include <functional>
@@ -25,11 +27,13 @@ class SwingTrajectory {
   /// the apex is raised in 2 cm steps (up to 0.3 m) until the foot (a sphere of radius
   /// foot_radius_m above its contact point) stays terrain_clearance_m above the terrain over the
   /// middle of the path and never enters it near the ends, and `leg_clear` (if given) holds at
-  /// every sample. The lowest apex that satisfies everything is kept; if none does, the one with
-  /// the fewest leg collisions, highest first.
+  /// every sample. The lowest apex that satisfies everything is kept; if none does, the lowest one
+  /// with the fewest leg collisions.
+  /// `inward_W`: horizontal direction towards the body, along which the path may bow (in 3 cm
+  /// steps up to 9 cm at the apex) when the leg check fails at every apex; zero: never.
   static SwingTrajectory Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
                               const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config,
-                              const LegCheck& leg_clear = {});
+                              const LegCheck& leg_clear = {}, const Eigen::Vector2d& inward_W = Eigen::Vector2d::Zero());
 
   double Duration() const { return duration_s_; }
   /// Phase in [0, 1] after t [s] of swing.
@@ -44,6 +48,8 @@ class SwingTrajectory {
   double Apex() const { return apex_z_; }
   /// Samples at which `leg_clear` failed (0 when it held everywhere or was not given).
   int LegCollisions() const { return leg_collisions_; }
+  /// Sideways bow of the path at the apex [m, world xy].
+  const Eigen::Vector2d& Bow() const { return bow_; }
 
  private:
   /// Position and d/ds at path parameter s in [0, 1].
@@ -52,6 +58,7 @@ class SwingTrajectory {
   Eigen::Vector3d start_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d end_ = Eigen::Vector3d::Zero();
   double apex_z_ = 0.0;
+  Eigen::Vector2d bow_ = Eigen::Vector2d::Zero();
   double duration_s_ = 1.0;
   double clearance_m_ = 0.0;
   int leg_collisions_ = 0;

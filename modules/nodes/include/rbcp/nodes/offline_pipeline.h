@@ -13,17 +13,20 @@
 
 #include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/contact_planner/contact_planner.h"
+#include "rbcp/controller/controller_config.h"
 #include "rbcp/equilibrium/config.h"
 #include "rbcp/limb_database/limb_database.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/root_planner/root_planner.h"
 #include "rbcp/scenario/scenario.h"
+#include "rbcp/sim/plan_execution.h"
+#include "rbcp/sim/sim_config.h"
 
 namespace rbcp::nodes {
 
-enum class PipelineStage { kAffordance, kRoot, kContact };
+enum class PipelineStage { kAffordance, kRoot, kContact, kSim };
 
-/// "affordance", "root", "contact"; throws InputError for anything else.
+/// "affordance", "root", "contact", "sim"; throws InputError for anything else.
 PipelineStage ParseStage(const std::string& name);
 
 struct PipelineResult {
@@ -36,6 +39,8 @@ struct PipelineResult {
 
   std::optional<RootPlanResult> root;  ///< set when the root stage ran
   std::optional<ContactPlanResult> contact;  ///< set when the contact stage ran
+  std::optional<sim::ExecutionOutcome> sim;   ///< set when the sim stage ran
+  double sim_wall_s = 0.0;                    ///< wall time of the simulation [s]
 
   /// The first failing stage's reason, "" when every stage that ran succeeded.
   std::string failure;
@@ -47,12 +52,13 @@ struct PipelineResult {
 class OfflinePipeline {
  public:
   /// Reads config_dir/{robots/anymal_b.*, affordance.yaml, root_planner.yaml, equilibrium.yaml,
-  /// contact_planner.yaml, limb_database.yaml}. Throws InputError. The limb database itself is
+  /// contact_planner.yaml, limb_database.yaml, sim.yaml, controller.yaml}. Throws InputError. The limb database itself is
   /// loaded (or built and cached) by the first contact stage.
   explicit OfflinePipeline(const std::string& config_dir);
 
   /// Runs the stages up to `stage` on the scenario. The contact stage plans the whole root path
-  /// (its samples, as ROOT_PATH carries them) with the contact planner's own time budget.
+  /// (its samples, as ROOT_PATH carries them) with the contact planner's own time budget; the sim
+  /// stage walks the contact plan in the simulator (on the same scenario) and judges the run.
   /// Planning failures are reported in the result (failure), not thrown.
   PipelineResult Run(const Scenario& scenario, PipelineStage stage, unsigned seed, double root_time_budget_s) const;
 
@@ -69,6 +75,8 @@ class OfflinePipeline {
   EquilibriumConfig equilibrium_config_;
   ContactPlannerConfig contact_config_;
   LimbDatabaseConfig limb_database_config_;
+  sim::SimConfig sim_config_;
+  ControllerConfig controller_config_;
   mutable std::once_flag limb_database_once_;
   mutable std::unique_ptr<LimbDatabase> limb_database_;
 };
@@ -76,8 +84,10 @@ class OfflinePipeline {
 /// The JSON object printed by plan_scenario: affordance_ms, surfaces, root_ok, root_s,
 /// root_status, root_duration_s, root_path [{t, position, velocity, yaw}]; for the contact stage
 /// contact_ok, contact_s, contact_status, steps, reached_goal and states (the plan in the form of
-/// ContactPlanToJson, read back by check_plan); failure (null or the reason). Keys of earlier
-/// stages stay stable as later stages add theirs.
+/// ContactPlanToJson, read back by check_plan); for the sim stage the keys of sim::OutcomeToJson
+/// (sim_ok, fell, sim_time_s, sim_trace, ...; its reached_goal replaces the contact stage's) and
+/// sim_wall_s; failure (null or the reason). Keys of earlier stages stay stable as later stages
+/// add theirs.
 nlohmann::json ToJson(const PipelineResult& result);
 
 }  // namespace rbcp::nodes

@@ -1,0 +1,99 @@
+// anymal_sim: the simulator. As a process it is the world (TERRAIN, ROBOT_STATE, STATUS out,
+// CONTACT_PLAN in); with --plan it executes one plan offline and prints the outcome.
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include "rbcp/controller/controller_config.h"
+#include "rbcp/nodes/process.h"
+#include "rbcp/plan_checker/plan_json.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/scenario/scenario.h"
+#include "rbcp/sim/plan_execution.h"
+#include "rbcp/sim/sim_node.h"
+#include "rbcp/transport/run_loop.h"
+
+int main(int argc, char** argv) {
+  using namespace rbcp;
+  using Clock = std::chrono::steady_clock;
+  CLI::App app{"ANYmal B in a Bullet simulation, walked by the onboard plan controller.\n"
+               "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time) and STATUS, and\n"
+               "walks every CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints\n"
+               "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input."};
+  nodes::CommonOptions common;
+  nodes::AddCommonOptions(app, common);
+  std::string scenario_path, plan_path, sim_config_path, controller_config_path;
+  bool json = false, exit_when_decided = false;
+  double realtime_factor = 1.0;
+  app.add_option("--scenario", scenario_path, "scenario YAML: the world (terrain, and the start the robot stands on)")
+      ->required()->check(CLI::ExistingFile);
+  app.add_option("--plan", plan_path, "execute this contact plan (JSON as plan_scenario --stage contact prints it, "
+                                      "'-' for standard input) and exit");
+  app.add_flag("--json", json, "with --plan: print the outcome as one JSON object (with the 20 Hz trace)");
+  app.add_option("--realtime-factor", realtime_factor,
+                 "process: simulated seconds per wall second (0: as fast as possible)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_flag("--exit-when-decided", exit_when_decided,
+               "process: exit once a plan's outcome is decided (status 0 goal reached, 1 failed)");
+  app.add_option("--sim-config", sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
+  app.add_option("--controller-config", controller_config_path,
+                 "controller parameters (default: CONFIG_DIR/controller.yaml)");
+  return nodes::GuardedMain(sim::SimNode::kProcessName, app, argc, argv, [&]() -> int {
+    const sim::SimConfig sim_config =
+        sim::SimConfig::LoadFile(sim_config_path.empty() ? common.config_dir + "/sim.yaml" : sim_config_path);
+    const ControllerConfig controller_config = ControllerConfig::LoadFile(
+        controller_config_path.empty() ? common.config_dir + "/controller.yaml" : controller_config_path);
+    const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
+    const Scenario scenario = LoadScenario(scenario_path);
+    sim::PlanExecution execution(robot, common.config_dir + "/robots/anymal_b.urdf", scenario, sim_config,
+                                 controller_config);
+    if (!plan_path.empty()) {
+      const ContactPlan plan = LoadContactPlanFile(plan_path);
+      execution.Start(plan);
+      const auto start = Clock::now();
+      const sim::ExecutionOutcome& outcome = execution.Run();
+      const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+      if (json) {
+        nlohmann::json j = sim::OutcomeToJson(outcome);
+        j["sim_wall_s"] = wall_s;
+        std::cout << j.dump() << std::endl;
+      } else {
+        std::cout << "anymal_sim: " << sim::OutcomeSummary(outcome) << " (" << wall_s << " s wall, "
+                  << outcome.sim_time_s / std::max(wall_s, 1e-9) << "x real time)" << std::endl;
+      }
+      return outcome.ok() ? 0 : 1;
+    }
+
+    auto lcm = transport::OpenLcm(common.lcm_url);
+    sim::SimNode node(*lcm, execution, scenario, sim_config);
+    node.status().set_verbose(!common.quiet);
+    transport::InstallStopHandlers();
+    std::cerr << "[anymal_sim] " << scenario.name << ": TERRAIN, ROBOT_STATE, STATUS out; CONTACT_PLAN in; "
+              << (realtime_factor > 0 ? std::to_string(realtime_factor) + "x real time" : std::string("as fast as possible"))
+              << "\n";
+    const auto start = Clock::now();
+    auto next_heartbeat = start;
+    while (!transport::StopRequested()) {
+      while (lcm->handleTimeout(0) > 0) {
+      }
+      node.Tick();
+      const auto now = Clock::now();
+      if (now >= next_heartbeat) {
+        node.Heartbeat();
+        next_heartbeat = now + std::chrono::milliseconds(250);
+      }
+      if (exit_when_decided && node.Decided()) {
+        node.Heartbeat();
+        return execution.Outcome().ok() ? 0 : 1;
+      }
+      const double wall_s = std::chrono::duration<double>(now - start).count();
+      if (common.max_runtime_s > 0 && wall_s > common.max_runtime_s) break;
+      if (realtime_factor > 0) {
+        std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
+                                                  std::chrono::duration<double>(node.SimTime() / realtime_factor)));
+      }
+    }
+    return 0;
+  });
+}

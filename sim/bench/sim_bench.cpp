@@ -1,0 +1,161 @@
+// sim_bench: the paper's yardstick, success in dynamic simulation. For every scenario and seed it
+// plans (affordances, root path, contacts) and walks the plan in the simulator, in parallel jobs,
+// and prints per scenario: plans, goals reached, the failures by kind, mean simulated time to the
+// goal, mean speed, steps, and the real-time factor of the simulation with the controller in the
+// loop (median over runs). Markdown on stdout; --json FILE also writes every run.
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "rbcp/nodes/offline_pipeline.h"
+#include "rbcp/nodes/process.h"
+
+namespace {
+
+using namespace rbcp;
+
+struct Run {
+  std::string scenario;
+  unsigned seed = 0;
+  bool planned = false;
+  bool reached = false;
+  std::string failure;  // "" or what failed ("contact", "fall", ...)
+  std::string detail;
+  int steps = 0;
+  double sim_s = 0.0, wall_s = 0.0, distance_m = 0.0, max_torque_ratio = 0.0;
+  int collisions = 0;
+};
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Plans and simulates every scenario over several seeds; prints the success table."};
+  std::string config_dir = nodes::DefaultConfigDir(), json_path;
+  std::vector<std::string> scenarios = {"flat_ground", "slalom_debris", "plinth", "darpa_rubble"};
+  unsigned seeds = 20, first_seed = 1;
+  int jobs = 2;
+  double budget = 5.0;
+  app.add_option("--config-dir", config_dir, "configuration folder")->capture_default_str();
+  app.add_option("--scenarios", scenarios, "scenario names (config/scenarios/NAME.yaml) or files")->capture_default_str();
+  app.add_option("--seeds", seeds, "seeds per scenario")->capture_default_str();
+  app.add_option("--first-seed", first_seed, "first seed")->capture_default_str();
+  app.add_option("--jobs", jobs, "runs in parallel")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--time-budget", budget, "root planning time budget [s]")->capture_default_str();
+  app.add_option("--json", json_path, "also write every run to this JSON file");
+  return nodes::GuardedMain("sim_bench", app, argc, argv, [&]() -> int {
+    const nodes::OfflinePipeline pipeline(config_dir);
+    pipeline.limb_database();
+    std::vector<Scenario> loaded;
+    for (const std::string& s : scenarios) {
+      loaded.push_back(LoadScenario(s.find('/') == std::string::npos && s.find(".yaml") == std::string::npos
+                                        ? config_dir + "/scenarios/" + s + ".yaml"
+                                        : s));
+    }
+    std::vector<std::pair<std::size_t, unsigned>> work;
+    for (std::size_t i = 0; i < loaded.size(); ++i) {
+      for (unsigned k = 0; k < seeds; ++k) work.emplace_back(i, first_seed + k);
+    }
+    std::vector<Run> runs(work.size());
+    std::atomic<std::size_t> next{0};
+    std::mutex print;
+    auto worker = [&] {
+      for (std::size_t w = next++; w < work.size(); w = next++) {
+        const Scenario& scenario = loaded[work[w].first];
+        const unsigned seed = work[w].second;
+        const nodes::PipelineResult r = pipeline.Run(scenario, nodes::PipelineStage::kSim, seed, budget);
+        Run& run = runs[w];
+        run.scenario = scenario.name;
+        run.seed = seed;
+        run.planned = r.contact && r.contact->ok;
+        run.steps = run.planned ? r.contact->steps : 0;
+        if (r.sim) {
+          run.reached = r.sim->ok();
+          run.sim_s = r.sim->sim_time_s;
+          run.wall_s = r.sim_wall_s;
+          run.max_torque_ratio = r.sim->max_torque_ratio;
+          run.collisions = r.sim->collisions;
+          if (!r.sim->trace.empty()) {
+            run.distance_m = (r.sim->trace.back().base_position - r.sim->trace.front().base_position).head<2>().norm();
+          }
+          if (r.sim->failure) {
+            run.failure = r.sim->failure->what;
+            run.detail = r.failure;
+          }
+        } else {
+          run.failure = r.contact ? "contact" : r.root ? "root" : "affordance";
+          run.detail = r.failure;
+        }
+        std::lock_guard<std::mutex> lock(print);
+        std::cerr << "sim_bench: " << run.scenario << " seed " << seed << ": "
+                  << (run.reached ? "goal reached" : "FAILED " + run.detail) << " (" << run.steps << " steps, "
+                  << Fixed(run.sim_s, 1) << " s simulated in " << Fixed(run.wall_s, 1) << " s)\n";
+      }
+    };
+    std::vector<std::thread> threads;
+    for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
+    for (std::thread& t : threads) t.join();
+
+    std::cout << "| scenario | plans | goal reached | failures | mean time to goal | mean speed | mean steps | "
+                 "max torque / limit | real-time factor (median) |\n|---|---|---|---|---|---|---|---|---|\n";
+    nlohmann::json all = nlohmann::json::array();
+    for (const Scenario& scenario : loaded) {
+      int planned = 0, reached = 0;
+      double time = 0.0, speed = 0.0, steps = 0.0, torque = 0.0;
+      std::vector<double> rtf;
+      std::map<std::string, int> failures;
+      for (const Run& r : runs) {
+        if (r.scenario != scenario.name) continue;
+        planned += r.planned;
+        if (r.planned) steps += r.steps;
+        if (r.wall_s > 0.0) rtf.push_back(r.sim_s / r.wall_s);
+        torque = std::max(torque, r.max_torque_ratio);
+        if (r.reached) {
+          ++reached;
+          time += r.sim_s;
+          speed += r.distance_m / r.sim_s;
+        } else {
+          failures[r.failure] += 1;
+        }
+        all.push_back({{"scenario", r.scenario}, {"seed", r.seed}, {"planned", r.planned}, {"reached_goal", r.reached},
+                       {"failure", r.failure.empty() ? nlohmann::json() : nlohmann::json(r.failure)},
+                       {"detail", r.detail}, {"steps", r.steps}, {"sim_time_s", r.sim_s}, {"sim_wall_s", r.wall_s},
+                       {"distance_m", r.distance_m}, {"max_torque_ratio", r.max_torque_ratio},
+                       {"collisions", r.collisions}});
+      }
+      std::string failure_text;
+      for (const auto& [what, n] : failures) failure_text += (failure_text.empty() ? "" : ", ") + what + " " + std::to_string(n);
+      std::cout << "| " << scenario.name << " | " << planned << "/" << seeds << " | " << reached << "/" << seeds << " | "
+                << (failure_text.empty() ? "-" : failure_text) << " | "
+                << (reached ? Fixed(time / reached, 1) + " s" : "-") << " | "
+                << (reached ? Fixed(speed / reached, 3) + " m/s" : "-") << " | "
+                << (planned ? Fixed(steps / planned, 1) : "-") << " | " << Fixed(torque, 2) << " | "
+                << Fixed(Median(rtf), 1) << "x |\n";
+    }
+    if (!json_path.empty()) {
+      std::ofstream out(json_path);
+      out << all.dump(1) << "\n";
+    }
+    return 0;
+  });
+}

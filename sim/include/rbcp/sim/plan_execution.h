@@ -1,0 +1,132 @@
+#pragma once
+/// A contact plan walked in the simulated world by the onboard controller, and judged by the
+/// simulator from the true world (never from what the controller believes).
+///
+/// Outcome: the goal is reached when the controller has executed every state, the base is within
+/// outcome.goal_tolerance_m of the plan's final base and the four feet stand on the terrain. The
+/// first failure ends the run:
+///  - "fall": the trunk or a thigh touches the terrain, or roll or pitch leaves the plan's by more
+///    than outcome.max_tilt_rad;
+///  - "foot_slip": a foot in contact moves more than outcome.max_slip_m from where it touched down;
+///  - "torque_saturation": a joint's command stays at the torque limit longer than
+///    outcome.max_saturation_s;
+///  - "no_ground": the controller reached down for a foothold and the foot touches nothing;
+///  - "controller": the controller stopped for another reason;
+///  - "timeout": the run outlasts timeout_base_s + timeout_per_step_s per step.
+/// Other robot-terrain contacts (hips, shanks, foot adapters) are counted as collisions.
+
+#include <Eigen/Core>
+#include <array>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rbcp/controller/plan_controller.h"
+#include "rbcp/core/contact_plan.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/scenario/scenario.h"
+#include "rbcp/sim/bullet_world.h"
+#include "rbcp/sim/sim_config.h"
+
+namespace rbcp::sim {
+
+struct ExecutionFailure {
+  std::string what;    ///< "fall", "foot_slip", "torque_saturation", "no_ground", "controller", "timeout"
+  double t = 0.0;      ///< simulated time [s]
+  int step = 0;        ///< plan state being walked to
+  std::string leg;     ///< leg or joint concerned ("LF", "RH_KFE", "" when none)
+  std::string phase;   ///< what the controller was doing ("swing", "shift", ...; see ControllerPhase)
+  std::string detail;  ///< what was seen, with numbers
+};
+
+struct TraceSample {
+  double t = 0.0;
+  Eigen::Vector3d base_position = Eigen::Vector3d::Zero();  ///< [m], world
+  Eigen::Vector3d base_rpy = Eigen::Vector3d::Zero();       ///< [rad]
+  std::array<Eigen::Vector3d, kNumLegs> feet;               ///< lowest point of each foot sphere [m], world
+  std::array<bool, kNumLegs> contact{};
+};
+
+struct ExecutionOutcome {
+  bool reached_goal = false;
+  std::optional<ExecutionFailure> failure;
+  double sim_time_s = 0.0;
+  int steps_total = 0;      ///< steps of the plan (states after the first)
+  int steps_executed = 0;
+  double max_torque_ratio = 0.0;  ///< largest |applied torque| / limit
+  int collisions = 0;             ///< onsets of other robot-terrain contacts
+  std::map<std::string, int> collision_links;  ///< the same by link
+  int early_touchdowns = 0;
+  int late_touchdowns = 0;
+  double final_base_error_m = 0.0;  ///< base distance to the plan's final base at the end
+  double min_support_margin_m = std::numeric_limits<double>::infinity();  ///< least CoM margin in the stance polygon during swings
+  std::vector<TraceSample> trace;
+  bool fell() const { return failure && failure->what == "fall"; }
+  bool ok() const { return reached_goal && !failure; }
+};
+
+class PlanExecution {
+ public:
+  /// Builds the world of `scenario` (its terrain: the world may differ from the one the plan was
+  /// made on) and a controller that knows that terrain. The models must outlive this object.
+  PlanExecution(const RobotModel& robot, const std::string& urdf_path, const Scenario& scenario,
+                const SimConfig& sim_config, const ControllerConfig& controller_config);
+  ~PlanExecution();
+
+  /// Puts the robot at rest in the plan's first state (lifted by drop_height_m over the terrain)
+  /// and hands the plan to the controller.
+  void Start(const ContactPlan& plan);
+  /// Puts the robot at rest in the reference stance at `pose` on the terrain, with no plan: the
+  /// controller holds it until StartPlan.
+  void StandAt(const BaseGoal& pose);
+  /// Hands a plan to the controller (replacing the rest of a running one at a step boundary).
+  void GivePlan(const ContactPlan& plan);
+
+  /// One control period: the controller's torques from the measured state, then the physics
+  /// steps of that period, then the judge. Returns false once the outcome is decided.
+  bool Tick();
+  /// Ticks until the outcome is decided.
+  const ExecutionOutcome& Run();
+
+  bool Decided() const { return decided_; }
+  const ExecutionOutcome& Outcome() const { return outcome_; }
+  RobotState State() const { return world_->State(); }
+  BulletWorld& World() { return *world_; }
+  const PlanController& Controller() const { return *controller_; }
+  double Time() const { return world_->Time(); }
+
+ private:
+  void Reset(const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W, const JointVector& q);
+  void Judge(const RobotState& state, const JointVector& commanded);
+  void Decide(std::optional<ExecutionFailure> failure);
+  void Sample(const RobotState& state);
+
+  const RobotModel& robot_;
+  SimConfig config_;
+  Scenario scenario_;
+  std::unique_ptr<BulletWorld> world_;
+  std::unique_ptr<PlanController> controller_;
+  ContactPlan plan_;
+  bool has_plan_ = false;
+  bool decided_ = false;
+  ExecutionOutcome outcome_;
+  double timeout_s_ = 0.0;
+  double next_sample_s_ = 0.0;
+  std::array<std::optional<Eigen::Vector3d>, kNumLegs> touchdown_W_;  // foot centre at touchdown
+  std::array<double, kNumLegs> last_contact_s_{};
+  std::array<double, kNumJoints> saturated_since_{};
+  std::map<std::string, bool> touching_;  // links other than feet touching the terrain now
+};
+
+/// The outcome as JSON: sim_ok, reached_goal, fell, sim_time_s, failure (null or {what, t, step,
+/// leg, phase, detail}), max_torque_ratio, collisions, collision_links, steps_total, steps_executed,
+/// early_touchdowns, late_touchdowns, final_base_error_m, min_support_margin_m and sim_trace
+/// [{t, base: {position, rpy}, feet: [{leg, position, contact}]}].
+nlohmann::json OutcomeToJson(const ExecutionOutcome& outcome);
+
+}  // namespace rbcp::sim

@@ -1,0 +1,313 @@
+#include "rbcp/sim/plan_execution.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "rbcp/core/error.h"
+#include "rbcp/core/triangle_mesh.h"
+
+namespace rbcp::sim {
+namespace {
+
+std::string Fixed(double v, int digits = 3) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// Roll, pitch, yaw of a rotation, R = Rz(yaw) Ry(pitch) Rx(roll).
+Eigen::Vector3d Rpy(const Eigen::Matrix3d& R) {
+  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  return Eigen::Vector3d(std::atan2(R(2, 1), R(2, 2)), pitch, std::atan2(R(1, 0), R(0, 0)));
+}
+
+double AngleDiff(double a, double b) { return std::abs(std::remainder(a - b, 2.0 * M_PI)); }
+
+}  // namespace
+
+PlanExecution::PlanExecution(const RobotModel& robot, const std::string& urdf_path, const Scenario& scenario,
+                             const SimConfig& sim_config, const ControllerConfig& controller_config)
+    : robot_(robot), config_(sim_config), scenario_(scenario) {
+  config_.Validate();
+  world_ = std::make_unique<BulletWorld>(urdf_path, scenario_.terrain, config_.physics);
+  controller_ = std::make_unique<PlanController>(robot_, controller_config, &scenario_.terrain_mesh);
+}
+
+PlanExecution::~PlanExecution() = default;
+
+void PlanExecution::Reset(const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W,
+                          const JointVector& q) {
+  // Lift the robot until its lowest foot sphere is drop_height_m above the terrain under it.
+  world_->ResetRobot(base_W, orientation_W, q);
+  double lift = -std::numeric_limits<double>::infinity();
+  const double r = robot_.FootRadius();
+  for (const Eigen::Vector3d& c : world_->FootCentersW()) {
+    const std::optional<double> ground = TerrainHeightAt(scenario_.terrain_mesh, c.head<2>());
+    if (ground) lift = std::max(lift, *ground - (c.z() - r));
+  }
+  if (!std::isfinite(lift)) lift = 0.0;
+  world_->ResetRobot(base_W + Eigen::Vector3d(0, 0, lift + config_.drop_height_m), orientation_W, q);
+  outcome_ = ExecutionOutcome{};
+  decided_ = false;
+  next_sample_s_ = 0.0;
+  touchdown_W_.fill(std::nullopt);
+  last_contact_s_.fill(0.0);
+  saturated_since_.fill(-1.0);
+  touching_.clear();
+  controller_ = std::make_unique<PlanController>(robot_, controller_->Config(), &scenario_.terrain_mesh);
+}
+
+void PlanExecution::Start(const ContactPlan& plan) {
+  if (plan.states.empty()) throw InputError("simulator: expected a plan with at least one state, got none");
+  const WholeBodyState& first = plan.states.front();
+  Reset(first.base_position, Eigen::Quaterniond(RotationFromRpy(first.base_rpy)), first.joints);
+  GivePlan(plan);
+}
+
+void PlanExecution::StandAt(const BaseGoal& pose) {
+  const std::optional<double> ground = TerrainHeightAt(scenario_.terrain_mesh, pose.position);
+  if (!ground) throw InputError("simulator: no terrain under the start position");
+  const Eigen::Vector3d base(pose.position.x(), pose.position.y(), *ground + robot_.NominalBaseHeight());
+  Reset(base, Eigen::Quaterniond(Eigen::AngleAxisd(pose.yaw, Eigen::Vector3d::UnitZ())),
+        robot_.ReferenceConfiguration());
+  has_plan_ = false;
+  outcome_.steps_total = 0;
+  timeout_s_ = std::numeric_limits<double>::infinity();
+}
+
+void PlanExecution::GivePlan(const ContactPlan& plan) {
+  if (decided_) {
+    // A new plan after a verdict starts a new judged run from where the robot is.
+    decided_ = false;
+    outcome_ = ExecutionOutcome{};
+    next_sample_s_ = world_->Time();
+    saturated_since_.fill(-1.0);
+  }
+  if (has_plan_) {
+    controller_->ReplacePlan(plan);
+  } else {
+    controller_->StartPlan(plan);
+  }
+  plan_ = plan;
+  has_plan_ = true;
+  outcome_.steps_total = static_cast<int>(plan.states.size()) - 1;
+  timeout_s_ = world_->Time() + config_.outcome.timeout_base_s + config_.outcome.timeout_per_step_s * outcome_.steps_total;
+}
+
+bool PlanExecution::Tick() {
+  // After the verdict the world goes on (the controller holds its stance), unjudged.
+  const RobotState state = world_->State();
+  if (!decided_ && state.t + 1e-12 >= next_sample_s_) {
+    Sample(state);
+    next_sample_s_ += 1.0 / config_.outcome.trace_rate_hz;
+  }
+  const JointVector commanded = controller_->Update(state);
+  world_->SetJointTorques(commanded);
+  for (int i = 0; i < config_.StepsPerTick(); ++i) world_->Step();
+  if (decided_) return false;
+  Judge(world_->State(), commanded);
+  return !decided_;
+}
+
+const ExecutionOutcome& PlanExecution::Run() {
+  while (Tick()) {
+  }
+  return outcome_;
+}
+
+void PlanExecution::Sample(const RobotState& state) {
+  TraceSample s;
+  s.t = state.t;
+  s.base_position = state.base_position_W;
+  s.base_rpy = Rpy(state.base_orientation_W.toRotationMatrix());
+  const auto centres = world_->FootCentersW();
+  for (std::size_t i = 0; i < centres.size(); ++i) s.feet[i] = centres[i] - Eigen::Vector3d(0, 0, robot_.FootRadius());
+  s.contact = state.foot_contact;
+  outcome_.trace.push_back(s);
+}
+
+void PlanExecution::Decide(std::optional<ExecutionFailure> failure) {
+  decided_ = true;
+  outcome_.failure = std::move(failure);
+  outcome_.reached_goal = !outcome_.failure;
+  const RobotState state = world_->State();
+  outcome_.sim_time_s = state.t;
+  const ControllerStatus& status = controller_->Status();
+  outcome_.steps_executed = status.steps_done;
+  outcome_.early_touchdowns = status.early_touchdowns;
+  outcome_.late_touchdowns = status.late_touchdowns;
+  if (has_plan_) outcome_.final_base_error_m = (state.base_position_W - plan_.states.back().base_position).norm();
+  Sample(state);
+}
+
+void PlanExecution::Judge(const RobotState& state, const JointVector& commanded) {
+  const double t = state.t;
+  const ControllerStatus& status = controller_->Status();
+  auto failure = [&](const std::string& what, const std::string& leg, const std::string& detail) {
+    ExecutionFailure f;
+    f.what = what;
+    f.t = t;
+    f.step = status.step;
+    f.leg = leg;
+    f.phase = ToString(status.phase);
+    f.detail = detail;
+    return f;
+  };
+  const double limit = config_.physics.torque_limit_Nm;
+  outcome_.max_torque_ratio = std::max(outcome_.max_torque_ratio, state.tau.cwiseAbs().maxCoeff() / limit);
+  if (status.phase == ControllerPhase::kSwing) {
+    outcome_.min_support_margin_m = std::min(outcome_.min_support_margin_m, status.support_margin_m);
+  }
+
+  // Body contacts: the trunk or a thigh on the terrain is a fall; others are collisions.
+  std::map<std::string, bool> touching;
+  for (const TerrainContact& c : world_->TerrainContacts()) {
+    if (c.is_foot) continue;
+    if (c.link == "base" || EndsWith(c.link, "_THIGH")) {
+      Decide(failure("fall", c.leg ? std::string(LegName(*c.leg)) : "",
+                     c.link + " touches the terrain at (" + Fixed(c.position_W.x()) + ", " + Fixed(c.position_W.y()) +
+                         ", " + Fixed(c.position_W.z()) + ")"));
+      return;
+    }
+    touching[c.link] = true;
+  }
+  for (const auto& [link, on] : touching) {
+    if (!touching_.count(link)) {
+      outcome_.collisions += 1;
+      outcome_.collision_links[link] += 1;
+    }
+  }
+  touching_ = std::move(touching);
+
+  // Tilt against the plan's states on either side of the step being walked.
+  if (has_plan_) {
+    const Eigen::Vector3d rpy = Rpy(state.base_orientation_W.toRotationMatrix());
+    double tilt = std::numeric_limits<double>::infinity();
+    for (int k : {status.step - 1, status.step}) {
+      if (k < 0 || k >= static_cast<int>(plan_.states.size())) continue;
+      const Eigen::Vector3d& planned = plan_.states[static_cast<std::size_t>(k)].base_rpy;
+      tilt = std::min(tilt, std::max(AngleDiff(rpy.x(), planned.x()), AngleDiff(rpy.y(), planned.y())));
+    }
+    if (std::isfinite(tilt) && tilt > config_.outcome.max_tilt_rad) {
+      Decide(failure("fall", "", "roll or pitch " + Fixed(tilt) + " rad from the plan's"));
+      return;
+    }
+  }
+
+  // Foot slip: a stance foot in contact stays where it touched down. The leg the current step
+  // moves is not a stance foot until its step is done (its swing may brush the terrain).
+  const auto centres = world_->FootCentersW();
+  for (Leg leg : kAllLegs) {
+    const std::size_t i = static_cast<std::size_t>(Index(leg));
+    if (status.swing_leg == leg) {
+      touchdown_W_[i].reset();
+      continue;
+    }
+    if (state.foot_contact[i]) {
+      last_contact_s_[i] = t;
+      if (!touchdown_W_[i]) {
+        touchdown_W_[i] = centres[i];
+      } else {
+        const double slip = (centres[i] - *touchdown_W_[i]).norm();
+        if (slip > config_.outcome.max_slip_m) {
+          Decide(failure("foot_slip", std::string(LegName(leg)),
+                         std::string(LegName(leg)) + " moved " + Fixed(slip) + " m from where it touched down"));
+          return;
+        }
+      }
+    } else if (touchdown_W_[i] && t - last_contact_s_[i] > config_.outcome.contact_release_s) {
+      touchdown_W_[i].reset();
+    }
+  }
+
+  // Torque saturation that lasts.
+  for (int j = 0; j < kNumJoints; ++j) {
+    const std::size_t k = static_cast<std::size_t>(j);
+    if (std::abs(commanded[j]) >= limit - 1e-9) {
+      if (saturated_since_[k] < 0.0) saturated_since_[k] = t;
+      if (t - saturated_since_[k] > config_.outcome.max_saturation_s) {
+        Decide(failure("torque_saturation", JointName(j),
+                       JointName(j) + " held at the " + Fixed(limit, 0) + " N m limit for " +
+                           Fixed(t - saturated_since_[k], 2) + " s"));
+        return;
+      }
+    } else {
+      saturated_since_[k] = -1.0;
+    }
+  }
+
+  if (status.phase == ControllerPhase::kFailed) {
+    const bool no_ground = status.failure_leg && !state.foot_contact[static_cast<std::size_t>(Index(*status.failure_leg))] &&
+                           status.failure.find("no ground") != std::string::npos;
+    Decide(failure(no_ground ? "no_ground" : "controller",
+                   status.failure_leg ? std::string(LegName(*status.failure_leg)) : "", status.failure));
+    return;
+  }
+  if (has_plan_ && status.phase == ControllerPhase::kDone) {
+    const double error = (state.base_position_W - plan_.states.back().base_position).norm();
+    const bool four = std::all_of(state.foot_contact.begin(), state.foot_contact.end(), [](bool c) { return c; });
+    if (error <= config_.outcome.goal_tolerance_m && four) {
+      Decide(std::nullopt);
+    } else {
+      Decide(failure("goal_missed", "",
+                     "plan executed, but the base is " + Fixed(error) + " m from the final base" +
+                         (four ? "" : " and not every foot is on the ground")));
+    }
+    return;
+  }
+  if (t > timeout_s_) {
+    Decide(failure("timeout", "", "the run outlasted " + Fixed(timeout_s_, 1) + " s"));
+  }
+}
+
+nlohmann::json OutcomeToJson(const ExecutionOutcome& o) {
+  nlohmann::json j;
+  j["sim_ok"] = o.ok();
+  j["reached_goal"] = o.reached_goal;
+  j["fell"] = o.fell();
+  j["sim_time_s"] = o.sim_time_s;
+  if (o.failure) {
+    j["failure"] = {{"what", o.failure->what}, {"t", o.failure->t}, {"step", o.failure->step},
+                    {"leg", o.failure->leg.empty() ? nlohmann::json() : nlohmann::json(o.failure->leg)},
+                    {"phase", o.failure->phase},
+                    {"detail", o.failure->detail}};
+  } else {
+    j["failure"] = nullptr;
+  }
+  j["max_torque_ratio"] = o.max_torque_ratio;
+  j["collisions"] = o.collisions;
+  j["collision_links"] = o.collision_links;
+  j["steps_total"] = o.steps_total;
+  j["steps_executed"] = o.steps_executed;
+  j["early_touchdowns"] = o.early_touchdowns;
+  j["late_touchdowns"] = o.late_touchdowns;
+  j["final_base_error_m"] = o.final_base_error_m;
+  j["min_support_margin_m"] =
+      std::isfinite(o.min_support_margin_m) ? nlohmann::json(o.min_support_margin_m) : nlohmann::json();
+  nlohmann::json trace = nlohmann::json::array();
+  for (const TraceSample& s : o.trace) {
+    nlohmann::json feet = nlohmann::json::array();
+    for (Leg leg : kAllLegs) {
+      const std::size_t i = static_cast<std::size_t>(Index(leg));
+      feet.push_back({{"leg", std::string(LegName(leg))},
+                      {"position", {s.feet[i].x(), s.feet[i].y(), s.feet[i].z()}},
+                      {"contact", s.contact[i]}});
+    }
+    trace.push_back({{"t", s.t},
+                     {"base",
+                      {{"position", {s.base_position.x(), s.base_position.y(), s.base_position.z()}},
+                       {"rpy", {s.base_rpy.x(), s.base_rpy.y(), s.base_rpy.z()}}}},
+                     {"feet", feet}});
+  }
+  j["sim_trace"] = trace;
+  return j;
+}
+
+}  // namespace rbcp::sim

@@ -1,0 +1,125 @@
+// The controller walking plans in the simulated world, judged by the simulator. Every run here
+// is a few seconds of simulated time; the long runs are in the benchmark.
+#include "rbcp/sim/plan_execution.h"
+
+#include <gtest/gtest.h>
+
+#include "flat_ground_plan.h"
+#include "rbcp/controller/controller_config.h"
+
+namespace rbcp::sim {
+namespace {
+
+using rbcp::test::BuildFlatGroundPlan;
+using rbcp::test::ConfigDir;
+using rbcp::test::ScenarioPath;
+
+struct Models {
+  RobotModel robot = RobotModel::LoadDefault(ConfigDir());
+  SimConfig sim = SimConfig::LoadFile(ConfigDir() + "/sim.yaml");
+  ControllerConfig controller = ControllerConfig::LoadFile(ConfigDir() + "/controller.yaml");
+  std::string urdf = ConfigDir() + "/robots/anymal_b.urdf";
+};
+
+const Models& Get() {
+  static const Models setup;
+  return setup;
+}
+
+/// flat_ground's floor with a hole through it: 0.12 x 0.16 m centred on `hole_xy`.
+Scenario FloorWithHole(const Eigen::Vector2d& hole_xy) {
+  Scenario s = LoadScenario(ScenarioPath("flat_ground"));
+  const double x0 = -1.75, x1 = 3.25, y0 = -1.5, y1 = 1.5, hx = 0.06, hy = 0.08;
+  auto box = [](double ax, double bx, double ay, double by) {
+    TerrainBox b;
+    b.size = Eigen::Vector3d(bx - ax, by - ay, 0.5);
+    b.position = Eigen::Vector3d(0.5 * (ax + bx), 0.5 * (ay + by), -0.25);
+    return TerrainElement(b);
+  };
+  s.terrain = {box(x0, hole_xy.x() - hx, y0, y1), box(hole_xy.x() + hx, x1, y0, y1),
+               box(hole_xy.x() - hx, hole_xy.x() + hx, y0, hole_xy.y() - hy),
+               box(hole_xy.x() - hx, hole_xy.x() + hx, hole_xy.y() + hy, y1)};
+  s.terrain_mesh = BuildTerrainMesh(s.terrain);
+  return s;
+}
+
+TEST(PlanExecution, StandingWithoutAPlanHoldsTheBaseWithinOneCentimetre) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller);
+  run.StandAt(scenario.start);
+  // Let the drop settle, then measure the drift over 10 s.
+  while (run.Time() < 0.5) run.Tick();
+  const Eigen::Vector3d settled = run.State().base_position_W;
+  while (run.Time() < 10.5) run.Tick();
+  const RobotState end = run.State();
+  EXPECT_LT((end.base_position_W - settled).norm(), 0.01);
+  for (bool c : end.foot_contact) EXPECT_TRUE(c);
+  EXPECT_EQ(run.Controller().Status().phase, ControllerPhase::kHold);
+}
+
+TEST(PlanExecution, AShortFlatGroundPlanReachesItsGoal) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  const ContactPlan plan = BuildFlatGroundPlan(g.robot, 4, 0.08);
+  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller);
+  run.Start(plan);
+  const ExecutionOutcome& o = run.Run();
+  ASSERT_TRUE(o.ok()) << (o.failure ? o.failure->what + ": " + o.failure->detail : std::string("not reached"));
+  EXPECT_EQ(o.steps_executed, 4);
+  EXPECT_LT(o.final_base_error_m, g.sim.outcome.goal_tolerance_m);
+  EXPECT_LE(o.max_torque_ratio, 1.0);
+  EXPECT_EQ(o.collisions, 0);
+  EXPECT_GT(o.trace.size(), 20u);
+  // The feet end where the plan put them.
+  for (Leg leg : kAllLegs) {
+    const std::size_t i = static_cast<std::size_t>(Index(leg));
+    EXPECT_LT((o.trace.back().feet[i] - plan.states.back().feet[i].position).head<2>().norm(), 0.03) << LegName(leg);
+  }
+}
+
+TEST(PlanExecution, TwoRunsGiveTheSameTrace) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  const ContactPlan plan = BuildFlatGroundPlan(g.robot, 2, 0.08);
+  auto trace = [&] {
+    PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller);
+    run.Start(plan);
+    return OutcomeToJson(run.Run()).dump();
+  };
+  EXPECT_EQ(trace(), trace());
+}
+
+TEST(PlanExecution, AFootholdThatIsNotThereEndsTheRunAsNoGround) {
+  const Models& g = Get();
+  const ContactPlan plan = BuildFlatGroundPlan(g.robot, 4, 0.08);
+  // The plan was made on the whole floor; the world lacks the floor under the first step's foot.
+  const WholeBodyState& first_step = plan.states[1];
+  const Eigen::Vector2d hole = first_step.feet[static_cast<std::size_t>(first_step.moving_leg)].position.head<2>();
+  PlanExecution run(g.robot, g.urdf, FloorWithHole(hole), g.sim, g.controller);
+  run.Start(plan);
+  const ExecutionOutcome& o = run.Run();
+  ASSERT_TRUE(o.failure.has_value());
+  EXPECT_FALSE(o.reached_goal);
+  EXPECT_EQ(o.failure->what, "no_ground") << o.failure->detail;
+  EXPECT_EQ(o.failure->step, 1);
+  EXPECT_EQ(o.failure->leg, std::string(LegName(static_cast<Leg>(first_step.moving_leg))));
+}
+
+TEST(PlanExecution, WithoutTorquesTheRobotCollapsesAndTheJudgeSaysFall) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  ControllerConfig limp = g.controller;
+  limp.torque_limit_Nm = 1e-9;  // the controller commands (next to) nothing ...
+  SimConfig patient = g.sim;
+  patient.outcome.max_saturation_s = 100.0;  // ... which is not to count as saturation here
+  PlanExecution run(g.robot, g.urdf, scenario, patient, limp);
+  run.Start(BuildFlatGroundPlan(g.robot, 4, 0.08));
+  const ExecutionOutcome& o = run.Run();
+  ASSERT_TRUE(o.failure.has_value());
+  EXPECT_TRUE(o.fell()) << o.failure->what << ": " << o.failure->detail;
+  EXPECT_LT(o.failure->t, 3.0);
+}
+
+}  // namespace
+}  // namespace rbcp::sim
