@@ -12,6 +12,17 @@
 namespace rbcp {
 namespace {
 
+/// Base offsets (base frame) tried, in order, when a swing cannot clear the terrain: sideways
+/// first, then along the body.
+const std::array<Eigen::Vector3d, 8> kClearanceOffsets = {
+    Eigen::Vector3d(0, 0.02, 0), Eigen::Vector3d(0, -0.02, 0), Eigen::Vector3d(0, 0.04, 0), Eigen::Vector3d(0, -0.04, 0),
+    Eigen::Vector3d(0, 0.06, 0), Eigen::Vector3d(0, -0.06, 0), Eigen::Vector3d(0.03, 0, 0), Eigen::Vector3d(-0.03, 0, 0)};
+
+constexpr double kTouchdownHeightM = 0.02;  // [m] a contact this close above the foothold is a touchdown
+constexpr double kTouchdownForceN = 5.0;  // [N] least contact force of a touchdown higher up
+constexpr double kTouchdownCosine = 0.8;  // a touchdown force lies within 37 degrees of the normal (a
+                                          // foot sliding down a riser face under friction 0.8: 52)
+
 double MinJerk(double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); }
 double MinJerkRate(double u) { return 30.0 * u * u * (1.0 - u) * (1.0 - u); }
 
@@ -72,8 +83,21 @@ struct PlanController::Measured {
   JointVector qd = JointVector::Zero();
   std::array<Eigen::Vector3d, kNumLegs> feet_W;
   std::array<bool, kNumLegs> contact{};
+  std::array<Eigen::Vector3d, kNumLegs> force_W;
   Eigen::Vector3d com_W = Eigen::Vector3d::Zero();
 };
+
+bool PlanController::OnFoothold(const Measured& m, std::size_t leg) const {
+  // A touchdown is a contact at the foothold's height, or one that pushes along its normal (the
+  // terrain is higher than planned). A foot that meets the terrain sideways above its foothold
+  // (the face of a riser beside it) has not arrived: it goes on down.
+  if (!m.contact[leg]) return false;
+  const FootContact& planned = plan_.states[static_cast<std::size_t>(status_.step)].feet[leg];
+  const Eigen::Vector3d n = planned.normal.normalized();
+  if ((m.feet_W[leg] - planned.position).dot(n) <= kTouchdownHeightM) return true;
+  const Eigen::Vector3d& f = m.force_W[leg];
+  return f.norm() >= kTouchdownForceN && f.dot(n) >= kTouchdownCosine * f.norm();
+}
 
 PlanController::PlanController(const RobotModel& robot, const ControllerConfig& config, const TriangleMesh* terrain)
     : robot_(robot), config_(config) {
@@ -162,68 +186,116 @@ void PlanController::EvaluateReference(double t) {
   reference_.angular_velocity_W = xd * RotationVector(s.q1 * s.q0.conjugate());
 }
 
-Eigen::Vector3d PlanController::MarginShift(int index, Leg leg, const Measured& m) const {
-  const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
-  const Eigen::Matrix3d R = RotationFromRpy(target.base_rpy);
-  const Eigen::Vector3d com_B = robot_.CenterOfMass(target.joints);
-  std::vector<Eigen::Vector3d> stay;
-  for (Leg other : kAllLegs) {
-    if (other != leg) stay.push_back(m.feet_W[static_cast<std::size_t>(Index(other))]);
-  }
-  auto margin_at = [&](const Eigen::Vector3d& shift) {
-    return SupportPolygonMargin(stay, target.base_position + shift + R * com_B);
-  };
+/// The stance before a lift-off: the planned base pose of the step and the feet that stay.
+struct PlanController::LiftOff {
+  Leg leg = Leg::kLF;
+  Eigen::Vector3d base = Eigen::Vector3d::Zero();   // planned base position
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // planned base orientation
+  Eigen::Vector3d com_B = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> stay;                // the three feet that stay down
+};
+
+double PlanController::Margin(const LiftOff& l, const Eigen::Vector3d& shift) const {
+  return SupportPolygonMargin(l.stay, l.base + shift + l.R * l.com_B);
+}
+
+bool PlanController::Reachable(const LiftOff& l, const Eigen::Vector3d& shift, const Measured& m) const {
   // Every foot within reach of the shifted base, and the robot clear of the terrain there.
-  auto reachable = [&](const Eigen::Vector3d& shift) {
-    Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-    base_W.linear() = R;
-    base_W.translation() = target.base_position + shift;
-    JointVector q;
-    for (Leg l : kAllLegs) {
-      const Eigen::Vector3d foot_B = base_W.inverse() * m.feet_W[static_cast<std::size_t>(Index(l))];
-      const IkResult ik = robot_.SolveLegIk(l, foot_B);
-      if (!ik.ok()) return false;
-      SetLegJoints(q, l, ik.q);
-    }
-    return !collision_ || !collision_->CheckRobot(base_W, q, {true, true, true, true}).collision;
-  };
+  Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
+  base_W.linear() = l.R;
+  base_W.translation() = l.base + shift;
+  JointVector q;
+  for (Leg leg : kAllLegs) {
+    const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * m.feet_W[static_cast<std::size_t>(Index(leg))]);
+    if (!ik.ok()) return false;
+    SetLegJoints(q, leg, ik.q);
+  }
+  return !collision_ || !collision_->CheckRobot(base_W, q, {true, true, true, true}).collision;
+}
+
+Eigen::Vector3d PlanController::MarginShift(const LiftOff& l, const Measured& m) const {
   const double wanted = config_.base.support_margin_m;
-  const Eigen::Vector3d com0 = target.base_position + R * com_B;
-  if (margin_at(Eigen::Vector3d::Zero()) >= wanted) return Eigen::Vector3d::Zero();
+  if (Margin(l, Eigen::Vector3d::Zero()) >= wanted) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d com0 = l.base + l.R * l.com_B;
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
-  direction.head<2>() = Incentre(stay) - com0.head<2>();
+  direction.head<2>() = Incentre(l.stay) - com0.head<2>();
   const double to_incentre = direction.norm();
   if (to_incentre < 1e-9) return Eigen::Vector3d::Zero();
   direction /= to_incentre;
   // The margin grows along the way to the incentre: bisect for the least shift that gives it.
   const double longest = std::min(to_incentre, config_.base.max_margin_shift_m);
   double lo = 0.0, hi = longest;
-  if (margin_at(hi * direction) >= wanted) {
+  if (Margin(l, hi * direction) >= wanted) {
     for (int k = 0; k < 30; ++k) {
       const double mid = 0.5 * (lo + hi);
-      (margin_at(mid * direction) >= wanted ? hi : lo) = mid;
+      (Margin(l, mid * direction) >= wanted ? hi : lo) = mid;
     }
   }
   double shift = hi;
-  // Keep every foot within reach of the shifted base.
-  if (!reachable(shift * direction)) {
+  if (!Reachable(l, shift * direction, m)) {
     double ok = 0.0, bad = shift;
     for (int k = 0; k < 20; ++k) {
       const double mid = 0.5 * (ok + bad);
-      (reachable(mid * direction) ? ok : bad) = mid;
+      (Reachable(l, mid * direction, m) ? ok : bad) = mid;
     }
     shift = ok;
   }
   return shift * direction;
 }
 
+SwingTrajectory PlanController::PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
+                                          const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W) const {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = orientation_W.toRotationMatrix();
+  pose.translation() = base_W;
+  // The base holds its pose during the swing: the leg must clear the terrain from there. The
+  // foot itself is kept clear by the path's terrain check (it starts and ends on the ground).
+  const SwingTrajectory::LegCheck leg_clear = [&](const Eigen::Vector3d& foot_W) {
+    const IkResult ik = robot_.SolveLegIk(leg, pose.inverse() * foot_W);
+    if (ik.status == IkResult::Status::kOutOfReach) return false;
+    return !collision_->CheckLeg(leg, pose, ik.q, true).collision;
+  };
+  // Towards the body: from the middle of the swing to the base, across the swing direction.
+  const Eigen::Vector2d across = (to_W - from_W).head<2>();
+  Eigen::Vector2d inward = (base_W - 0.5 * (to_W + from_W)).head<2>();
+  if (across.norm() > 1e-6) inward -= inward.dot(across.normalized()) * across.normalized();
+  return SwingTrajectory::Plan(from_W, to_W, terrain_, robot_.FootRadius(), config_.swing,
+                               collision_ ? leg_clear : SwingTrajectory::LegCheck(), inward);
+}
+
 void PlanController::BeginStep(int index, const Measured& m) {
   const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
-  const Leg leg = static_cast<Leg>(target.moving_leg);
+  LiftOff l;
+  l.leg = static_cast<Leg>(target.moving_leg);
+  l.base = target.base_position;
+  l.R = RotationFromRpy(target.base_rpy);
+  l.com_B = robot_.CenterOfMass(target.joints);
+  for (Leg other : kAllLegs) {
+    if (other != l.leg) l.stay.push_back(m.feet_W[static_cast<std::size_t>(Index(other))]);
+  }
   status_.step = index;
-  status_.swing_leg = leg;
-  const Eigen::Vector3d shift = MarginShift(index, leg, m);
-  MoveBaseTo(target.base_position + shift, QuaternionFromRpy(target.base_rpy), m.t, config_.base.min_shift_s);
+  status_.swing_leg = l.leg;
+  const Eigen::Quaterniond orientation = QuaternionFromRpy(target.base_rpy);
+  Eigen::Vector3d shift = MarginShift(l, m);
+  if (collision_) {
+    // When the swing from this base pose cannot keep the leg off the terrain (a wall beside the
+    // robot), try base poses nearby that keep a support margin and every foot in reach.
+    const std::size_t i = static_cast<std::size_t>(Index(l.leg));
+    const Eigen::Vector3d& from = m.feet_W[i];
+    const Eigen::Vector3d& to = target.feet[i].position;
+    int best = PlanSwing(l.leg, from, to, l.base + shift, orientation).LegCollisions();
+    const double least_margin = 0.5 * config_.base.support_margin_m;
+    for (int k = 0; best > 0 && k < static_cast<int>(kClearanceOffsets.size()); ++k) {
+      const Eigen::Vector3d candidate = shift + l.R * kClearanceOffsets[static_cast<std::size_t>(k)];
+      if (Margin(l, candidate) < least_margin || !Reachable(l, candidate, m)) continue;
+      const int collisions = PlanSwing(l.leg, from, to, l.base + candidate, orientation).LegCollisions();
+      if (collisions < best) {
+        best = collisions;
+        shift = candidate;
+      }
+    }
+  }
+  MoveBaseTo(l.base + shift, orientation, m.t, config_.base.min_shift_s);
   Enter(ControllerPhase::kShift, m.t);
 }
 
@@ -295,30 +367,14 @@ void PlanController::Advance(const Measured& m) {
           const WholeBodyState& target = plan_.states[static_cast<std::size_t>(status_.step)];
           load_[sl] = 0.0;
           status_.stance[sl] = false;
-          const Leg leg = static_cast<Leg>(sl);
-          // The base holds its pose during the swing: the leg must clear the terrain from there.
-          Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-          base_W.linear() = segment_.q1.toRotationMatrix();
-          base_W.translation() = segment_.p1;
-          const SwingTrajectory::LegCheck leg_clear = [&](const Eigen::Vector3d& foot_W) {
-            const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * foot_W);
-            if (ik.status == IkResult::Status::kOutOfReach) return false;
-            // The foot itself is kept clear by the path's terrain check (it starts and ends on the ground).
-            return !collision_->CheckLeg(leg, base_W, ik.q, true).collision;
-          };
-          // Towards the body: from the middle of the swing to the base, across the swing direction.
-          const Eigen::Vector2d across = (target.feet[sl].position - m.feet_W[sl]).head<2>();
-          Eigen::Vector2d inward = (segment_.p1 - 0.5 * (target.feet[sl].position + m.feet_W[sl])).head<2>();
-          if (across.norm() > 1e-6) inward -= inward.dot(across.normalized()) * across.normalized();
-          swing_ = SwingTrajectory::Plan(m.feet_W[sl], target.feet[sl].position, terrain_, robot_.FootRadius(),
-                                         config_.swing, collision_ ? leg_clear : SwingTrajectory::LegCheck(), inward);
+          swing_ = PlanSwing(static_cast<Leg>(sl), m.feet_W[sl], target.feet[sl].position, segment_.p1, segment_.q1);
           swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
           Enter(ControllerPhase::kSwing, t);
         }
         break;
       case ControllerPhase::kSwing: {
         const double phase = swing_.Phase(elapsed);
-        if (m.contact[sl] && phase >= config_.swing.touchdown_phase) {
+        if (OnFoothold(m, sl) && phase >= config_.swing.touchdown_phase) {
           if (phase < 1.0) status_.early_touchdowns += 1;
           status_.stance[sl] = true;
           load_[sl] = 0.0;
@@ -332,7 +388,7 @@ void PlanController::Advance(const Measured& m) {
         break;
       }
       case ControllerPhase::kSearch:
-        if (m.contact[sl]) {
+        if (OnFoothold(m, sl)) {
           status_.stance[sl] = true;
           load_[sl] = 0.0;
           normal_W_[sl] = plan_.states[static_cast<std::size_t>(status_.step)].feet[sl].normal.normalized();
@@ -371,6 +427,7 @@ JointVector PlanController::Update(const RobotState& state) {
   m.q = state.q;
   m.qd = state.qd;
   m.contact = state.foot_contact;
+  m.force_W = state.foot_force_W;
   for (Leg leg : kAllLegs) {
     m.feet_W[static_cast<std::size_t>(Index(leg))] = m.p + m.R * robot_.FootPosition(leg, LegJoints(m.q, leg));
   }

@@ -1,6 +1,7 @@
 #include "rbcp/controller/swing_trajectory.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -18,6 +19,7 @@ constexpr double kCrossBegin = 0.2;  // the horizontal motion runs over s in [kC
 constexpr double kEndSkip = 0.97;    // beyond this the path dips below the foothold on purpose
 constexpr int kBows = 4;             // sideways bows tried: 0, 3, 6, 9 cm
 constexpr double kBowStep = 0.03;    // [m]
+constexpr int kPatience = 8;         // rises in a row without fewer leg collisions before the next bow
 
 double SmoothStep(double u, double* rate = nullptr) {
   if (u <= 0.0 || u >= 1.0) {
@@ -28,22 +30,20 @@ double SmoothStep(double u, double* rate = nullptr) {
   return u * u * (3.0 - 2.0 * u);
 }
 
-/// Least vertical gap [m] between the foot sphere (radius r, resting on the
-/// contact point p) and the terrain under it, sampled on rings around its
-/// centre; +inf with no terrain below.
-double SphereGap(const TriangleMesh& terrain, const Eigen::Vector3d& p, double r) {
-  double gap = std::numeric_limits<double>::infinity();
-  const double centre_z = p.z() + r;
+/// The vertical gap [m] between the foot sphere (radius r, resting on a contact point at height z
+/// above xy) and the terrain under it is z + SphereGapOffset(terrain, xy, r): sampled on rings
+/// around the sphere's centre; +inf with no terrain below.
+double SphereGapOffset(const TriangleMesh& terrain, const Eigen::Vector2d& xy, double r) {
+  double offset = std::numeric_limits<double>::infinity();
   for (double d : {0.0, 0.5 * r, 0.9 * r}) {
-    const double bottom = centre_z - std::sqrt(r * r - d * d);  // sphere surface above ring point
+    const double rise = r - std::sqrt(r * r - d * d);  // sphere surface above its lowest point
     for (int k = 0; k < (d > 0.0 ? 8 : 1); ++k) {
       const double a = k * M_PI / 4.0;
-      const std::optional<double> h =
-          TerrainHeightAt(terrain, p.head<2>() + d * Eigen::Vector2d(std::cos(a), std::sin(a)));
-      if (h) gap = std::min(gap, bottom - *h);
+      const std::optional<double> h = TerrainHeightAt(terrain, xy + d * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      if (h) offset = std::min(offset, rise - *h);
     }
   }
-  return gap;
+  return offset;
 }
 
 }  // namespace
@@ -89,35 +89,40 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
     const int bows = can_bow ? kBows : 1;
     bool found = false;
     for (int bow = 0; bow < bows && !found; ++bow) {
-      for (double rise = 0.0; rise <= kMaxRise + 1e-9; rise += kRiseStep) {
-        SwingTrajectory c = s;
+      SwingTrajectory c = s;
+      if (can_bow) c.bow_ = kBowStep * bow * inward_W.normalized();
+      // The samples' xy do not depend on the apex: query the terrain once per bow.
+      std::array<double, kSamples> offset;
+      std::array<bool, kSamples> near_end{}, away{};
+      for (int k = 1; k < kSamples; ++k) {
+        const std::size_t i = static_cast<std::size_t>(k);
+        const Eigen::Vector2d xy = c.At(static_cast<double>(k) / kSamples).head<2>();
+        // Away from its footholds the foot keeps the clearance; next to them it only must not
+        // sink into the terrain (it rises from and descends to a surface there; the last part of
+        // the path dips below the new foothold on purpose).
+        const double near = foot_radius_m + 0.02;
+        near_end[i] = (xy - target_W.head<2>()).norm() <= near;
+        away[i] = (xy - c.start_.head<2>()).norm() > near && !near_end[i];
+        offset[i] = check_terrain ? SphereGapOffset(*terrain, xy, foot_radius_m) : std::numeric_limits<double>::infinity();
+      }
+      int worse = 0;  // rises in a row that did not reduce the leg's collisions
+      for (double rise = 0.0; rise <= kMaxRise + 1e-9 && worse < kPatience; rise += kRiseStep) {
         c.apex_z_ = base_apex + rise;
-        if (can_bow) c.bow_ = kBowStep * bow * inward_W.normalized();
+        c.leg_collisions_ = 0;
         double middle = std::numeric_limits<double>::infinity();
         bool enters = false;
         for (int k = 1; k < kSamples; ++k) {
+          const std::size_t i = static_cast<std::size_t>(k);
           const double u = static_cast<double>(k) / kSamples;
           if (u > kEndSkip) break;
           const Eigen::Vector3d p = c.At(u);
-          if (check_terrain) {
-            // Away from its footholds the foot keeps the clearance; next to
-            // them it only must not sink into the terrain (it rises from and
-            // descends to a surface there; the last part of the path dips below
-            // the new foothold on purpose).
-            const double near = foot_radius_m + 0.02;
-            const bool near_end = (p.head<2>() - target_W.head<2>()).norm() <= near;
-            const bool away = (p.head<2>() - c.start_.head<2>()).norm() > near && !near_end;
-            Eigen::Vector3d probe = p;
-            if (near_end) probe.z() = std::max(p.z(), target_W.z());
-            const double gap = SphereGap(*terrain, probe, foot_radius_m);
-            if (std::isfinite(gap)) {
-              if (away) middle = std::min(middle, gap);
-              if (gap < (away ? 0.005 : -0.003)) enters = true;
-            }
+          if (std::isfinite(offset[i])) {
+            const double gap = (near_end[i] ? std::max(p.z(), target_W.z()) : p.z()) + offset[i];
+            if (away[i]) middle = std::min(middle, gap);
+            if (gap < (away[i] ? 0.005 : -0.003)) enters = true;
           }
-          // The leg is checked once the foot is off the ground (at its
-          // footholds the plan's own stances hold, and a foot on the ground
-          // touches it).
+          // The leg is checked once the foot is off the ground (at its footholds the plan's own
+          // stances hold, and a foot on the ground touches it).
           const bool lifted = p.z() > std::max(start_W.z(), target_W.z()) + 0.02;
           if (leg_clear && lifted && k % 2 == 0 && !leg_clear(p)) c.leg_collisions_ += 1;
         }
@@ -128,7 +133,11 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
           found = true;
           break;
         }
-        if (terrain_ok && (!best || c.leg_collisions_ < best->leg_collisions_)) best = c;
+        if (terrain_ok && best && c.leg_collisions_ >= best->leg_collisions_) ++worse;
+        if (terrain_ok && (!best || c.leg_collisions_ < best->leg_collisions_)) {
+          best = c;
+          worse = 0;
+        }
       }
     }
     if (best) {
@@ -137,10 +146,12 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
       s.apex_z_ = base_apex + kMaxRise;
     }
   }
-  // Duration from the path length: up, across, down (and the bow out and back).
-  const double length = (s.apex_z_ - s.start_.z()) + (s.end_.head<2>() - s.start_.head<2>()).norm() +
-                        (s.apex_z_ - s.end_.z()) + 2.0 * s.bow_.norm();
-  s.duration_s_ = std::max(config.min_duration_s, length / config.speed_mps);
+  // Duration: no part of the path faster than speed_mps at its peak. The rise and the descent
+  // each take 40 % of the swing and the crossing 60 %, all on smooth steps (peak 1.5 x mean).
+  const double up = std::max(s.apex_z_ - s.start_.z(), s.apex_z_ - s.end_.z());
+  const double across = (s.end_.head<2>() - s.start_.head<2>()).norm();
+  s.duration_s_ = std::max({config.min_duration_s, 1.5 * std::hypot(up, s.bow_.norm()) / (kRiseEnd * config.speed_mps),
+                            1.5 * across / ((1.0 - 2.0 * kCrossBegin) * config.speed_mps)});
   return s;
 }
 

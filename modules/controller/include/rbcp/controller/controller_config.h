@@ -31,7 +31,7 @@ struct BaseMotionConfig {
 struct SwingConfig {
   double height_m = 0.08;              ///< apex above the higher of the two footholds [m]
   double terrain_clearance_m = 0.05;   ///< least height of the foot above the terrain under its path [m]
-  double speed_mps = 0.5;              ///< mean foot speed along the swing path [m/s]
+  double speed_mps = 0.8;              ///< peak foot speed along the swing path [m/s]
   double min_duration_s = 0.45;        ///< shortest swing [s]
   double touchdown_depth_m = 0.01;     ///< the path ends this far below the foothold [m]
   /// A contact in the swing's first part is a late lift-off or a bump; from this phase [0, 1] on

@@ -5,10 +5,14 @@
 /// For each state i of the plan, reached from state i-1 by moving leg L:
 ///  1. shift: with four feet down, the base moves to the state's base pose, moved further (at most
 ///     base.max_margin_shift_m) until the CoM's ground projection lies base.support_margin_m
-///     inside the triangle of the three feet that stay;
+///     inside the triangle of the three feet that stay; when the swing from there cannot keep
+///     the leg off the terrain, base poses a few centimetres aside are tried;
 ///  2. unload: L's share of the load ramps to zero;
 ///  3. swing: L's foot follows a SwingTrajectory that clears the terrain under its path; a contact
-///     after swing.touchdown_phase is a touchdown (early if the path was not finished);
+///     after swing.touchdown_phase is a touchdown (early if the path was not finished) when it is
+///     within 2 cm of the foothold's height or pushes along its normal (at least 5 N within 37
+///     degrees of it: the terrain is higher than planned); a sideways contact above the foothold,
+///     such as the face of a riser beside it, is not;
 ///  4. search: a foot that reaches the end of its path without contact reaches down along the
 ///     normal (a late touchdown), and fails as "no ground" beyond swing.search_depth_m;
 ///  5. load: L's share ramps back to one; the step is done.
@@ -116,12 +120,18 @@ class PlanController {
   struct Measured;
 
   void Enter(ControllerPhase phase, double t);
+  bool OnFoothold(const Measured& m, std::size_t leg) const;
   void Advance(const Measured& m);
   void BeginStep(int index, const Measured& m);
   void FinishStep(const Measured& m);
   void Fail(const Measured& m, Leg leg, const std::string& why);
   void MoveBaseTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double min_duration);
-  Eigen::Vector3d MarginShift(int index, Leg leg, const Measured& m) const;
+  struct LiftOff;
+  double Margin(const LiftOff& lift_off, const Eigen::Vector3d& shift) const;
+  bool Reachable(const LiftOff& lift_off, const Eigen::Vector3d& shift, const Measured& m) const;
+  Eigen::Vector3d MarginShift(const LiftOff& lift_off, const Measured& m) const;
+  SwingTrajectory PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
+                            const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W) const;
   void EvaluateReference(double t);
   JointVector Torques(const Measured& m);
   static void CheckPlan(const ContactPlan& plan);
