@@ -1,0 +1,200 @@
+// Headless check of a viewer page in Debian's Chromium (driven by playwright-core): the page
+// loads from disk, makes no network request, logs no console error, draws with WebGL, and its
+// screenshot shows the terrain and the footholds in the four leg colours.
+//
+//   node check_page.mjs --page PAGE.html --screenshot OUT.png [--expect-status TEXT] [--no-footholds]
+import { mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { pathToFileURL } from 'node:url';
+import { parseArgs } from 'node:util';
+import { inflateSync } from 'node:zlib';
+import { chromium } from 'playwright-core';
+
+const LEG_COLORS = { LF: [0xe4, 0x1a, 0x1c], RF: [0x33, 0xa0, 0x2c], LH: [0x1f, 0x78, 0xb4], RH: [0xff, 0xcc, 0x00] };
+const CHROMIUM_FLAGS = [
+  '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+  '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+];
+
+const { values: args } = parseArgs({
+  options: {
+    page: { type: 'string' },
+    screenshot: { type: 'string' },
+    'expect-status': { type: 'string' },
+    'no-footholds': { type: 'boolean', default: false },
+    chromium: { type: 'string', default: '/usr/bin/chromium' },
+  },
+});
+if (!args.page || !args.screenshot) {
+  console.error('usage: node check_page.mjs --page PAGE.html --screenshot OUT.png [--expect-status TEXT] [--no-footholds]');
+  process.exit(2);
+}
+
+/** Decodes an 8-bit RGB or RGBA, non-interlaced PNG (what Chromium writes) to RGBA rows. */
+function decodePng(buffer) {
+  let offset = 8;
+  let width = 0;
+  let height = 0;
+  let channels = 0;
+  const idat = [];
+  while (offset < buffer.length) {
+    const length = buffer.readUInt32BE(offset);
+    const type = buffer.toString('ascii', offset + 4, offset + 8);
+    const body = buffer.subarray(offset + 8, offset + 8 + length);
+    if (type === 'IHDR') {
+      width = body.readUInt32BE(0);
+      height = body.readUInt32BE(4);
+      if (body[8] !== 8 || body[12] !== 0 || (body[9] !== 2 && body[9] !== 6)) throw new Error('unsupported PNG format');
+      channels = body[9] === 6 ? 4 : 3;
+    } else if (type === 'IDAT') idat.push(body);
+    offset += 12 + length;
+  }
+  const raw = inflateSync(Buffer.concat(idat));
+  const stride = width * channels;
+  const pixels = Buffer.alloc(width * height * 4);
+  let previous = Buffer.alloc(stride);
+  for (let y = 0; y < height; y++) {
+    const filter = raw[y * (stride + 1)];
+    const line = Buffer.from(raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1)));
+    for (let i = 0; i < stride; i++) {
+      const a = i >= channels ? line[i - channels] : 0;
+      const b = previous[i];
+      const c = i >= channels ? previous[i - channels] : 0;
+      let predictor = 0;
+      if (filter === 1) predictor = a;
+      else if (filter === 2) predictor = b;
+      else if (filter === 3) predictor = (a + b) >> 1;
+      else if (filter === 4) {
+        const p = a + b - c;
+        const pa = Math.abs(p - a);
+        const pb = Math.abs(p - b);
+        const pc = Math.abs(p - c);
+        predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+      }
+      line[i] = (line[i] + predictor) & 0xff;
+    }
+    for (let x = 0; x < width; x++) {
+      for (let k = 0; k < 3; k++) pixels[(y * width + x) * 4 + k] = line[x * channels + k];
+      pixels[(y * width + x) * 4 + 3] = channels === 4 ? line[x * channels + 3] : 255;
+    }
+    previous = line;
+  }
+  return { width, height, pixels };
+}
+
+/** Pixels of the box (CSS px = screenshot px at device scale 1) for which test(r, g, b, i) holds. */
+function count(image, box, test) {
+  let n = 0;
+  for (let y = Math.ceil(box.y); y < Math.floor(box.y + box.height); y++) {
+    for (let x = Math.ceil(box.x); x < Math.floor(box.x + box.width); x++) {
+      const i = (y * image.width + x) * 4;
+      if (test(image.pixels[i], image.pixels[i + 1], image.pixels[i + 2], i)) n++;
+    }
+  }
+  return n;
+}
+
+const near = (rgb, tolerance = 14) => (r, g, b) =>
+  Math.abs(r - rgb[0]) <= tolerance && Math.abs(g - rgb[1]) <= tolerance && Math.abs(b - rgb[2]) <= tolerance;
+
+const problems = [];
+const check = (ok, message) => {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${message}`);
+  if (!ok) problems.push(message);
+};
+
+const profile = mkdtempSync(join(tmpdir(), 'rbcp-view-chromium-'));
+const context = await chromium.launchPersistentContext(profile, {
+  executablePath: args.chromium,
+  headless: true,
+  args: CHROMIUM_FLAGS,
+  viewport: { width: 1400, height: 900 },
+  deviceScaleFactor: 1,
+});
+try {
+  const page = context.pages()[0] ?? (await context.newPage());
+  const pageUrl = pathToFileURL(args.page).href;
+  const requests = [];
+  const consoleErrors = [];
+  // Chrome's own network events: playwright's 'request' event misses some failed loads.
+  const cdp = await context.newCDPSession(page);
+  await cdp.send('Network.enable');
+  cdp.on('Network.requestWillBeSent', (event) => requests.push(event.request.url));
+  cdp.on('Network.webSocketCreated', (event) => requests.push(event.url));
+  page.on('console', (message) => {
+    if (message.type() === 'error') consoleErrors.push(message.text());
+  });
+  page.on('pageerror', (error) => consoleErrors.push(`page error: ${error.message}`));
+
+  await page.goto(pageUrl);
+  await page.waitForFunction(() => window.rbcpViewer && window.rbcpViewer.ready, null, { timeout: 120000 });
+  const nextFrames = () => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  await nextFrames();
+
+  const info = await page.evaluate(() => ({
+    webgl: window.rbcpViewer.webgl,
+    tracks: window.rbcpViewer.tracks,
+    status: document.getElementById('status').textContent,
+    plots: document.querySelectorAll('#plots svg').length,
+    legend: document.getElementById('legend').textContent,
+  }));
+  check(info.webgl, 'the page draws with WebGL');
+  console.log(`     status: ${info.status}; tracks: ${info.tracks.join(', ') || 'none'}; ${info.plots} plots`);
+  if (args['expect-status']) {
+    check(info.status.includes(args['expect-status']), `the status line says '${args['expect-status']}'`);
+  }
+  check(['LF', 'RF', 'LH', 'RH'].every((leg) => info.legend.includes(leg)), 'the legend names the four legs');
+
+  const canvas = await page.locator('#view').boundingBox();
+  const shot = await page.screenshot({ path: args.screenshot });
+  const image = decodePng(shot);
+  const area = canvas.width * canvas.height;
+  const legPixels = Object.fromEntries(Object.entries(LEG_COLORS).map(([leg, rgb]) => [leg, count(image, canvas, near(rgb))]));
+  console.log(`     leg-colour pixels in the 3D view: ${JSON.stringify(legPixels)}`);
+
+  if (info.tracks.length) check(info.plots >= 3, 'the plots are drawn');
+  if (!args['no-footholds']) {
+    for (const [leg, n] of Object.entries(legPixels)) check(n >= 25, `${leg} footholds are drawn in their colour (${n} px)`);
+    // Hiding the footholds must take those colours away: they come from the footholds.
+    await page.evaluate(() => window.rbcpViewer.setLayer('footholds', false));
+    await nextFrames();
+    const hidden = decodePng(await page.screenshot());
+    await page.evaluate(() => window.rbcpViewer.setLayer('footholds', true));
+    const total = (px) => Object.values(px).reduce((a, b) => a + b, 0);
+    const left = total(Object.fromEntries(Object.entries(LEG_COLORS).map(([leg, rgb]) => [leg, count(hidden, canvas, near(rgb))])));
+    check(left < total(legPixels) * 0.3, `hiding the footholds removes the leg colours (${left} of ${total(legPixels)} px left)`);
+  }
+
+  // The terrain covers a good part of the view: hiding it changes many pixels.
+  await page.evaluate(() => window.rbcpViewer.setLayer('terrain', false));
+  await nextFrames();
+  const noTerrain = decodePng(await page.screenshot());
+  await page.evaluate(() => window.rbcpViewer.setLayer('terrain', true));
+  const changed = count(image, canvas, (r, g, b, i) =>
+    Math.abs(r - noTerrain.pixels[i]) + Math.abs(g - noTerrain.pixels[i + 1]) + Math.abs(b - noTerrain.pixels[i + 2]) > 40);
+  check(changed > area * 0.1, `the terrain is drawn (${((100 * changed) / area).toFixed(0)}% of the 3D view)`);
+
+  if (info.tracks.length) {
+    // Play for a moment: the timeline moves, and the robot with it.
+    await page.click('#play');
+    await page.waitForTimeout(1500);
+    await page.click('#play');
+    const t = await page.evaluate(() => Number(document.getElementById('slider').value));
+    check(t > 0, `play advances the timeline (to ${t.toFixed(2)})`);
+  }
+
+  const network = requests.filter((url) => url !== pageUrl && !url.startsWith('data:') && !url.startsWith('blob:'));
+  check(network.length === 0, network.length
+    ? `no network request, but the page requested ${network.slice(0, 5).join(', ')}`
+    : `no network request (${requests.length} loads: the file and its inlined modules as blob: URLs)`);
+  check(consoleErrors.length === 0, 'no console error' + (consoleErrors.length ? `: ${consoleErrors.slice(0, 5).join(' | ')}` : ''));
+} finally {
+  await context.close();
+  rmSync(profile, { recursive: true, force: true });
+}
+if (problems.length) {
+  console.log(`check_page: ${problems.length} problem(s) on ${args.page}`);
+  process.exit(1);
+}
+console.log(`check_page: ${args.page} ok, screenshot ${args.screenshot}`);

@@ -1,0 +1,678 @@
+// The viewer page: terrain, contact surfaces, root path, footholds and the robot walking through
+// the plan's states or the simulated run's trace, with a timeline and plots.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { baseMatrix, hipPositions, linkPoses } from 'viewer/kinematics.js';
+import { ganttPlot, linePlot } from 'viewer/plots.js';
+
+const LEGS = ['LF', 'RF', 'LH', 'RH'];
+const LEG_COLORS = { LF: '#e41a1c', RF: '#33a02c', LH: '#1f78b4', RH: '#ffcc00' };
+const COLORS = {
+  terrain: '#cdbf9f',
+  terrainEdges: '#8c7f64',
+  surface: '#7ec8e3',
+  rootPath: '#8e44ad',
+  simPath: '#ff7f0e',
+  trunk: '#d5d9df',
+  actuator: '#7d838c',
+  leg: '#555b63',
+  background: '#eef1f5',
+};
+
+const data = JSON.parse(document.getElementById('rbcp-data').textContent);
+const run = data.run;
+const sceneData = data.scene;
+const robot = sceneData.robot;
+const $ = (id) => document.getElementById(id);
+const v3 = (a) => new THREE.Vector3(a[0], a[1], a[2]);
+
+// ---- Tracks: what the timeline plays -------------------------------------------------------------
+
+/** Linear interpolation of angles along the shorter way round. */
+function lerpAngle(a, b, f) {
+  const d = Math.atan2(Math.sin(b - a), Math.cos(b - a));
+  return a + d * f;
+}
+
+function lerpFrame(a, b, f) {
+  const lerp = (x, y) => x.map((v, i) => v + (y[i] - v) * f);
+  return {
+    t: a.t + (b.t - a.t) * f,
+    index: a.index,
+    position: lerp(a.position, b.position),
+    rpy: a.rpy.map((v, i) => lerpAngle(v, b.rpy[i], f)),
+    joints: a.joints && b.joints ? lerp(a.joints, b.joints) : null,
+    feet: a.feet && b.feet
+      ? Object.fromEntries(LEGS.map((leg) => [leg, { position: lerp(a.feet[leg].position, b.feet[leg].position), contact: a.feet[leg].contact }]))
+      : null,
+  };
+}
+
+function makeTrack(kind, frames) {
+  return {
+    kind,
+    frames,
+    duration: frames.length ? frames[frames.length - 1].t : 0,
+    /** The pose at time t, interpolated between the frames around it. */
+    at(t) {
+      let lo = 0;
+      let hi = frames.length - 1;
+      if (t <= frames[0].t) return frames[0];
+      if (t >= frames[hi].t) return frames[hi];
+      while (hi - lo > 1) {
+        const mid = (lo + hi) >> 1;
+        if (frames[mid].t <= t) lo = mid;
+        else hi = mid;
+      }
+      const a = frames[lo];
+      const b = frames[hi];
+      return lerpFrame(a, b, (t - a.t) / (b.t - a.t || 1));
+    },
+  };
+}
+
+const states = run.states || [];
+const trace = run.sim_trace || [];
+const rootSamples = run.root_path || [];
+const tracks = {};
+if (states.length) {
+  tracks.plan = makeTrack(
+    'plan',
+    states.map((s, i) => ({
+      t: i,
+      index: i,
+      position: s.base.position,
+      rpy: s.base.rpy,
+      joints: s.joints,
+      feet: Object.fromEntries(s.feet.map((f) => [f.leg, { position: f.position, contact: true }])),
+      moving_leg: s.moving_leg,
+    })),
+  );
+}
+if (trace.length) {
+  tracks.sim = makeTrack(
+    'sim',
+    trace.map((s, i) => ({
+      t: s.t,
+      index: i,
+      position: s.base.position,
+      rpy: s.base.rpy,
+      joints: null,
+      feet: Object.fromEntries(s.feet.map((f) => [f.leg, { position: f.position, contact: f.contact }])),
+    })),
+  );
+}
+if (rootSamples.length > 1) {
+  // The planned trunk path alone: position and heading, no legs.
+  tracks.root = makeTrack(
+    'root',
+    rootSamples.map((p, i) => ({ t: p.t, index: i, position: p.position, rpy: [0, 0, p.yaw], joints: null, feet: null })),
+  );
+}
+
+// ---- Header, legend, summary ---------------------------------------------------------------------
+
+function renderHeader() {
+  $('title').textContent = `${run.scenario ?? sceneData.scenario}${run.seed !== undefined ? ` · seed ${run.seed}` : ''}`;
+  $('source').textContent = data.source.plan;
+  const status = $('status');
+  if (run.failure) {
+    status.className = 'status failed';
+    status.textContent = `failure: ${run.failure}`;
+  } else if (trace.length || run.sim_ok !== undefined) {
+    status.className = run.sim_ok ? 'status ok' : 'status failed';
+    status.textContent = run.sim_ok ? 'simulated run reached the goal' : 'simulated run did not succeed';
+  } else if (run.contact_ok) {
+    status.className = 'status ok';
+    status.textContent = `contact plan: ${run.steps} steps${run.reached_goal ? ' to the goal' : ''}`;
+  } else {
+    status.className = 'status neutral';
+    status.textContent = run.root_ok ? 'root path only' : 'no plan';
+  }
+}
+
+function formatValue(v) {
+  if (typeof v === 'number') return Number.isInteger(v) ? String(v) : String(Number(v.toPrecision(4)));
+  if (v === null) return '—';
+  if (typeof v === 'object') return JSON.stringify(v);
+  return String(v);
+}
+
+function renderSummary() {
+  const first = ['scenario', 'seed', 'root_status', 'root_s', 'root_duration_s', 'contact_status', 'contact_s', 'steps',
+    'reached_goal', 'sim_ok', 'fell', 'sim_time_s', 'steps_executed', 'steps_total', 'collisions', 'collision_links',
+    'max_torque_ratio', 'min_support_margin_m', 'final_base_error_m', 'early_touchdowns', 'late_touchdowns'];
+  const skip = new Set(['states', 'root_path', 'sim_trace', 'failure']);
+  const keys = [...first.filter((k) => k in run), ...Object.keys(run).filter((k) => !first.includes(k) && !skip.has(k))];
+  const rows = keys
+    .filter((k) => !Array.isArray(run[k]) && !(k === 'collision_links' && !Object.keys(run[k] ?? {}).length))
+    .map((k) => `<tr><th>${k}</th><td>${escapeHtml(formatValue(run[k]))}</td></tr>`);
+  rows.push(`<tr><th>terrain</th><td>${sceneData.terrain.triangles.length} triangles, ${sceneData.surfaces.length} surfaces</td></tr>`);
+  if (data.checks.feet_error_m !== null) {
+    rows.push(`<tr><th>FK check</th><td>plan feet within ${data.checks.feet_error_m.toExponential(1)} m of the viewer's kinematics</td></tr>`);
+  }
+  $('summary').innerHTML = rows.join('');
+}
+
+function escapeHtml(s) {
+  return s.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
+}
+
+function renderLegend() {
+  const items = [
+    ...LEGS.map((leg) => [LEG_COLORS[leg], `${leg} foothold / foot`, 'disc']),
+    [COLORS.terrain, 'terrain', 'box'],
+    [COLORS.surface, 'contact surface', 'box'],
+    [COLORS.rootPath, 'root path (dots: plan states)', 'line'],
+    ['#333333', 'start and goal (arrows)', 'line'],
+  ];
+  if (trace.length) items.push([COLORS.simPath, 'simulated base path', 'line']);
+  $('legend').innerHTML = items
+    .map(([color, label, shape]) => `<li><span class="swatch ${shape}" style="background:${color}"></span>${label}</li>`)
+    .join('');
+}
+
+// ---- 3D scene ------------------------------------------------------------------------------------
+
+const layers = {};
+function layer(name, object) {
+  layers[name] = object;
+  return object;
+}
+
+function terrainMesh() {
+  const { vertices, triangles } = sceneData.terrain;
+  const indexed = new THREE.BufferGeometry();
+  indexed.setAttribute('position', new THREE.Float32BufferAttribute(vertices.flat(), 3));
+  indexed.setIndex(triangles.flat());
+  const geometry = indexed.toNonIndexed();
+  geometry.computeVertexNormals();
+  const group = new THREE.Group();
+  const mesh = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: COLORS.terrain, roughness: 0.95 }));
+  mesh.receiveShadow = true;
+  group.add(mesh);
+  group.add(new THREE.LineSegments(new THREE.EdgesGeometry(indexed, 20), new THREE.LineBasicMaterial({ color: COLORS.terrainEdges })));
+  return group;
+}
+
+function surfaceMeshes() {
+  const group = new THREE.Group();
+  const fill = new THREE.MeshBasicMaterial({
+    color: COLORS.surface, transparent: true, opacity: 0.4, side: THREE.DoubleSide, depthWrite: false,
+  });
+  const edge = new THREE.LineBasicMaterial({ color: '#2b7a99' });
+  for (const s of sceneData.surfaces) {
+    const lift = v3(s.normal).multiplyScalar(0.004);
+    const points = s.vertices.map((p) => v3(p).add(lift));
+    const positions = [];
+    for (let i = 1; i + 1 < points.length; i++) positions.push(...points[0].toArray(), ...points[i].toArray(), ...points[i + 1].toArray());
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.Float32BufferAttribute(positions, 3));
+    group.add(new THREE.Mesh(geometry, fill));
+    group.add(new THREE.LineLoop(new THREE.BufferGeometry().setFromPoints(points), edge));
+  }
+  return group;
+}
+
+/** A tube along a polyline (WebGL lines are one pixel wide). */
+function polylineTube(points, color, radius) {
+  const path = new THREE.CurvePath();
+  for (let i = 1; i < points.length; i++) {
+    if (points[i].distanceTo(points[i - 1]) > 1e-6) path.add(new THREE.LineCurve3(points[i - 1], points[i]));
+  }
+  if (!path.curves.length) return new THREE.Group();
+  const geometry = new THREE.TubeGeometry(path, Math.max(8, path.curves.length * 2), radius, 6, false);
+  return new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color, roughness: 0.6 }));
+}
+
+function rootPath() {
+  const group = new THREE.Group();
+  const points = (run.root_path || []).map((p) => v3(p.position));
+  if (points.length > 1) group.add(polylineTube(points, COLORS.rootPath, 0.007));
+  const dot = new THREE.SphereGeometry(0.014, 12, 8);
+  const material = new THREE.MeshStandardMaterial({ color: COLORS.rootPath });
+  for (const s of states) {
+    const mesh = new THREE.Mesh(dot, material);
+    mesh.position.fromArray(s.base.position);
+    group.add(mesh);
+  }
+  return group;
+}
+
+function simPath() {
+  const points = trace.map((s) => v3(s.base.position));
+  return points.length > 1 ? polylineTube(points, COLORS.simPath, 0.005) : new THREE.Group();
+}
+
+/** The plan's footholds: one disc per new contact, on its surface, in the leg's colour (unlit). */
+function footholds() {
+  const group = new THREE.Group();
+  const geometry = new THREE.CylinderGeometry(0.032, 0.032, 0.004, 28);
+  const up = new THREE.Vector3(0, 1, 0);
+  const last = {};
+  for (const s of states) {
+    for (const f of s.feet) {
+      const key = f.position.map((x) => x.toFixed(4)).join(',');
+      if (last[f.leg] === key) continue;
+      last[f.leg] = key;
+      const normal = v3(f.normal).normalize();
+      const disc = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({ color: LEG_COLORS[f.leg] }));
+      disc.quaternion.setFromUnitVectors(up, normal);
+      // Legs at different heights, so discs of two legs on one spot do not z-fight.
+      disc.position.copy(v3(f.position).addScaledVector(normal, 0.007 + 0.0015 * LEGS.indexOf(f.leg)));
+      group.add(disc);
+    }
+  }
+  return group;
+}
+
+function shapeMesh(shape, material) {
+  let geometry;
+  if (shape.kind === 'box') geometry = new THREE.BoxGeometry(...shape.size);
+  else if (shape.kind === 'sphere') geometry = new THREE.SphereGeometry(shape.radius, 20, 14);
+  else geometry = new THREE.CylinderGeometry(shape.radius, shape.radius, shape.length, 24).rotateX(Math.PI / 2);  // URDF: axis z
+  const mesh = new THREE.Mesh(geometry, material);
+  mesh.position.fromArray(shape.origin.xyz);
+  mesh.quaternion.fromArray(shape.origin.quaternion);
+  mesh.castShadow = true;
+  return mesh;
+}
+
+/** The robot: one group per URDF link holding its collision primitives, posed by FK. */
+function buildRobot() {
+  const root = new THREE.Group();
+  root.matrixAutoUpdate = false;
+  const material = (color) => new THREE.MeshStandardMaterial({ color, roughness: 0.55, metalness: 0.1 });
+  const trunk = material(COLORS.trunk);
+  const actuator = material(COLORS.actuator);
+  const legMaterial = material(COLORS.leg);
+  const links = new Map();
+  const legOf = new Map(robot.links.map((l) => [l.name, l.leg]));
+  for (const link of robot.links) {
+    const group = new THREE.Group();
+    group.matrixAutoUpdate = false;
+    links.set(link.name, group);
+    root.add(group);
+  }
+  for (const shape of robot.shapes) {
+    const leg = legOf.get(shape.link);
+    let m = legMaterial;
+    if (shape.kind === 'sphere' && leg) m = material(LEG_COLORS[leg]);
+    else if (!leg) m = shape.kind === 'box' ? trunk : actuator;
+    links.get(shape.link).add(shapeMesh(shape, m));
+  }
+  // Without joint angles (the simulated trace) the legs are drawn as hip-to-foot rods.
+  const rods = new THREE.Group();
+  const rodGeometry = new THREE.CylinderGeometry(0.016, 0.016, 1, 12);
+  const footGeometry = new THREE.SphereGeometry(robot.foot_radius, 20, 14);
+  const hips = hipPositions(robot);
+  const rodParts = {};
+  for (const leg of LEGS) {
+    const rod = new THREE.Mesh(rodGeometry, legMaterial);
+    const footMaterial = material(LEG_COLORS[leg]);
+    const foot = new THREE.Mesh(footGeometry, footMaterial);
+    rod.castShadow = foot.castShadow = true;
+    rods.add(rod, foot);
+    rodParts[leg] = { rod, foot, footMaterial };
+  }
+  const up = new THREE.Vector3(0, 1, 0);
+
+  return {
+    root,
+    rods,
+    /** Poses the robot at a frame of a track. */
+    show(frame) {
+      const base = baseMatrix(frame);
+      root.matrix.copy(base);
+      root.matrixWorldNeedsUpdate = true;
+      const poses = frame.joints ? linkPoses(robot, frame.joints) : null;
+      for (const [name, group] of links) {
+        group.visible = Boolean(poses) || !legOf.get(name);
+        if (poses) group.matrix.copy(poses.get(name));
+      }
+      rods.visible = !poses && Boolean(frame.feet);
+      if (!poses && frame.feet) {
+        for (const leg of LEGS) {
+          const hip = hips[leg].clone().applyMatrix4(base);
+          const contact = v3(frame.feet[leg].position);
+          const { rod, foot, footMaterial } = rodParts[leg];
+          // The trace gives the contact point; the sphere's centre sits one radius above it.
+          const centre = contact.clone().add(new THREE.Vector3(0, 0, robot.foot_radius));
+          const axis = centre.clone().sub(hip);
+          rod.position.copy(hip).addScaledVector(axis, 0.5);
+          rod.scale.set(1, axis.length(), 1);
+          rod.quaternion.setFromUnitVectors(up, axis.clone().normalize());
+          foot.position.copy(centre);
+          footMaterial.emissive.set(frame.feet[leg].contact ? '#000000' : '#555555');
+          footMaterial.opacity = frame.feet[leg].contact ? 1 : 0.55;
+          footMaterial.transparent = !frame.feet[leg].contact;
+        }
+      }
+    },
+  };
+}
+
+function startGoalMarkers() {
+  const group = new THREE.Group();
+  for (const [pose, color] of [[sceneData.start, '#444444'], [sceneData.goal, '#111111']]) {
+    const [x, y] = pose.position;
+    const z = groundBelow(x, y);
+    const dir = new THREE.Vector3(Math.cos(pose.yaw), Math.sin(pose.yaw), 0);
+    group.add(new THREE.ArrowHelper(dir, new THREE.Vector3(x, y, z + 0.01), 0.3, color, 0.08, 0.05));
+  }
+  return group;
+}
+
+/** Highest terrain point below (x, y), by a downward ray. */
+let terrainForRays = null;
+function groundBelow(x, y) {
+  if (!terrainForRays) return 0;
+  const ray = new THREE.Raycaster(new THREE.Vector3(x, y, 100), new THREE.Vector3(0, 0, -1));
+  const hit = ray.intersectObject(terrainForRays, true)[0];
+  return hit ? hit.point.z : 0;
+}
+
+function setupScene() {
+  const canvas = $('view');
+  let renderer;
+  try {
+    renderer = new THREE.WebGLRenderer({ canvas, antialias: true });
+  } catch (error) {
+    $('viewport').classList.add('no-webgl');
+    $('webgl-message').textContent = `3D view unavailable: ${error.message}`;
+    return null;
+  }
+  renderer.setPixelRatio(window.devicePixelRatio);
+  renderer.shadowMap.enabled = true;
+  renderer.shadowMap.type = THREE.PCFShadowMap;
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(COLORS.background);
+
+  const terrain = layer('terrain', terrainMesh());
+  terrainForRays = terrain.children[0];
+  scene.add(terrain);
+  scene.add(layer('surfaces', surfaceMeshes()));
+  scene.add(layer('footholds', footholds()));
+  scene.add(layer('path', rootPath()));
+  if (trace.length) scene.add(layer('simpath', simPath()));
+  scene.add(layer('markers', startGoalMarkers()));
+  const robotView = buildRobot();
+  const robotGroup = layer('robot', new THREE.Group());
+  robotGroup.add(robotView.root, robotView.rods);
+  scene.add(robotGroup);
+
+  // What the camera frames: the path, the footholds and the trace with a margin for the
+  // robot, within the terrain's extent (the whole terrain when there is no path).
+  const terrainBox = new THREE.Box3().setFromObject(terrain);
+  const focus = new THREE.Box3();
+  for (const p of run.root_path || []) focus.expandByPoint(v3(p.position));
+  for (const s of states) for (const f of s.feet) focus.expandByPoint(v3(f.position));
+  for (const s of trace) focus.expandByPoint(v3(s.base.position));
+  if (focus.isEmpty()) focus.copy(terrainBox);
+  else {
+    focus.expandByVector(new THREE.Vector3(0.7, 0.7, 0.3));
+    focus.min.z = Math.max(focus.min.z, terrainBox.min.z);
+    focus.intersect(terrainBox.clone().expandByVector(new THREE.Vector3(0, 0, 1)));
+    if (focus.isEmpty()) focus.copy(terrainBox);
+  }
+  const sphere = focus.getBoundingSphere(new THREE.Sphere());
+
+  const camera = new THREE.PerspectiveCamera(40, 1, 0.01, 200);
+  camera.up.set(0, 0, 1);
+  const controls = new OrbitControls(camera, canvas);
+  controls.enableDamping = true;
+  const home = () => {
+    const direction = new THREE.Vector3(-0.55, -1.0, 0.72).normalize();
+    const distance = (sphere.radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2))) * 0.72;
+    controls.target.copy(sphere.center);
+    camera.position.copy(sphere.center).addScaledVector(direction, distance);
+    controls.update();
+  };
+  home();
+
+  scene.add(new THREE.HemisphereLight('#ffffff', '#8a7f6a', 1.6));
+  const sun = new THREE.DirectionalLight('#ffffff', 2.2);
+  sun.position.copy(sphere.center).add(new THREE.Vector3(-2, -3, 6));
+  sun.target.position.copy(sphere.center);
+  sun.castShadow = true;
+  sun.shadow.mapSize.set(2048, 2048);
+  const r = sphere.radius * 1.3;
+  Object.assign(sun.shadow.camera, { left: -r, right: r, top: r, bottom: -r, near: 0.1, far: 30 });
+  scene.add(sun, sun.target);
+
+  const resize = () => {
+    const { clientWidth: w, clientHeight: h } = canvas.parentElement;
+    renderer.setSize(w, h, false);
+    camera.aspect = w / h;
+    camera.updateProjectionMatrix();
+  };
+  new ResizeObserver(resize).observe(canvas.parentElement);
+  resize();
+  return { renderer, scene, camera, controls, robotView, home };
+}
+
+// ---- Plots ---------------------------------------------------------------------------------------
+
+/** Intervals [a, b] where flags[i] holds, for samples at times ts. */
+function intervals(ts, flags) {
+  const out = [];
+  let start = null;
+  for (let i = 0; i < ts.length; i++) {
+    if (flags[i] && start === null) start = ts[i];
+    if (!flags[i] && start !== null) {
+      out.push([start, ts[i]]);
+      start = null;
+    }
+  }
+  if (start !== null) out.push([start, ts[ts.length - 1]]);
+  return out;
+}
+
+function buildPlots(track) {
+  const box = $('plots');
+  box.replaceChildren();
+  const plots = [];
+  const add = (make, options) => {
+    const div = document.createElement('div');
+    box.appendChild(div);
+    const plot = make(div, options);
+    plot.onSeek((t) => setTime(t));
+    plots.push(plot);
+  };
+  const frames = track.frames;
+  const xRange = [frames[0].t, Math.max(track.duration, frames[0].t + 1e-6)];
+  const xLabel = track.kind === 'plan' ? 'plan state' : 'time [s]';
+  const deg = (r) => (r * 180) / Math.PI;
+  add(linePlot, {
+    title: 'base height', yLabel: 'z [m]', xLabel, xRange,
+    series: [{ name: 'z', color: '#333', points: frames.map((f) => [f.t, f.position[2]]) }],
+  });
+  const progress = () => add(linePlot, {
+    title: 'base position', yLabel: 'x, y [m]', xLabel, xRange,
+    series: [
+      { name: 'x', color: '#6a3d9a', points: frames.map((f) => [f.t, f.position[0]]) },
+      { name: 'y', color: '#b15928', points: frames.map((f) => [f.t, f.position[1]]) },
+    ],
+  });
+  if (track.kind === 'root') {
+    add(linePlot, {
+      title: 'heading', yLabel: 'yaw [deg]', xLabel, xRange,
+      series: [{ name: 'yaw', color: '#333', points: frames.map((f) => [f.t, deg(f.rpy[2])]) }],
+    });
+    progress();
+    return plots;
+  }
+  add(linePlot, {
+    title: 'base roll and pitch', yLabel: '[deg]', xLabel, xRange,
+    series: [
+      { name: 'roll', color: '#d62728', points: frames.map((f) => [f.t, deg(f.rpy[0])]) },
+      { name: 'pitch', color: '#1f77b4', points: frames.map((f) => [f.t, deg(f.rpy[1])]) },
+    ],
+  });
+  let rows;
+  if (track.kind === 'plan') {
+    // Between states i-1 and i the moving leg of state i swings; the others stand.
+    rows = LEGS.map((leg) => {
+      const flags = frames.map((f, i) => !(frames[i + 1] && frames[i + 1].moving_leg === leg));
+      return { name: leg, color: LEG_COLORS[leg], intervals: intervals(frames.map((f) => f.t), flags) };
+    });
+  } else {
+    const ts = frames.map((f) => f.t);
+    rows = LEGS.map((leg) => ({ name: leg, color: LEG_COLORS[leg], intervals: intervals(ts, frames.map((f) => f.feet[leg].contact)) }));
+  }
+  add(ganttPlot, { title: 'foot contact (filled: in contact)', xLabel, xRange, rows });
+  if (track.kind === 'sim') {
+    // Steps walked: touchdowns that end a swing (contact lost, then regained), all legs.
+    let count = 0;
+    const lifted = {};
+    const points = frames.map((f, i) => {
+      for (const leg of LEGS) {
+        const before = i > 0 && frames[i - 1].feet[leg].contact;
+        if (before && !f.feet[leg].contact) lifted[leg] = true;
+        if (!before && f.feet[leg].contact && lifted[leg]) {
+          count += 1;
+          lifted[leg] = false;
+        }
+      }
+      return [f.t, count];
+    });
+    const total = run.steps_total ?? run.steps;
+    add(linePlot, {
+      title: `steps walked (touchdowns after a swing)${total !== undefined ? `, plan ${total}` : ''}`,
+      xLabel, xRange, series: [{ name: 'steps', color: '#333', points, step: true }],
+    });
+  } else {
+    progress();
+  }
+  return plots;
+}
+
+// ---- Playback ------------------------------------------------------------------------------------
+
+const view = setupScene();
+let track = tracks.sim || tracks.plan || tracks.root || null;
+let plots = [];
+let time = 0;
+let playing = false;
+let follow = null;  // base position last followed, when following
+
+function setTime(t) {
+  if (!track) return;
+  time = Math.min(Math.max(t, 0), track.duration);
+  const frame = track.at(time);
+  if (view) {
+    view.robotView.show(frame);
+    if (follow) {
+      const p = v3(frame.position);
+      const delta = p.clone().sub(follow);
+      view.camera.position.add(delta);
+      view.controls.target.add(delta);
+      follow = p;
+    }
+  }
+  $('slider').value = time;
+  for (const plot of plots) plot.setCursor(time);
+  if (track.kind === 'plan') {
+    const i = Math.floor(time + 1e-9);
+    const text = time - i > 1e-9
+      ? `${states[i + 1].moving_leg} steps from state ${i} to ${i + 1}`
+      : `state ${i}${states[i].moving_leg ? `, reached by moving ${states[i].moving_leg}` : ' (start)'}`;
+    $('clock').textContent = `${time.toFixed(2)} / ${track.duration} · ${text}`;
+  } else if (track.kind === 'root') {
+    $('clock').textContent = `t ${time.toFixed(2)} s / ${track.duration.toFixed(2)} s · planned trunk path (no legs)`;
+  } else {
+    const contacts = LEGS.filter((leg) => frame.feet[leg].contact).join(' ') || 'none';
+    $('clock').textContent = `t ${time.toFixed(2)} s / ${track.duration.toFixed(2)} s · in contact: ${contacts}`;
+  }
+}
+
+function setPlaying(on) {
+  playing = on && Boolean(track);
+  if (playing && time >= track.duration) time = 0;
+  $('play').textContent = playing ? '❚❚ Pause' : '▶ Play';
+}
+
+function selectTrack(kind) {
+  track = tracks[kind];
+  $('slider').max = track.duration;
+  $('slider').step = track.kind === 'plan' ? 0.01 : 0.05;
+  plots = buildPlots(track);
+  setTime(0);
+}
+
+function setupControls() {
+  const select = $('track');
+  for (const [kind, label] of [['sim', 'simulated run'], ['plan', 'contact plan'], ['root', 'root path']]) {
+    if (tracks[kind]) select.add(new Option(`${label} (${tracks[kind].frames.length} ${kind === 'plan' ? 'states' : 'samples'})`, kind));
+  }
+  select.addEventListener('change', () => selectTrack(select.value));
+  $('play').addEventListener('click', () => setPlaying(!playing));
+  $('slider').addEventListener('input', (e) => setTime(Number(e.target.value)));
+  $('home').addEventListener('click', () => view && view.home());
+  $('follow').addEventListener('change', (e) => {
+    follow = e.target.checked && track ? v3(track.at(time).position) : null;
+  });
+  for (const box of document.querySelectorAll('#layers input')) {
+    box.addEventListener('change', () => setLayer(box.dataset.layer, box.checked));
+    if (!layers[box.dataset.layer] && view) box.closest('label').hidden = true;
+  }
+  window.addEventListener('keydown', (e) => {
+    if (!track || e.target.tagName === 'SELECT') return;
+    const step = track.kind === 'plan' ? 1 : 0.5;
+    if (e.key === ' ') setPlaying(!playing);
+    else if (e.key === 'ArrowRight') setTime(time + step);
+    else if (e.key === 'ArrowLeft') setTime(time - step);
+    else return;
+    e.preventDefault();
+  });
+  if (!track) {
+    $('controls').classList.add('disabled');
+    $('clock').textContent = 'nothing to play: the input has no plan states, simulated trace or root path';
+    $('plots').textContent = 'The input has no time series to plot.';
+    for (const el of $('controls').querySelectorAll('button:not(#home), input, select')) el.disabled = true;
+    if (layers.robot) layers.robot.visible = false;
+    document.querySelector('#layers [data-layer=robot]').closest('label').hidden = true;
+  } else {
+    selectTrack(track.kind);
+  }
+}
+
+function setLayer(name, visible) {
+  if (layers[name]) layers[name].visible = visible;
+}
+
+renderHeader();
+renderLegend();
+renderSummary();
+setupControls();
+
+let last = performance.now();
+let frames = 0;
+function tick(now) {
+  const dt = Math.min((now - last) / 1000, 0.1);
+  last = now;
+  if (playing) {
+    // Plans play one state per second at 1x, traces in real time.
+    const t = time + dt * Number($('speed').value);
+    setTime(t);
+    if (t >= track.duration) setPlaying(false);
+  }
+  if (view) {
+    view.controls.update();
+    view.renderer.render(view.scene, view.camera);
+  }
+  frames += 1;
+  if (frames === 2) window.rbcpViewer.ready = true;
+  requestAnimationFrame(tick);
+}
+
+window.rbcpViewer = {
+  ready: false,
+  webgl: Boolean(view),
+  checks: data.checks,
+  tracks: Object.keys(tracks),
+  setTime,
+  setLayer,
+  selectTrack,
+};
+requestAnimationFrame(tick);
