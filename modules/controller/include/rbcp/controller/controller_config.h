@@ -46,7 +46,7 @@ struct SwingConfig {
 /// Stance legs: contact forces and joint PD.
 struct StanceConfig {
   double friction = 0.5;               ///< friction coefficient the force distribution assumes [-]
-  double min_normal_force_N = 10.0;    ///< least normal force of a loaded stance foot [N]
+  double min_normal_force_N = 20.0;    ///< least normal force of a loaded stance foot [N]
   double unload_s = 0.15;              ///< load ramp of a leg before lift-off [s]
   double load_s = 0.1;                 ///< load ramp of a leg after touchdown [s]
   Eigen::Vector3d kp = Eigen::Vector3d(30, 30, 15);    ///< joint PD of a stance leg [N m/rad]
