@@ -8,13 +8,12 @@
 #include <algorithm>
 #include <atomic>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <map>
 #include <mutex>
-#include <sstream>
 #include <thread>
 
+#include "rbcp/core/format.h"
 #include "rbcp/nodes/offline_pipeline.h"
 #include "rbcp/nodes/process.h"
 
@@ -39,12 +38,6 @@ double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string Fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
 }
 
 }  // namespace
@@ -109,7 +102,7 @@ int main(int argc, char** argv) {
         std::lock_guard<std::mutex> lock(print);
         std::cerr << "sim_bench: " << run.scenario << " seed " << seed << ": "
                   << (run.reached ? "goal reached" : "FAILED " + run.detail) << " (" << run.steps << " steps, "
-                  << Fixed(run.sim_s, 1) << " s simulated in " << Fixed(run.wall_s, 1) << " s)\n";
+                  << FixedNumber(run.sim_s, 1) << " s simulated in " << FixedNumber(run.wall_s, 1) << " s)\n";
       }
     };
     std::vector<std::thread> threads;
@@ -147,10 +140,10 @@ int main(int argc, char** argv) {
       for (const auto& [what, n] : failures) failure_text += (failure_text.empty() ? "" : ", ") + what + " " + std::to_string(n);
       std::cout << "| " << scenario.name << " | " << planned << "/" << seeds << " | " << reached << "/" << seeds << " | "
                 << (failure_text.empty() ? "-" : failure_text) << " | "
-                << (reached ? Fixed(time / reached, 1) + " s" : "-") << " | "
-                << (reached ? Fixed(speed / reached, 3) + " m/s" : "-") << " | "
-                << (planned ? Fixed(steps / planned, 1) : "-") << " | " << Fixed(torque, 2) << " | "
-                << Fixed(Median(rtf), 1) << "x |\n";
+                << (reached ? FixedNumber(time / reached, 1) + " s" : "-") << " | "
+                << (reached ? FixedNumber(speed / reached, 3) + " m/s" : "-") << " | "
+                << (planned ? FixedNumber(steps / planned, 1) : "-") << " | " << FixedNumber(torque, 2) << " | "
+                << FixedNumber(Median(rtf), 1) << "x |\n";
     }
     if (!json_path.empty()) {
       std::ofstream out(json_path);

@@ -2,21 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 #include "rbcp/core/triangle_mesh.h"
 
 namespace rbcp::sim {
 namespace {
-
-std::string Fixed(double v, int digits = 3) {
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -172,8 +164,8 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
     if (c.is_foot) continue;
     if (c.link == "base" || EndsWith(c.link, "_THIGH")) {
       Decide(failure("fall", c.leg ? std::string(LegName(*c.leg)) : "",
-                     c.link + " touches the terrain at (" + Fixed(c.position_W.x()) + ", " + Fixed(c.position_W.y()) +
-                         ", " + Fixed(c.position_W.z()) + ")"));
+                     c.link + " touches the terrain at (" + FixedNumber(c.position_W.x()) + ", " + FixedNumber(c.position_W.y()) +
+                         ", " + FixedNumber(c.position_W.z()) + ")"));
       return;
     }
     touching[c.link] = true;
@@ -196,7 +188,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
       tilt = std::min(tilt, std::max(AngleDiff(rpy.x(), planned.x()), AngleDiff(rpy.y(), planned.y())));
     }
     if (std::isfinite(tilt) && tilt > config_.outcome.max_tilt_rad) {
-      Decide(failure("fall", "", "roll or pitch " + Fixed(tilt) + " rad from the plan's"));
+      Decide(failure("fall", "", "roll or pitch " + FixedNumber(tilt) + " rad from the plan's"));
       return;
     }
   }
@@ -218,7 +210,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
         const double slip = (centres[i] - *touchdown_W_[i]).norm();
         if (slip > config_.outcome.max_slip_m) {
           Decide(failure("foot_slip", std::string(LegName(leg)),
-                         std::string(LegName(leg)) + " moved " + Fixed(slip) + " m from where it touched down"));
+                         std::string(LegName(leg)) + " moved " + FixedNumber(slip) + " m from where it touched down"));
           return;
         }
       }
@@ -234,8 +226,8 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
       if (saturated_since_[k] < 0.0) saturated_since_[k] = t;
       if (t - saturated_since_[k] > config_.outcome.max_saturation_s) {
         Decide(failure("torque_saturation", JointName(j),
-                       JointName(j) + " held at the " + Fixed(limit, 0) + " N m limit for " +
-                           Fixed(t - saturated_since_[k], 2) + " s"));
+                       JointName(j) + " held at the " + FixedNumber(limit, 0) + " N m limit for " +
+                           FixedNumber(t - saturated_since_[k], 2) + " s"));
         return;
       }
     } else {
@@ -257,13 +249,13 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
       Decide(std::nullopt);
     } else {
       Decide(failure("goal_missed", "",
-                     "plan executed, but the base is " + Fixed(error) + " m from the final base" +
+                     "plan executed, but the base is " + FixedNumber(error) + " m from the final base" +
                          (four ? "" : " and not every foot is on the ground")));
     }
     return;
   }
   if (t > timeout_s_) {
-    Decide(failure("timeout", "", "the run outlasted " + Fixed(timeout_s_, 1) + " s"));
+    Decide(failure("timeout", "", "the run outlasted " + FixedNumber(timeout_s_, 1) + " s"));
   }
 }
 

@@ -4,36 +4,25 @@
 #include <sstream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/convert.h"
 
 namespace rbcp::sim {
-namespace {
-
-std::string Fixed(double v, int digits) {
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
-
-}  // namespace
-
 std::string OutcomeSummary(const ExecutionOutcome& o) {
   std::ostringstream os;
   if (o.ok()) {
-    os << "goal reached in " << Fixed(o.sim_time_s, 1) << " s of simulated time, " << o.steps_executed << " steps";
+    os << "goal reached in " << FixedNumber(o.sim_time_s, 1) << " s of simulated time, " << o.steps_executed << " steps";
   } else if (o.failure) {
     const ExecutionFailure& f = *o.failure;
-    os << f.what << " at " << Fixed(f.t, 2) << " s, step " << f.step << "/" << o.steps_total;
+    os << f.what << " at " << FixedNumber(f.t, 2) << " s, step " << f.step << "/" << o.steps_total;
     if (!f.leg.empty()) os << " (" << f.leg << ")";
     if (!f.phase.empty()) os << " during " << f.phase;
     os << ": " << f.detail;
   } else {
-    os << "undecided after " << Fixed(o.sim_time_s, 1) << " s";
+    os << "undecided after " << FixedNumber(o.sim_time_s, 1) << " s";
   }
-  os << "; max torque " << Fixed(100.0 * o.max_torque_ratio, 0) << "% of the limit, " << o.collisions
+  os << "; max torque " << FixedNumber(100.0 * o.max_torque_ratio, 0) << "% of the limit, " << o.collisions
      << " body-terrain collisions";
   return os.str();
 }

@@ -14,9 +14,9 @@
 #include <iostream>
 #include <map>
 #include <optional>
-#include <sstream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 #include "rbcp/nodes/process.h"
 #include "rbcp/plan_checker/plan_checker.h"
 #include "rbcp/scenario/scenario.h"
@@ -104,14 +104,6 @@ Waited WaitUntil(lcm::LCM& lcm, StatusBoard& board, double timeout_s, const std:
 void Pump(lcm::LCM& lcm, double timeout_s, const std::function<bool()>& done) {
   const auto start = Clock::now();
   while (!done() && std::chrono::duration<double>(Clock::now() - start).count() < timeout_s) lcm.handleTimeout(20);
-}
-
-std::string Fixed(double v, int digits) {
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(digits);
-  os << v;
-  return os.str();
 }
 
 void PrintSurfaces(const Scenario& scenario, const std::vector<AffordanceSurface>& surfaces, double extract_ms) {
@@ -246,12 +238,12 @@ int main(int argc, char** argv) {
     Pump(*lcm, 0.2, [&] { return board.NewOk("root_planner").has_value(); });
     const double duration_s = path->points.empty() ? 0.0 : path->points.back().t - path->points.front().t;
     const auto root_ok = board.NewOk("root_planner");
-    std::cout << "root_planner: path of " << Fixed(duration_s, 2) << " s (" << path->num_points
+    std::cout << "root_planner: path of " << FixedNumber(duration_s, 2) << " s (" << path->num_points
               << " points) on ROOT_PATH";
-    if (root_ok) std::cout << ", planned in " << Fixed(root_ok->compute_ms, 1) << " ms";
+    if (root_ok) std::cout << ", planned in " << FixedNumber(root_ok->compute_ms, 1) << " ms";
     std::cout << "\n";
-    summary += ", root path of " + Fixed(duration_s, 2) + " s" +
-               (root_ok ? " in " + Fixed(root_ok->compute_ms, 1) + " ms" : std::string());
+    summary += ", root path of " + FixedNumber(duration_s, 2) + " s" +
+               (root_ok ? " in " + FixedNumber(root_ok->compute_ms, 1) + " ms" : std::string());
     if (until == "root") return finish(kOk, "");
 
     // CONTACT_PLAN along the path, then the independent check.
@@ -267,10 +259,10 @@ int main(int argc, char** argv) {
     const auto contact_ok = board.NewOk("contact_planner");
     const int steps = std::max(0, plan_msg->num_states - 1);
     std::cout << "contact_planner: " << plan_msg->num_states << " states on CONTACT_PLAN";
-    if (contact_ok) std::cout << ": " << contact_ok->reason << " (" << Fixed(contact_ok->compute_ms, 1) << " ms)";
+    if (contact_ok) std::cout << ": " << contact_ok->reason << " (" << FixedNumber(contact_ok->compute_ms, 1) << " ms)";
     std::cout << "\n";
     summary += ", " + std::to_string(steps) + " contact steps" +
-               (contact_ok ? " in " + Fixed(contact_ok->compute_ms, 1) + " ms" : std::string());
+               (contact_ok ? " in " + FixedNumber(contact_ok->compute_ms, 1) + " ms" : std::string());
     try {
       const PlanCheckReport report =
           CheckPlanForScenario(common.config_dir, scenario, transport::FromContactPlanMsg(*plan_msg));
@@ -295,7 +287,7 @@ int main(int argc, char** argv) {
     }
     if (w != Waited::kDone) return stopped_or_failed(w, "execution");
     const auto walked = board.NewOk("anymal_sim");
-    std::cout << "anymal_sim: " << walked->reason << " (" << Fixed(walk_s, 1) << " s wall)\n";
+    std::cout << "anymal_sim: " << walked->reason << " (" << FixedNumber(walk_s, 1) << " s wall)\n";
     return finish(kOk, "the robot walked the plan: " + walked->reason);
   });
 }

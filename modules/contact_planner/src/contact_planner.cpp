@@ -6,13 +6,13 @@
 #include <limits>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <string_view>
 #include <tuple>
 #include <unordered_set>
 
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/limb_database/limb_database.h"
@@ -58,14 +58,6 @@ double WrapPi(double a) {
   a = std::fmod(a + M_PI, 2.0 * M_PI);
   if (a < 0.0) a += 2.0 * M_PI;
   return a - M_PI;
-}
-
-std::string Fixed(double v, int digits = 3) {
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(digits);
-  os << v;
-  return os.str();
 }
 
 /// The leg that steps before `leg` in the crawl order LH, LF, RH, RF.
@@ -377,7 +369,7 @@ struct ContactPlanner::Impl {
       const Leg leg = kAllLegs[static_cast<std::size_t>(i)];
       const Eigen::Vector3d tau = robot.StaticTorques(leg, LegJoints(q, leg), R_BW * forces.forces_N[k++]);
       if (tau.cwiseAbs().maxCoeff() > torque_limit) {
-        if (why) *why = std::string(LegName(leg)) + " static torque " + Fixed(tau.cwiseAbs().maxCoeff(), 1) + " N m";
+        if (why) *why = std::string(LegName(leg)) + " static torque " + FixedNumber(tau.cwiseAbs().maxCoeff(), 1) + " N m";
         return false;
       }
     }
@@ -632,10 +624,10 @@ struct ContactPlanner::Impl {
     ++stats.stability_evaluations;
     const EquilibriumResult eq = equilibrium.Robustness(Contacts(state.feet, -1), com);
     if (!equilibrium.MeetsThreshold(eq)) {
-      return fail("standing stance not statically stable (robustness " + Fixed(eq.robustness_N, 2) + " N)");
+      return fail("standing stance not statically stable (robustness " + FixedNumber(eq.robustness_N, 2) + " N)");
     }
     const double margin = SupportPolygonMargin(FeetPositions(state.feet, -1), com);
-    if (margin < eq_config.support_margin_m) return fail("CoM " + Fixed(margin) + " m inside the support polygon");
+    if (margin < eq_config.support_margin_m) return fail("CoM " + FixedNumber(margin) + " m inside the support polygon");
     std::string why;
     if (!TorquesWithinLimit(base, q, state.feet, -1, com, &why)) return fail("standing stance: " + why);
     return state;
@@ -726,7 +718,7 @@ struct ContactPlanner::Impl {
     }
     if (SupportPolygonMargin(stance, CoM(base, *q_pre)) >= required) return shift;
     if (why->empty()) {
-      *why = "CoM cannot be shifted " + Fixed(required) + " m inside the swing support triangle";
+      *why = "CoM cannot be shifted " + FixedNumber(required) + " m inside the swing support triangle";
       blocking_leg = widening_leg;
     }
     return std::nullopt;
@@ -903,7 +895,7 @@ struct ContactPlanner::Impl {
         feet[static_cast<std::size_t>(j)].normal = surfaces[static_cast<std::size_t>(c.surface)].Normal();
         const EquilibriumResult eq = equilibrium.Robustness(Contacts(feet, -1), com_post);
         if (!equilibrium.MeetsThreshold(eq)) {
-          last_reject = "robustness " + Fixed(eq.robustness_N, 2) + " N";
+          last_reject = "robustness " + FixedNumber(eq.robustness_N, 2) + " N";
           continue;
         }
         std::string tw;
@@ -1052,7 +1044,7 @@ struct ContactPlanner::Impl {
       std::string r;
       if (fail_leg >= 0) {
         r = std::string("no valid step for ") + std::string(LegName(kAllLegs[static_cast<std::size_t>(fail_leg)])) +
-            " at path time " + Fixed(fail_t, 2) + " s";
+            " at path time " + FixedNumber(fail_t, 2) + " s";
         if (!fail_why.empty()) r += ": " + fail_why;
       } else {
         r = "no valid step: " + fail_why;
@@ -1061,7 +1053,7 @@ struct ContactPlanner::Impl {
     };
     while (true) {
       if (OutOfTime()) {
-        return finish_fail(ContactPlanStatus::kTimeout, "time budget of " + Fixed(config.time_budget_s, 2) +
+        return finish_fail(ContactPlanStatus::kTimeout, "time budget of " + FixedNumber(config.time_budget_s, 2) +
                                                             " s exhausted; furthest failure: " + describe_failure());
       }
       Node& node = stack.back();
@@ -1143,7 +1135,7 @@ struct ContactPlanner::Impl {
       ResetFailure();
       ContactPlanResult again = Search(root, max_steps);
       if (again.ok || again.status != ContactPlanStatus::kNoFoothold) return again;
-      tried += (tried.empty() ? "" : ", ") + Fixed(advance, 2);
+      tried += (tried.empty() ? "" : ", ") + FixedNumber(advance, 2);
     }
     if (!tried.empty()) first.reason += " (also with gait_advance_s " + tried + " s)";
     return first;

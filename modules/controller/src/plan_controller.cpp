@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <vector>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
 
@@ -44,14 +44,6 @@ Eigen::Vector2d Incentre(const std::vector<Eigen::Vector3d>& tri) {
   const double sum = la + lb + lc;
   if (sum <= 0.0) return a;
   return (la * a + lb * b + lc * c) / sum;
-}
-
-std::string Fixed(double v, int digits = 3) {
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(digits);
-  os << v;
-  return os.str();
 }
 
 }  // namespace
@@ -126,7 +118,7 @@ void PlanController::CheckPlan(const ContactPlan& plan) {
     for (const FootContact& f : s.feet) {
       if (f.normal.norm() < 0.5) {
         throw InputError("controller: plan state " + std::to_string(i) + ": expected unit foot normals, got |n| = " +
-                         Fixed(f.normal.norm()));
+                         FixedNumber(f.normal.norm()));
       }
     }
     if (i > 0 && (s.moving_leg < 0 || s.moving_leg >= kNumLegs)) {
@@ -396,7 +388,7 @@ void PlanController::Advance(const Measured& m) {
         } else if (elapsed * config_.swing.search_speed_mps >= config_.swing.search_depth_m) {
           Fail(m, static_cast<Leg>(sl),
                std::string(LegName(static_cast<Leg>(sl))) + " found no ground within " +
-                   Fixed(config_.swing.search_depth_m + config_.swing.touchdown_depth_m) + " m below its foothold (step " +
+                   FixedNumber(config_.swing.search_depth_m + config_.swing.touchdown_depth_m) + " m below its foothold (step " +
                    std::to_string(status_.step) + ")");
         }
         break;
