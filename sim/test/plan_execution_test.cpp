@@ -78,6 +78,27 @@ TEST(PlanExecution, AShortFlatGroundPlanReachesItsGoal) {
   }
 }
 
+TEST(PlanExecution, ANewPlanReplacesTheRestAtAStepBoundary) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  const ContactPlan first = BuildFlatGroundPlan(g.robot, 6, 0.08);
+  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller);
+  run.Start(first);
+  // During the first step's swing a plan arrives that goes on from the stance after that step.
+  while (run.Controller().Status().phase != ControllerPhase::kSwing) ASSERT_TRUE(run.Tick());
+  // Its first state is the stance that step leaves; then LF steps back to 4 cm ahead of the
+  // reference stance, and RH and RF step 4 cm.
+  ContactPlan second = BuildFlatGroundPlan(g.robot, 3, 0.04);
+  second.states.front() = first.states[1];
+  run.GivePlan(second);
+  EXPECT_EQ(run.Controller().Status().step, 1);  // the step under way goes on
+  const ExecutionOutcome& o = run.Run();
+  ASSERT_TRUE(o.ok()) << (o.failure ? o.failure->what + ": " + o.failure->detail : std::string("not reached"));
+  // One step of the first plan, then the second plan's steps after its first state.
+  EXPECT_EQ(run.Controller().Status().steps_done, 1 + 3);
+  EXPECT_LT((o.trace.back().base_position - second.states.back().base_position).head<2>().norm(), 0.1);
+}
+
 TEST(PlanExecution, TwoRunsGiveTheSameTrace) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
