@@ -229,7 +229,7 @@ struct ContactPlanner::Impl {
         eq_config(e),
         config(c),
         equilibrium(r.TotalMass(), e),
-        torque_limit(c.torque_limit_fraction * r.CommandTorqueLimit()) {
+        torque_limit(c.torque_limit_fraction * r.TorqueLimit()) {
     config.Validate();
   }
 

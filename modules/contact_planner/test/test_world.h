@@ -108,7 +108,7 @@ inline void ExpectValidPlan(const ContactPlan& plan, const World& world, const s
   const RobotModel& robot = Robot();
   const ContactPlannerConfig& config = PlannerConfig();
   const EquilibriumConfig& eq = Equilibrium();
-  const double torque_limit = config.torque_limit_fraction * robot.CommandTorqueLimit() + 1e-6;
+  const double torque_limit = config.torque_limit_fraction * robot.TorqueLimit() + 1e-6;
   RobotTerrainCollision collision(robot, world.terrain);
   StaticEquilibrium equilibrium(robot.TotalMass(), eq);
   ASSERT_GE(plan.states.size(), 2u);

@@ -388,7 +388,7 @@ PlanCheckConfig PlanCheckConfig::FromConfigs(const RobotModel& robot, const Equi
   PlanCheckConfig config;
   config.robustness_threshold_N = equilibrium.robustness_threshold_N;
   config.support_margin_m = equilibrium.support_margin_m;
-  config.torque_limit_Nm = robot.CommandTorqueLimit();
+  config.torque_limit_Nm = robot.TorqueLimit();
   config.equilibrium = equilibrium;
   return config;
 }

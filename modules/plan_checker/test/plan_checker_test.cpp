@@ -39,7 +39,7 @@ TEST_F(PlanCheckerTest, ConfigFromThePlannersConfigs) {
   const PlanCheckConfig config = PlanCheckConfig::FromConfigs(world.robot, eq);
   EXPECT_EQ(config.robustness_threshold_N, eq.robustness_threshold_N);
   EXPECT_EQ(config.support_margin_m, eq.support_margin_m);
-  EXPECT_EQ(config.torque_limit_Nm, world.robot.CommandTorqueLimit());
+  EXPECT_EQ(config.torque_limit_Nm, world.robot.TorqueLimit());
   EXPECT_EQ(config.equilibrium.friction, eq.friction);
   EXPECT_NO_THROW(config.Validate());
 }

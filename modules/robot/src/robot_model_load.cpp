@@ -302,10 +302,10 @@ RobotModel RobotModel::Load(const std::string& urdf_path, const std::string& yam
   };
   m.friction_coefficient_ = positive("friction_coefficient");
   m.torque_limit_ = positive("torque_limit");
-  m.command_torque_limit_ = positive("command_torque_limit");
-  if (m.command_torque_limit_ > m.torque_limit_) {
-    yaml.Fail("command_torque_limit",
-              "expected at most torque_limit (" + Num(m.torque_limit_) + "), got " + Num(m.command_torque_limit_));
+  m.continuous_torque_limit_ = positive("continuous_torque_limit");
+  if (m.continuous_torque_limit_ > m.torque_limit_) {
+    yaml.Fail("continuous_torque_limit",
+              "expected at most torque_limit (" + Num(m.torque_limit_) + "), got " + Num(m.continuous_torque_limit_));
   }
   m.joint_velocity_limit_ = positive("joint_velocity_limit");
   yaml.RejectUnknownKeys();

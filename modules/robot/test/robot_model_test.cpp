@@ -295,7 +295,7 @@ TEST(RobotModel, PlanningParametersAreLoaded) {
   EXPECT_EQ(m.FootRadius(), 0.031);
   EXPECT_EQ(m.FrictionCoefficient(), 0.5);
   EXPECT_EQ(m.TorqueLimit(), 80.0);
-  EXPECT_EQ(m.CommandTorqueLimit(), 40.0);
+  EXPECT_EQ(m.ContinuousTorqueLimit(), 40.0);
   EXPECT_EQ(m.JointVelocityLimit(), 15.0);
   EXPECT_FALSE(m.WithinJointBounds(Leg::kLF, Eigen::Vector3d(0.0, 0.7, 0.01)));
 }

@@ -70,7 +70,7 @@ struct PlanCheckConfig {
   int max_violations = 100;
 
   /// The thresholds of the planners: robustness and support margin from `equilibrium`, the
-  /// robot's command torque limit (40 N m), the default tolerances above.
+  /// robot's peak torque limit, the default tolerances above.
   static PlanCheckConfig FromConfigs(const RobotModel& robot, const EquilibriumConfig& equilibrium);
 
   /// Throws InputError naming the first missing or out-of-range field ("PlanCheckConfig:

@@ -148,11 +148,10 @@ class RobotModel {
   double FootRadius() const { return foot_radius_; }
   /// Coulomb friction coefficient assumed at the feet [-].
   double FrictionCoefficient() const { return friction_coefficient_; }
-  /// Peak joint torque [N m] (the actuators' freeze-mode limit, never commanded).
+  /// Peak joint torque [N m].
   double TorqueLimit() const { return torque_limit_; }
-  /// The most torque a joint is commanded [N m]: the actuators' limit for control. Plans must
-  /// hold their stances within it, and the simulator saturates commands at it.
-  double CommandTorqueLimit() const { return command_torque_limit_; }
+  /// Continuous joint torque [N m].
+  double ContinuousTorqueLimit() const { return continuous_torque_limit_; }
   /// Joint speed limit [rad/s].
   double JointVelocityLimit() const { return joint_velocity_limit_; }
 
@@ -215,7 +214,7 @@ class RobotModel {
   double foot_radius_ = 0.0;
   double friction_coefficient_ = 0.0;
   double torque_limit_ = 0.0;
-  double command_torque_limit_ = 0.0;
+  double continuous_torque_limit_ = 0.0;
   double joint_velocity_limit_ = 0.0;
 };
 
