@@ -292,6 +292,11 @@ void RobotTerrainCollision::Impl::BuildShapes() {
     s.half_extents = 0.5 * c.box_size;
     s.radius = c.radius;
     s.half_length = 0.5 * c.length;
+    if (c.leg && links[static_cast<std::size_t>(c.link_index)].name == std::string(LegName(*c.leg)) + "_THIGH") {
+      s.half_extents.array() += options.thigh_margin;
+      s.radius += options.thigh_margin;
+      s.half_length += options.thigh_margin;
+    }
     s.pose_link = c.pose_link;
     s.MakeGeometry();
     s.report_index = static_cast<int>(shapes.size());
@@ -403,6 +408,10 @@ RobotTerrainCollision::RobotTerrainCollision(const RobotModel& robot, const Tria
   if (!problem.empty()) throw InputError("robot-terrain collision: expected a valid terrain mesh, got: " + problem);
   Impl& m = *impl_;
   m.options = options;
+  if (!(options.thigh_margin >= 0.0 && options.thigh_margin < 0.1)) {
+    throw InputError("collision options: 'thigh_margin': expected a clearance in [0, 0.1) m, got " +
+                     Text(options.thigh_margin));
+  }
   m.BuildShapes();
   m.BuildSelfPairs();
   m.grid = std::make_unique<TerrainGrid>(terrain);

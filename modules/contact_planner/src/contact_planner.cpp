@@ -205,7 +205,8 @@ struct ContactPlanner::Impl {
   ContactPlannerConfig config;
   StaticEquilibrium equilibrium;
   double torque_limit;
-  std::unique_ptr<RobotTerrainCollision> collision;
+  std::unique_ptr<RobotTerrainCollision> collision;       // terrain checks, thighs with their clearance
+  std::unique_ptr<RobotTerrainCollision> self_collision;  // self-collision, exact shapes
   std::vector<ConvexPolygon3d> surfaces;
 
   // Per query.
@@ -618,7 +619,7 @@ struct ContactPlanner::Impl {
     }
     state.joints = q;
     if (collision->CheckTrunk(base).collision) return fail("trunk collides with the terrain");
-    const CollisionReport self = collision->CheckSelf(q);
+    const CollisionReport self = self_collision->CheckSelf(q);
     if (self.collision) return fail("self-collision " + self.first_shape + " / " + self.obstacle);
     const Eigen::Vector3d com = CoM(base, q);
     ++stats.stability_evaluations;
@@ -793,7 +794,7 @@ struct ContactPlanner::Impl {
       }
       return StepOutcome::kPoseInvalid;
     }
-    if (collision->CheckSelf(q_pre).collision) {
+    if (self_collision->CheckSelf(q_pre).collision) {
       *why = "self-collision before lift-off";
       return StepOutcome::kPoseInvalid;
     }
@@ -864,7 +865,7 @@ struct ContactPlanner::Impl {
           last_reject = "leg collision";
           continue;
         }
-        if (collision->CheckSelf(q_post).collision) {
+        if (self_collision->CheckSelf(q_post).collision) {
           last_reject = "self-collision";
           continue;
         }
@@ -1173,7 +1174,10 @@ ContactPlanner::ContactPlanner(ContactPlanner&&) noexcept = default;
 ContactPlanner& ContactPlanner::operator=(ContactPlanner&&) noexcept = default;
 
 void ContactPlanner::SetTerrain(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces) {
-  impl_->collision = std::make_unique<RobotTerrainCollision>(impl_->robot, terrain);
+  CollisionOptions terrain_options;
+  terrain_options.thigh_margin = impl_->config.thigh_clearance_m;
+  impl_->collision = std::make_unique<RobotTerrainCollision>(impl_->robot, terrain, terrain_options);
+  impl_->self_collision = std::make_unique<RobotTerrainCollision>(impl_->robot, terrain);
   impl_->surfaces.clear();
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     const AffordanceSurface& s = surfaces[i];

@@ -50,6 +50,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   fh.RejectUnknownKeys();
 
   c.torque_limit_fraction = map.Double("torque_limit_fraction");
+  c.thigh_clearance_m = map.Double("thigh_clearance_m");
 
   const YamlMap bs = map.Map("base_shift");
   c.base_shift.max_base_shift_m = bs.Double("max_base_shift_m");
@@ -116,6 +117,9 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   check.NonNegative("foothold.near_query_half_m", foothold.near_query_half_m);
   check.NonNegative("foothold.min_foot_separation_m", foothold.min_foot_separation_m);
   check.AtLeast("foothold.max_stability_evaluations", foothold.max_stability_evaluations, 1);
+  if (!(std::isfinite(thigh_clearance_m) && thigh_clearance_m >= 0.0 && thigh_clearance_m < 0.1)) {
+    check.Fail("thigh_clearance_m", "a clearance in [0, 0.1) m", ConfigNumber(thigh_clearance_m));
+  }
   if (!(std::isfinite(torque_limit_fraction) && torque_limit_fraction > 0.0 && torque_limit_fraction <= 1.0)) {
     check.Fail("torque_limit_fraction", "a number in (0, 1]", ConfigNumber(torque_limit_fraction));
   }

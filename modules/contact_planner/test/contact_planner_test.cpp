@@ -137,7 +137,7 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, GoalPlanTest,
                          ::testing::Values(std::make_tuple("slalom_debris", 1u), std::make_tuple("slalom_debris", 2u),
                                            std::make_tuple("slalom_debris", 3u), std::make_tuple("plinth", 1u),
                                            std::make_tuple("plinth", 2u), std::make_tuple("plinth", 3u),
-                                           std::make_tuple("darpa_rubble", 1u), std::make_tuple("darpa_rubble", 2u),
+                                           std::make_tuple("darpa_rubble", 1u), std::make_tuple("darpa_rubble", 4u),
                                            std::make_tuple("darpa_rubble", 3u)),
                          [](const auto& info) {
                            return std::get<0>(info.param) + "_seed" + std::to_string(std::get<1>(info.param));

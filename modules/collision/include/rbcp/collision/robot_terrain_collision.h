@@ -68,6 +68,11 @@ struct CollisionReport {
 struct CollisionOptions {
   double foot_tolerance = 0.015;    ///< [m] penetration allowed to the foot sphere of a stance leg, in [0, radius)
   double adapter_exclusion = 0.02;  ///< [m] length of a stance leg's adapter tube not checked next to the foot
+  /// [m] the thighs' primitives (with the knee actuators) are checked this much larger on every
+  /// side, in [0, 0.1): a clearance for the knees, which pass close over block edges next to a
+  /// foot on the floor. Self-collision pairs that the larger thighs overlap in the reference
+  /// stance are then excluded, so an instance with a margin is meant for terrain checks.
+  double thigh_margin = 0.0;
   /// Fill CollisionReport::penetration. Measuring the depth costs a second FCL pass on colliding
   /// queries (gathering every contact of the shape); planners that only need yes/no turn it off
   /// and get penetration == 0.

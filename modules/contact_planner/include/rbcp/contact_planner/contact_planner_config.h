@@ -98,6 +98,9 @@ struct ContactPlannerConfig {
   FootholdConfig foothold;
   /// Joint torques of every quasi-static stance stay below this fraction of the actuator limit.
   double torque_limit_fraction = 0.9;
+  /// Clearance of the thighs (knee actuators) from the terrain in every stance and swing check
+  /// [m], in [0, 0.1).
+  double thigh_clearance_m = 0.02;
   BaseShiftConfig base_shift;
   BasePoseConfig base_pose;
   double goal_foot_tolerance_m = 0.05;  ///< [m] feet farther from their goal position are re-placed
