@@ -1,5 +1,5 @@
 #pragma once
-/// LCM channel names of the pipeline (see DESIGN.md for the process graph).
+/// LCM channel names of the pipeline (the process graph is in the README).
 
 namespace rbcp::channels {
 
