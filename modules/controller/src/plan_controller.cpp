@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "rbcp/core/error.h"
@@ -22,6 +23,14 @@ constexpr double kTouchdownHeightM = 0.02;  // [m] a contact this close above th
 constexpr double kTouchdownForceN = 5.0;  // [N] least contact force of a touchdown higher up
 constexpr double kTouchdownCosine = 0.8;  // a touchdown force lies within 37 degrees of the normal (a
                                           // foot sliding down a riser face under friction 0.8: 52)
+
+/// Base offsets (base frame) tried, in order, when the three-foot stance of a lift-off asks a
+/// joint for more than kTorqueFraction of the torque limit: lower, higher, along and across.
+const std::array<Eigen::Vector3d, 8> kTorqueOffsets = {
+    Eigen::Vector3d(0, 0, -0.02), Eigen::Vector3d(0, 0, -0.04), Eigen::Vector3d(0, 0, 0.02),
+    Eigen::Vector3d(0.03, 0, 0),  Eigen::Vector3d(-0.03, 0, 0), Eigen::Vector3d(0, 0.03, 0),
+    Eigen::Vector3d(0, -0.03, 0), Eigen::Vector3d(0, 0, 0.04)};
+constexpr double kTorqueFraction = 0.85;
 
 double MinJerk(double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); }
 double MinJerkRate(double u) { return 30.0 * u * u * (1.0 - u) * (1.0 - u); }
@@ -235,6 +244,38 @@ Eigen::Vector3d PlanController::MarginShift(const LiftOff& l, const Measured& m)
   return shift * direction;
 }
 
+double PlanController::StanceTorque(const LiftOff& l, const Eigen::Vector3d& shift) const {
+  // The three feet that stay hold the robot's weight at the CoM; the largest joint torque that
+  // takes, with the legs' own weight, at the shifted base.
+  const Eigen::Vector3d p = l.base + shift;
+  std::vector<StanceFoot> feet;
+  std::size_t k = 0;
+  for (Leg leg : kAllLegs) {
+    if (leg == l.leg) continue;
+    StanceFoot f;
+    f.leg = leg;
+    f.position_W = l.stay[k++];
+    f.normal_W = normal_W_[static_cast<std::size_t>(Index(leg))];
+    feet.push_back(f);
+  }
+  ForceDistributionParams params;
+  params.friction = config_.stance.friction;
+  params.min_normal_force_N = config_.stance.min_normal_force_N;
+  const Wrench weight = (Wrench() << 0, 0, robot_.TotalMass() * kGravity, 0, 0, 0).finished();
+  const ForceDistribution forces = DistributeWrench(feet, p + l.R * l.com_B, weight, params);
+  const Eigen::Vector3d gravity_B = l.R.transpose() * Eigen::Vector3d(0, 0, -kGravity);
+  double worst = 0.0;
+  for (const StanceFoot& f : feet) {
+    const IkResult ik = robot_.SolveLegIk(f.leg, l.R.transpose() * (f.position_W - p));
+    if (!ik.ok()) return std::numeric_limits<double>::infinity();
+    const Eigen::Vector3d tau =
+        robot_.LegGravityTorques(f.leg, ik.q, gravity_B) -
+        robot_.FootJacobian(f.leg, ik.q).transpose() * (l.R.transpose() * forces.forces_W[static_cast<std::size_t>(Index(f.leg))]);
+    worst = std::max(worst, tau.cwiseAbs().maxCoeff());
+  }
+  return worst;
+}
+
 SwingTrajectory PlanController::PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
                                           const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W) const {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -285,6 +326,29 @@ void PlanController::BeginStep(int index, const Measured& m) {
         best = collisions;
         shift = candidate;
       }
+    }
+  }
+  // When the stance that stays asks a joint for nearly all the actuators can give, try base poses
+  // nearby (lower first) that keep the support margin, the feet in reach and the swing as clear.
+  double torque = StanceTorque(l, shift);
+  if (torque > kTorqueFraction * config_.torque_limit_Nm) {
+    const std::size_t i = static_cast<std::size_t>(Index(l.leg));
+    const double least_margin = 0.5 * config_.base.support_margin_m;
+    const int collisions =
+        collision_ ? PlanSwing(l.leg, m.feet_W[i], target.feet[i].position, l.base + shift, orientation).LegCollisions()
+                   : 0;
+    const Eigen::Vector3d start = shift;
+    for (const Eigen::Vector3d& offset : kTorqueOffsets) {
+      const Eigen::Vector3d candidate = start + l.R * offset;
+      const double candidate_torque = StanceTorque(l, candidate);
+      if (candidate_torque >= torque || Margin(l, candidate) < least_margin || !Reachable(l, candidate, m)) continue;
+      if (collision_ &&
+          PlanSwing(l.leg, m.feet_W[i], target.feet[i].position, l.base + candidate, orientation).LegCollisions() >
+              collisions) {
+        continue;
+      }
+      torque = candidate_torque;
+      shift = candidate;
     }
   }
   MoveBaseTo(l.base + shift, orientation, m.t, config_.base.min_shift_s);

@@ -6,7 +6,9 @@
 ///  1. shift: with four feet down, the base moves to the state's base pose, moved further (at most
 ///     base.max_margin_shift_m) until the CoM's ground projection lies base.support_margin_m
 ///     inside the triangle of the three feet that stay; when the swing from there cannot keep
-///     the leg off the terrain, base poses a few centimetres aside are tried;
+///     the leg off the terrain, base poses a few centimetres aside are tried, and when the three
+///     feet that stay would ask a joint for more than 85 % of the torque limit, base poses a few
+///     centimetres lower, higher, along or across that ask less;
 ///  2. unload: L's share of the load ramps to zero;
 ///  3. swing: L's foot follows a SwingTrajectory that clears the terrain under its path; a contact
 ///     after swing.touchdown_phase is a touchdown (early if the path was not finished) when it is
@@ -130,6 +132,7 @@ class PlanController {
   double Margin(const LiftOff& lift_off, const Eigen::Vector3d& shift) const;
   bool Reachable(const LiftOff& lift_off, const Eigen::Vector3d& shift, const Measured& m) const;
   Eigen::Vector3d MarginShift(const LiftOff& lift_off, const Measured& m) const;
+  double StanceTorque(const LiftOff& lift_off, const Eigen::Vector3d& shift) const;
   SwingTrajectory PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
                             const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W) const;
   void EvaluateReference(double t);
