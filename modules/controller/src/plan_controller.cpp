@@ -310,43 +310,35 @@ void PlanController::BeginStep(int index, const Measured& m) {
   status_.swing_leg = l.leg;
   const Eigen::Quaterniond orientation = QuaternionFromRpy(target.base_rpy);
   Eigen::Vector3d shift = MarginShift(l, m);
-  if (collision_) {
-    // When the swing from this base pose cannot keep the leg off the terrain (a wall beside the
-    // robot), try base poses nearby that keep a support margin and every foot in reach.
-    const std::size_t i = static_cast<std::size_t>(Index(l.leg));
-    const Eigen::Vector3d& from = m.feet_W[i];
-    const Eigen::Vector3d& to = target.feet[i].position;
-    int best = PlanSwing(l.leg, from, to, l.base + shift, orientation).LegCollisions();
-    const double least_margin = 0.5 * config_.base.support_margin_m;
-    for (int k = 0; best > 0 && k < static_cast<int>(kClearanceOffsets.size()); ++k) {
-      const Eigen::Vector3d candidate = shift + l.R * kClearanceOffsets[static_cast<std::size_t>(k)];
-      if (Margin(l, candidate) < least_margin || !Reachable(l, candidate, m)) continue;
-      const int collisions = PlanSwing(l.leg, from, to, l.base + candidate, orientation).LegCollisions();
-      if (collisions < best) {
-        best = collisions;
-        shift = candidate;
-      }
+  const std::size_t i = static_cast<std::size_t>(Index(l.leg));
+  const Eigen::Vector3d& from = m.feet_W[i];
+  const Eigen::Vector3d& to = target.feet[i].position;
+  const double least_margin = 0.5 * config_.base.support_margin_m;
+  auto swing_collisions = [&](const Eigen::Vector3d& at) {
+    return collision_ ? PlanSwing(l.leg, from, to, l.base + at, orientation).LegCollisions() : 0;
+  };
+  // When the swing from this base pose cannot keep the leg off the terrain (a wall beside the
+  // robot), try base poses nearby that keep a support margin and every foot in reach.
+  int collisions = swing_collisions(shift);
+  for (int k = 0; collisions > 0 && k < static_cast<int>(kClearanceOffsets.size()); ++k) {
+    const Eigen::Vector3d candidate = shift + l.R * kClearanceOffsets[static_cast<std::size_t>(k)];
+    if (Margin(l, candidate) < least_margin || !Reachable(l, candidate, m)) continue;
+    const int candidate_collisions = swing_collisions(candidate);
+    if (candidate_collisions < collisions) {
+      collisions = candidate_collisions;
+      shift = candidate;
     }
   }
   // When the stance that stays asks a joint for nearly all the actuators can give, try base poses
   // nearby (lower first) that keep the support margin, the feet in reach and the swing as clear.
   double torque = StanceTorque(l, shift);
   if (torque > kTorqueFraction * config_.torque_limit_Nm) {
-    const std::size_t i = static_cast<std::size_t>(Index(l.leg));
-    const double least_margin = 0.5 * config_.base.support_margin_m;
-    const int collisions =
-        collision_ ? PlanSwing(l.leg, m.feet_W[i], target.feet[i].position, l.base + shift, orientation).LegCollisions()
-                   : 0;
     const Eigen::Vector3d start = shift;
     for (const Eigen::Vector3d& offset : kTorqueOffsets) {
       const Eigen::Vector3d candidate = start + l.R * offset;
       const double candidate_torque = StanceTorque(l, candidate);
       if (candidate_torque >= torque || Margin(l, candidate) < least_margin || !Reachable(l, candidate, m)) continue;
-      if (collision_ &&
-          PlanSwing(l.leg, m.feet_W[i], target.feet[i].position, l.base + candidate, orientation).LegCollisions() >
-              collisions) {
-        continue;
-      }
+      if (swing_collisions(candidate) > collisions) continue;
       torque = candidate_torque;
       shift = candidate;
     }
