@@ -7,6 +7,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
+#include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
 
@@ -247,8 +248,11 @@ Eigen::Vector3d PlanController::MarginShift(const LiftOff& l, const Measured& m)
 double PlanController::StanceTorque(const LiftOff& l, const Eigen::Vector3d& shift) const {
   // The three feet that stay hold the robot's weight at the CoM; the largest joint torque that
   // takes, with the legs' own weight, at the shifted base.
-  const Eigen::Vector3d p = l.base + shift;
+  Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
+  base_W.linear() = l.R;
+  base_W.translation() = l.base + shift;
   std::vector<StanceFoot> feet;
+  JointVector q = JointVector::Zero();
   std::size_t k = 0;
   for (Leg leg : kAllLegs) {
     if (leg == l.leg) continue;
@@ -257,23 +261,15 @@ double PlanController::StanceTorque(const LiftOff& l, const Eigen::Vector3d& shi
     f.position_W = l.stay[k++];
     f.normal_W = normal_W_[static_cast<std::size_t>(Index(leg))];
     feet.push_back(f);
+    const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * f.position_W);
+    if (!ik.ok()) return std::numeric_limits<double>::infinity();
+    SetLegJoints(q, leg, ik.q);
   }
   ForceDistributionParams params;
   params.friction = config_.stance.friction;
   params.min_normal_force_N = config_.stance.min_normal_force_N;
-  const Wrench weight = (Wrench() << 0, 0, robot_.TotalMass() * kGravity, 0, 0, 0).finished();
-  const ForceDistribution forces = DistributeWrench(feet, p + l.R * l.com_B, weight, params);
-  const Eigen::Vector3d gravity_B = l.R.transpose() * Eigen::Vector3d(0, 0, -kGravity);
-  double worst = 0.0;
-  for (const StanceFoot& f : feet) {
-    const IkResult ik = robot_.SolveLegIk(f.leg, l.R.transpose() * (f.position_W - p));
-    if (!ik.ok()) return std::numeric_limits<double>::infinity();
-    const Eigen::Vector3d tau =
-        robot_.LegGravityTorques(f.leg, ik.q, gravity_B) -
-        robot_.FootJacobian(f.leg, ik.q).transpose() * (l.R.transpose() * forces.forces_W[static_cast<std::size_t>(Index(f.leg))]);
-    worst = std::max(worst, tau.cwiseAbs().maxCoeff());
-  }
-  return worst;
+  const StanceTorques t = ComputeStanceTorques(robot_, base_W, q, feet, base_W.translation() + l.R * l.com_B, params);
+  return t.balanced ? t.max_abs_Nm : std::numeric_limits<double>::infinity();
 }
 
 SwingTrajectory PlanController::PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,

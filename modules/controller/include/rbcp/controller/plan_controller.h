@@ -34,7 +34,7 @@
 #include <string>
 
 #include "rbcp/controller/controller_config.h"
-#include "rbcp/controller/force_distribution.h"
+#include "rbcp/equilibrium/force_distribution.h"
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/controller/swing_trajectory.h"
 #include "rbcp/core/contact_plan.h"

@@ -1,4 +1,4 @@
-#include "rbcp/controller/force_distribution.h"
+#include "rbcp/equilibrium/force_distribution.h"
 
 #include <gtest/gtest.h>
 

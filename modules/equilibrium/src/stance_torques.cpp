@@ -1,0 +1,34 @@
+#include "rbcp/equilibrium/stance_torques.h"
+
+#include "rbcp/equilibrium/static_equilibrium.h"
+
+namespace rbcp {
+
+StanceTorques ComputeStanceTorques(const RobotModel& robot, const Eigen::Isometry3d& base_W, const JointVector& q,
+                                   const std::vector<StanceFoot>& feet, const Eigen::Vector3d& com_W,
+                                   const ForceDistributionParams& params) {
+  StanceTorques out;
+  const double weight_N = robot.TotalMass() * kGravity;
+  const Wrench weight = (Wrench() << 0, 0, weight_N, 0, 0, 0).finished();
+  out.forces = DistributeWrench(feet, com_W, weight, params);
+  const Wrench residual = out.forces.achieved - weight;
+  out.balanced = !feet.empty() && residual.head<3>().norm() <= 0.02 * weight_N &&
+                 residual.tail<3>().norm() <= 0.02 * weight_N * 0.1;
+  const Eigen::Matrix3d R_BW = base_W.linear().transpose();
+  const Eigen::Vector3d gravity_B = R_BW * Eigen::Vector3d(0, 0, -kGravity);
+  for (const StanceFoot& foot : feet) {
+    const Eigen::Vector3d q_leg = LegJoints(q, foot.leg);
+    const Eigen::Vector3d f_B = R_BW * out.forces.forces_W[static_cast<std::size_t>(Index(foot.leg))];
+    const Eigen::Vector3d tau = robot.LegGravityTorques(foot.leg, q_leg, gravity_B) + robot.StaticTorques(foot.leg, q_leg, f_B);
+    SetLegJoints(out.tau, foot.leg, tau);
+    for (int j = 0; j < kJointsPerLeg; ++j) {
+      if (std::abs(tau[j]) > out.max_abs_Nm || out.worst_joint < 0) {
+        out.max_abs_Nm = std::abs(tau[j]);
+        out.worst_joint = kJointsPerLeg * Index(foot.leg) + j;
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace rbcp
