@@ -13,6 +13,7 @@
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
+#include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/limb_database/limb_database.h"
@@ -230,7 +231,7 @@ struct ContactPlanner::Impl {
         eq_config(e),
         config(c),
         equilibrium(r.TotalMass(), e),
-        torque_limit(c.torque_limit_fraction * r.TorqueLimit()) {
+        torque_limit(c.torque_limit_fraction * r.ContinuousTorqueLimit()) {
     config.Validate();
   }
 
@@ -352,27 +353,31 @@ struct ContactPlanner::Impl {
     return out;
   }
 
-  /// Static torques of the stance (all feet but `skip`) within the limit, with the forces of the
-  /// equilibrium force distribution. False when no balancing distribution exists.
+  /// Torques of the stance (all feet but `skip`) within the limit, with the weight spread over
+  /// the feet as the controller spreads it. False when that distribution cannot balance it.
   bool TorquesWithinLimit(const Eigen::Isometry3d& base_W, const JointVector& q,
                           const std::array<FootContact, kNumLegs>& feet, int skip, const Eigen::Vector3d& com_W,
                           std::string* why) {
-    equilibrium.SetContacts(Contacts(feet, skip));
-    const ContactForces forces = equilibrium.DistributeForces(com_W);
-    if (!forces.feasible) {
-      if (why) *why = "no balancing contact forces (" + forces.reason + ")";
-      return false;
-    }
-    const Eigen::Matrix3d R_BW = base_W.linear().transpose();
-    std::size_t k = 0;
+    std::vector<StanceFoot> stance;
     for (int i = 0; i < kNumLegs; ++i) {
       if (i == skip) continue;
-      const Leg leg = kAllLegs[static_cast<std::size_t>(i)];
-      const Eigen::Vector3d tau = robot.StaticTorques(leg, LegJoints(q, leg), R_BW * forces.forces_N[k++]);
-      if (tau.cwiseAbs().maxCoeff() > torque_limit) {
-        if (why) *why = std::string(LegName(leg)) + " static torque " + FixedNumber(tau.cwiseAbs().maxCoeff(), 1) + " N m";
-        return false;
-      }
+      StanceFoot f;
+      f.leg = kAllLegs[static_cast<std::size_t>(i)];
+      f.position_W = feet[static_cast<std::size_t>(i)].position;
+      f.normal_W = feet[static_cast<std::size_t>(i)].normal;
+      stance.push_back(f);
+    }
+    ForceDistributionParams params;
+    params.friction = eq_config.friction;
+    params.min_normal_force_N = config.stance_min_normal_force_N;
+    const StanceTorques t = ComputeStanceTorques(robot, base_W, q, stance, com_W, params);
+    if (!t.balanced) {
+      if (why) *why = "the feet's friction cones cannot hold the weight";
+      return false;
+    }
+    if (t.max_abs_Nm > torque_limit) {
+      if (why) *why = JointName(t.worst_joint) + " static torque " + FixedNumber(t.max_abs_Nm, 1) + " N m";
+      return false;
     }
     return true;
   }

@@ -50,6 +50,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   fh.RejectUnknownKeys();
 
   c.torque_limit_fraction = map.Double("torque_limit_fraction");
+  c.stance_min_normal_force_N = map.Double("stance_min_normal_force_N");
   c.thigh_clearance_m = map.Double("thigh_clearance_m");
 
   const YamlMap bs = map.Map("base_shift");
@@ -123,6 +124,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   if (!(std::isfinite(torque_limit_fraction) && torque_limit_fraction > 0.0 && torque_limit_fraction <= 1.0)) {
     check.Fail("torque_limit_fraction", "a number in (0, 1]", ConfigNumber(torque_limit_fraction));
   }
+  check.NonNegative("stance_min_normal_force_N", stance_min_normal_force_N);
   check.NonNegative("base_shift.max_base_shift_m", base_shift.max_base_shift_m);
   check.NonNegative("base_shift.shift_extra_margin_m", base_shift.shift_extra_margin_m);
   check.NonNegative("base_shift.height_step_m", base_shift.height_step_m);

@@ -12,6 +12,7 @@
 #include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/contact_planner/contact_planner.h"
+#include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/limb_database/limb_database.h"
@@ -108,7 +109,7 @@ inline void ExpectValidPlan(const ContactPlan& plan, const World& world, const s
   const RobotModel& robot = Robot();
   const ContactPlannerConfig& config = PlannerConfig();
   const EquilibriumConfig& eq = Equilibrium();
-  const double torque_limit = config.torque_limit_fraction * robot.TorqueLimit() + 1e-6;
+  const double torque_limit = config.torque_limit_fraction * robot.ContinuousTorqueLimit() + 1e-6;
   RobotTerrainCollision collision(robot, world.terrain);
   StaticEquilibrium equilibrium(robot.TotalMass(), eq);
   ASSERT_GE(plan.states.size(), 2u);
@@ -133,18 +134,20 @@ inline void ExpectValidPlan(const ContactPlan& plan, const World& world, const s
   };
   auto torques_ok = [&](const Eigen::Isometry3d& base, const JointVector& q, const WholeBodyState& s, int skip,
                         const Eigen::Vector3d& com) {
-    equilibrium.SetContacts(contacts(s, skip));
-    const ContactForces f = equilibrium.DistributeForces(com);
-    if (!f.feasible) return false;
-    std::size_t k = 0;
+    std::vector<StanceFoot> feet;
     for (int i = 0; i < kNumLegs; ++i) {
       if (i == skip) continue;
-      const Leg leg = kAllLegs[static_cast<std::size_t>(i)];
-      const Eigen::Vector3d tau =
-          robot.StaticTorques(leg, LegJoints(q, leg), base.linear().transpose() * f.forces_N[k++]);
-      if (tau.cwiseAbs().maxCoeff() > torque_limit) return false;
+      StanceFoot f;
+      f.leg = kAllLegs[static_cast<std::size_t>(i)];
+      f.position_W = s.feet[static_cast<std::size_t>(i)].position;
+      f.normal_W = s.feet[static_cast<std::size_t>(i)].normal;
+      feet.push_back(f);
     }
-    return true;
+    ForceDistributionParams params;
+    params.friction = eq.friction;
+    params.min_normal_force_N = config.stance_min_normal_force_N;
+    const StanceTorques t = ComputeStanceTorques(robot, base, q, feet, com, params);
+    return t.balanced && t.max_abs_Nm <= torque_limit;
   };
 
   for (std::size_t k = 0; k < plan.states.size(); ++k) {

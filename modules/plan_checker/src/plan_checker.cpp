@@ -10,6 +10,7 @@
 
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/core/error.h"
+#include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
 
@@ -298,33 +299,40 @@ class PlanChecker {
       sink_.Add(i, "stability", detail);
     }
     if (!result.feasible) return;  // no forces inside the cones: nothing to hold with the joints
+    CheckTorques(i, "", base_W, state.joints, state.feet, -1, com_W);
+  }
 
-    const ContactForces forces = equilibrium_.DistributeForces(com_W);
-    if (!forces.feasible) {
-      sink_.Add(i, "torque", "no contact force distribution to compute the torques from: " + forces.reason);
+  /// The stance of every foot but `skip`'s holds the weight as the controller spreads it, within
+  /// the torque limit.
+  void CheckTorques(int i, const std::string& phase, const Eigen::Isometry3d& base_W, const JointVector& q,
+                    const std::array<FootContact, kNumLegs>& feet, int skip, const Eigen::Vector3d& com_W) {
+    std::vector<StanceFoot> stance;
+    for (Leg leg : kAllLegs) {
+      if (Index(leg) == skip) continue;
+      const FootContact& foot = feet[static_cast<std::size_t>(Index(leg))];
+      StanceFoot f;
+      f.leg = leg;
+      f.position_W = foot.position;
+      f.normal_W = foot.normal.normalized();
+      stance.push_back(f);
+    }
+    ForceDistributionParams params;
+    params.friction = config_.equilibrium.friction;
+    params.min_normal_force_N = config_.min_normal_force_N;
+    const StanceTorques t = ComputeStanceTorques(robot_, base_W, q, stance, com_W, params);
+    const std::string prefix = phase.empty() ? "" : phase + " ";
+    if (!t.balanced) {
+      sink_.Add(i, "torque", prefix + "the contact forces cannot hold the weight at the CoM " + Point(com_W));
       return;
     }
-    const Eigen::Matrix3d R_WB = base_W.linear();
-    double worst = 0.0;
-    std::string worst_joint;
+    report_->max_torque_Nm = std::max(report_->max_torque_Nm, t.max_abs_Nm);
     int over = 0;
-    for (Leg leg : kAllLegs) {
-      const Eigen::Vector3d f_B = R_WB.transpose() * forces.forces_N[static_cast<std::size_t>(Index(leg))];
-      const Eigen::Vector3d tau = robot_.StaticTorques(leg, LegJoints(state.joints, leg), f_B);
-      for (int j = 0; j < kJointsPerLeg; ++j) {
-        const double magnitude = std::abs(tau[j]);
-        if (magnitude > config_.torque_limit_Nm) ++over;
-        if (magnitude > worst) {
-          worst = magnitude;
-          worst_joint = JointName(leg, j);
-        }
-      }
-    }
-    report_->max_torque_Nm = std::max(report_->max_torque_Nm, worst);
+    for (int j = 0; j < kNumJoints; ++j) over += std::abs(t.tau[j]) > config_.torque_limit_Nm ? 1 : 0;
     if (over > 0) {
       sink_.Add(i, "torque",
-                worst_joint + " needs " + Num(worst, 2) + " N m, limit " + Num(config_.torque_limit_Nm, 2) + " N m (" +
-                    std::to_string(over) + (over == 1 ? " joint" : " joints") + " over the limit)");
+                prefix + JointName(t.worst_joint) + " needs " + Num(t.max_abs_Nm, 2) + " N m, limit " +
+                    Num(config_.torque_limit_Nm, 2) + " N m (" + std::to_string(over) +
+                    (over == 1 ? " joint" : " joints") + " over the limit)");
     }
   }
 
@@ -348,7 +356,11 @@ class PlanChecker {
     if (ik.ok()) {
       JointVector q_lift = state.joints;
       SetLegJoints(q_lift, swing, ik.q);
-      CheckCoMInStance(i, "at lift-off", CenterOfMass(base_W, q_lift), stance, stance_names);
+      const Eigen::Vector3d com_lift = CenterOfMass(base_W, q_lift);
+      CheckCoMInStance(i, "at lift-off", com_lift, stance, stance_names);
+      if (SupportPolygonMargin(stance, com_lift) >= 0.0) {
+        CheckTorques(i, "at lift-off", base_W, q_lift, previous.feet, Index(swing), com_lift);
+      }
     } else {
       sink_.Add(i, "joint_bounds",
                 "at lift-off (trunk at this state's pose) " + Name(swing) + " cannot keep its foothold of state " +
@@ -388,7 +400,7 @@ PlanCheckConfig PlanCheckConfig::FromConfigs(const RobotModel& robot, const Equi
   PlanCheckConfig config;
   config.robustness_threshold_N = equilibrium.robustness_threshold_N;
   config.support_margin_m = equilibrium.support_margin_m;
-  config.torque_limit_Nm = robot.TorqueLimit();
+  config.torque_limit_Nm = robot.ContinuousTorqueLimit();
   config.equilibrium = equilibrium;
   return config;
 }
@@ -413,6 +425,9 @@ void PlanCheckConfig::Validate() const {
   }
   if (!(std::isfinite(torque_limit_Nm) && torque_limit_Nm > 0.0)) {
     fail("torque_limit_Nm", "a finite value > 0 (see PlanCheckConfig::FromConfigs)", torque_limit_Nm);
+  }
+  if (!(std::isfinite(min_normal_force_N) && min_normal_force_N >= 0.0)) {
+    fail("min_normal_force_N", "a finite value >= 0", min_normal_force_N);
   }
   if (max_violations < 0) fail("max_violations", "a count >= 0", max_violations);
   equilibrium.Validate("PlanCheckConfig: equilibrium");

@@ -39,7 +39,7 @@ TEST_F(PlanCheckerTest, ConfigFromThePlannersConfigs) {
   const PlanCheckConfig config = PlanCheckConfig::FromConfigs(world.robot, eq);
   EXPECT_EQ(config.robustness_threshold_N, eq.robustness_threshold_N);
   EXPECT_EQ(config.support_margin_m, eq.support_margin_m);
-  EXPECT_EQ(config.torque_limit_Nm, world.robot.TorqueLimit());
+  EXPECT_EQ(config.torque_limit_Nm, world.robot.ContinuousTorqueLimit());
   EXPECT_EQ(config.equilibrium.friction, eq.friction);
   EXPECT_NO_THROW(config.Validate());
 }
@@ -319,24 +319,53 @@ TEST_F(PlanCheckerTest, TorqueLimit) {
     EXPECT_EQ(v.check, "torque");
     EXPECT_NE(v.detail.find("over the limit"), std::string::npos);
   }
-  // Torques scale with the weight: a tenth of the limit fails every state.
+  // Torques scale with the weight: a tenth of the limit fails every state on four feet, and
+  // every step's three-foot stance at lift-off.
   config.torque_limit_Nm = 0.1 * valid.max_torque_Nm;
-  EXPECT_EQ(Check(plan, config).violation_count, static_cast<int>(plan.states.size()));
+  const PlanCheckReport low = Check(plan, config);
+  EXPECT_EQ(low.violation_count, 2 * static_cast<int>(plan.states.size()) - 1) << Describe(low);
+  int lift_off = 0;
+  for (const auto& v : low.violations) lift_off += v.detail.rfind("at lift-off ", 0) == 0 ? 1 : 0;
+  EXPECT_EQ(lift_off, static_cast<int>(plan.states.size()) - 1);
+}
+
+TEST_F(PlanCheckerTest, TorquesOfTheThreeFootStanceAtLiftOff) {
+  // The lift-off stance carries the weight on three feet: its torques exceed the four-foot ones,
+  // and a limit between the two fails it alone.
+  PlanCheckConfig config = world.config;
+  config.torque_limit_Nm = 1e3;
+  const PlanCheckReport valid = Check(plan, config);
+  ASSERT_TRUE(valid.ok) << Describe(valid);
+  double four_foot = 0.0;  // the largest torque of the states on four feet, each checked alone
+  for (const WholeBodyState& state : plan.states) {
+    ContactPlan one;
+    one.states = {state};
+    one.states[0].moving_leg = -1;
+    four_foot = std::max(four_foot, Check(one, config).max_torque_Nm);
+  }
+  ASSERT_GT(valid.max_torque_Nm, four_foot + 1.0);
+  config.torque_limit_Nm = four_foot + 0.5;
+  const PlanCheckReport report = Check(plan, config);
+  ASSERT_GE(report.violation_count, 1) << Describe(report);
+  for (const auto& v : report.violations) {
+    EXPECT_EQ(v.check, "torque");
+    EXPECT_EQ(v.detail.rfind("at lift-off ", 0), 0u) << v.detail;
+  }
 }
 
 TEST_F(PlanCheckerTest, EveryViolationIsCountedButOnlyTheFirstAreKept) {
   PlanCheckConfig config = world.config;
   config.max_violations = 5;
-  config.torque_limit_Nm = 0.5;  // every state fails
+  config.torque_limit_Nm = 0.5;  // every state fails, and every lift-off
   config.robustness_threshold_N = 1e4;  // every state fails
   const PlanCheckReport report = Check(plan, config);
-  EXPECT_EQ(report.violation_count, 2 * static_cast<int>(plan.states.size()));
+  EXPECT_EQ(report.violation_count, 3 * static_cast<int>(plan.states.size()) - 1);
   EXPECT_EQ(report.violations.size(), 5u);
   EXPECT_EQ(report.violations[0].state, 0);
   EXPECT_EQ(report.violations[0].check, "stability");
   EXPECT_EQ(report.violations[1].state, 0);
   EXPECT_EQ(report.violations[1].check, "torque");
-  EXPECT_NE(report.Summary().find("plan fails: 18 violations in 9 states (stability, torque)"), std::string::npos)
+  EXPECT_NE(report.Summary().find("plan fails: 26 violations in 9 states (stability, torque)"), std::string::npos)
       << report.Summary();
 }
 
@@ -360,7 +389,7 @@ TEST_F(PlanCheckerTest, ReportAsJson) {
   const nlohmann::json j = PlanCheckReportToJson(Check(plan, config));
   EXPECT_EQ(j["ok"], false);
   EXPECT_EQ(j["states"], 9);
-  EXPECT_EQ(j["violation_count"], 9);
+  EXPECT_EQ(j["violation_count"], 17);  // 9 states on four feet, 8 lift-offs
   EXPECT_EQ(j["violations"][0]["check"], "torque");
   EXPECT_EQ(j["violations"][0]["state"], 0);
   EXPECT_TRUE(j["min_support_margin_m"].is_number());

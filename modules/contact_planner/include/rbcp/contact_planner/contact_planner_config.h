@@ -96,8 +96,12 @@ struct ContactPlannerConfig {
   double gait_advance_s = 0.25;
   FootWorkspace workspace;
   FootholdConfig foothold;
-  /// Joint torques of every quasi-static stance stay below this fraction of the actuator limit.
+  /// Joint torques of every quasi-static stance, with the weight spread over the feet as the
+  /// controller spreads it (ComputeStanceTorques), stay below this fraction of the actuators'
+  /// command limit (RobotModel::ContinuousTorqueLimit, 40 N m for ANYmal B).
   double torque_limit_fraction = 0.9;
+  /// [N] least normal force of each stance foot in that distribution (the controller's).
+  double stance_min_normal_force_N = 20.0;
   /// Clearance of the thighs (knee actuators) from the terrain in every stance and swing check
   /// [m], in [0, 0.1).
   double thigh_clearance_m = 0.02;

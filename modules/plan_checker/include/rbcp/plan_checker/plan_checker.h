@@ -21,8 +21,10 @@
 ///  - "self_collision": no two robot shapes collide.
 ///  - "stability": the robustness of static equilibrium on the four contacts at the whole-body
 ///    CoM is at least robustness_threshold_N.
-///  - "torque": the static joint torques that hold the distributed contact forces (most even
-///    distribution, leg weight ignored) stay within torque_limit_Nm.
+///  - "torque": the joint torques that hold the robot still, with its weight spread over the four
+///    feet as the controller spreads it (ComputeStanceTorques: least squares within the friction
+///    pyramids, at least min_normal_force_N per foot, the legs' own weight included), stay within
+///    torque_limit_Nm; so do those of the three-foot stance at lift-off (see "support_margin").
 ///  - "support_margin": a step from state i-1 to state i is executed as: the trunk moves from
 ///    the pose of state i-1 to the pose of state i with the four feet on the ground, then
 ///    moving_leg swings from its old foothold to its new one. The CoM's ground projection must
@@ -61,6 +63,9 @@ struct PlanCheckConfig {
   double support_margin_m = std::numeric_limits<double>::quiet_NaN();
   /// Largest static joint torque [N m].
   double torque_limit_Nm = std::numeric_limits<double>::quiet_NaN();
+  /// Least normal force of a stance foot in the torque check's force distribution [N] (the
+  /// controller's stance.min_normal_force_N).
+  double min_normal_force_N = 20.0;
   /// Friction cone model of the stability and torque checks (friction, generators per contact,
   /// normal force slack). Its thresholds are not used: the two fields above are.
   EquilibriumConfig equilibrium;
@@ -70,7 +75,8 @@ struct PlanCheckConfig {
   int max_violations = 100;
 
   /// The thresholds of the planners: robustness and support margin from `equilibrium`, the
-  /// robot's peak torque limit, the default tolerances above.
+  /// actuators' command torque limit (RobotModel::ContinuousTorqueLimit), the default
+  /// tolerances above.
   static PlanCheckConfig FromConfigs(const RobotModel& robot, const EquilibriumConfig& equilibrium);
 
   /// Throws InputError naming the first missing or out-of-range field ("PlanCheckConfig:
