@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "rbcp/controller/controller_config.h"
+#include "rbcp/core/error.h"
 #include "rbcp/nodes/process.h"
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/robot/robot_model.h"
@@ -23,7 +24,7 @@ int main(int argc, char** argv) {
                "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input."};
   nodes::CommonOptions common;
   nodes::AddCommonOptions(app, common);
-  std::string scenario_path, plan_path, sim_config_path, controller_config_path;
+  std::string scenario_path, plan_path, sim_config_path, controller_config_path, log_csv_path;
   bool json = false, exit_when_decided = false;
   double realtime_factor = 1.0;
   app.add_option("--scenario", scenario_path, "scenario YAML: the world (terrain, and the start the robot stands on)")
@@ -31,6 +32,9 @@ int main(int argc, char** argv) {
   app.add_option("--plan", plan_path, "execute this contact plan (JSON as plan_scenario --stage contact prints it, "
                                       "'-' for standard input) and exit");
   app.add_flag("--json", json, "with --plan: print the outcome as one JSON object (with the 20 Hz trace)");
+  app.add_option("--log-csv", log_csv_path,
+                 "with --plan: write every control tick to this CSV file (controller phase, step, support margin, "
+                 "base pose and reference, joint positions and torques, foot contacts and normal forces)");
   app.add_option("--realtime-factor", realtime_factor,
                  "process: simulated seconds per wall second (0: as fast as possible)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
@@ -52,7 +56,19 @@ int main(int argc, char** argv) {
       const ContactPlan plan = LoadContactPlanFile(plan_path);
       execution.Start(plan);
       const auto start = Clock::now();
-      const sim::ExecutionOutcome& outcome = execution.Run();
+      if (log_csv_path.empty()) {
+        execution.Run();
+      } else {
+        std::ofstream csv(log_csv_path);
+        if (!csv) throw InputError("cannot write " + log_csv_path);
+        sim::WriteTickCsvHeader(csv);
+        do {
+          sim::WriteTickCsvRow(csv, execution);
+        } while (execution.Tick());
+        sim::WriteTickCsvRow(csv, execution);
+        if (!csv) throw InputError("cannot write " + log_csv_path);
+      }
+      const sim::ExecutionOutcome& outcome = execution.Outcome();
       const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
       if (json) {
         nlohmann::json j = sim::OutcomeToJson(outcome);

@@ -302,4 +302,30 @@ nlohmann::json OutcomeToJson(const ExecutionOutcome& o) {
   return j;
 }
 
+void WriteTickCsvHeader(std::ostream& out) {
+  out << "t,phase,step,swing_leg,support_margin_m,base_x,base_y,base_z,roll,pitch,yaw,ref_x,ref_y,ref_z";
+  for (int j = 0; j < kNumJoints; ++j) out << ",q_" << JointName(j);
+  for (int j = 0; j < kNumJoints; ++j) out << ",tau_" << JointName(j);
+  for (Leg leg : kAllLegs) out << ",contact_" << LegName(leg);
+  for (Leg leg : kAllLegs) out << ",fz_" << LegName(leg);
+  out << "\n";
+}
+
+void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution) {
+  const RobotState s = execution.State();
+  const ControllerStatus& status = execution.Controller().Status();
+  const BaseReference& ref = execution.Controller().Reference();
+  const Eigen::Vector3d rpy = Rpy(s.base_orientation_W.normalized().toRotationMatrix());
+  out << FixedNumber(s.t, 4) << ',' << ToString(status.phase) << ',' << status.step << ','
+      << (status.swing_leg ? LegName(*status.swing_leg) : "") << ',' << FixedNumber(status.support_margin_m, 4);
+  for (int k = 0; k < 3; ++k) out << ',' << FixedNumber(s.base_position_W[k], 4);
+  for (int k = 0; k < 3; ++k) out << ',' << FixedNumber(rpy[k], 4);
+  for (int k = 0; k < 3; ++k) out << ',' << FixedNumber(ref.position_W[k], 4);
+  for (int j = 0; j < kNumJoints; ++j) out << ',' << FixedNumber(s.q[j], 4);
+  for (int j = 0; j < kNumJoints; ++j) out << ',' << FixedNumber(s.tau[j], 2);
+  for (std::size_t i = 0; i < kNumLegs; ++i) out << ',' << (s.foot_contact[i] ? 1 : 0);
+  for (std::size_t i = 0; i < kNumLegs; ++i) out << ',' << FixedNumber(s.foot_force_W[i].z(), 1);
+  out << '\n';
+}
+
 }  // namespace rbcp::sim

@@ -19,6 +19,7 @@
 #include <array>
 #include <limits>
 #include <map>
+#include <ostream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -128,5 +129,12 @@ class PlanExecution {
 /// early_touchdowns, late_touchdowns, final_base_error_m, min_support_margin_m and sim_trace
 /// [{t, base: {position, rpy}, feet: [{leg, position, contact}]}].
 nlohmann::json OutcomeToJson(const ExecutionOutcome& outcome);
+
+/// A control-rate record of a run for diagnosis, one CSV row per tick: t, the controller's phase,
+/// step, swing leg and support margin, the base position and roll-pitch-yaw with the reference
+/// position, the 12 joint positions and applied torques (named as in the URDF), and per foot the
+/// contact flag and the normal (world z) contact force.
+void WriteTickCsvHeader(std::ostream& out);
+void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution);
 
 }  // namespace rbcp::sim
