@@ -76,10 +76,20 @@ int main(int argc, char** argv) {
       for (std::size_t w = next++; w < work.size(); w = next++) {
         const Scenario& scenario = loaded[work[w].first];
         const unsigned seed = work[w].second;
-        const nodes::PipelineResult r = pipeline.Run(scenario, nodes::PipelineStage::kSim, seed, budget);
         Run& run = runs[w];
         run.scenario = scenario.name;
         run.seed = seed;
+        nodes::PipelineResult r;
+        try {
+          r = pipeline.Run(scenario, nodes::PipelineStage::kSim, seed, budget);
+        } catch (const std::exception& e) {
+          // A run that cannot even start (bad input, a configuration error) is a failed run.
+          run.failure = "error";
+          run.detail = e.what();
+          std::lock_guard<std::mutex> lock(print);
+          std::cerr << "sim_bench: " << run.scenario << " seed " << seed << ": FAILED " << run.detail << "\n";
+          continue;
+        }
         run.planned = r.contact && r.contact->ok;
         run.steps = run.planned ? r.contact->steps : 0;
         if (r.sim) {

@@ -30,6 +30,8 @@ ControllerConfig ControllerConfig::Load(const YamlMap& map) {
   const YamlMap swing = map.Map("swing");
   c.swing.height_m = swing.Double("height_m");
   c.swing.terrain_clearance_m = swing.Double("terrain_clearance_m");
+  c.swing.thigh_clearance_m = swing.Double("thigh_clearance_m");
+  c.swing.min_hip_distance_m = swing.Double("min_hip_distance_m");
   c.swing.speed_mps = swing.Double("speed_mps");
   c.swing.min_duration_s = swing.Double("min_duration_s");
   c.swing.touchdown_depth_m = swing.Double("touchdown_depth_m");
@@ -70,6 +72,10 @@ void ControllerConfig::Validate(const std::string& where) const {
   PositiveVector(check, "base.kd_angular", base.kd_angular);
   check.NonNegative("swing.height_m", swing.height_m, "m");
   check.NonNegative("swing.terrain_clearance_m", swing.terrain_clearance_m, "m");
+  check.NonNegative("swing.min_hip_distance_m", swing.min_hip_distance_m, "m");
+  if (!(std::isfinite(swing.thigh_clearance_m) && swing.thigh_clearance_m >= 0.0 && swing.thigh_clearance_m < 0.1)) {
+    check.Fail("swing.thigh_clearance_m", "a clearance in [0, 0.1) m", ConfigNumber(swing.thigh_clearance_m));
+  }
   check.Positive("swing.speed_mps", swing.speed_mps, "m/s");
   check.Positive("swing.min_duration_s", swing.min_duration_s, "s");
   check.NonNegative("swing.touchdown_depth_m", swing.touchdown_depth_m, "m");

@@ -15,11 +15,13 @@ namespace rbcp {
 namespace {
 
 /// Base offsets (base frame) tried, in order, when a swing cannot clear the terrain: sideways
-/// first, then along the body.
-const std::array<Eigen::Vector3d, 8> kClearanceOffsets = {
+/// first, then along the body, then higher.
+const std::array<Eigen::Vector3d, 10> kClearanceOffsets = {
     Eigen::Vector3d(0, 0.02, 0), Eigen::Vector3d(0, -0.02, 0), Eigen::Vector3d(0, 0.04, 0), Eigen::Vector3d(0, -0.04, 0),
-    Eigen::Vector3d(0, 0.06, 0), Eigen::Vector3d(0, -0.06, 0), Eigen::Vector3d(0.03, 0, 0), Eigen::Vector3d(-0.03, 0, 0)};
+    Eigen::Vector3d(0, 0.06, 0), Eigen::Vector3d(0, -0.06, 0), Eigen::Vector3d(0.03, 0, 0), Eigen::Vector3d(-0.03, 0, 0),
+    Eigen::Vector3d(0, 0, 0.02), Eigen::Vector3d(0, 0, 0.04)};
 
+constexpr double kReachSpareM = 0.01;  // [m] the stepping foot's reach beyond the end of its path
 constexpr double kTouchdownHeightM = 0.02;  // [m] a contact this close above the foothold is a touchdown
 constexpr double kTouchdownForceN = 5.0;  // [N] least contact force of a touchdown higher up
 constexpr double kTouchdownCosine = 0.8;  // a touchdown force lies within 37 degrees of the normal (a
@@ -111,10 +113,15 @@ PlanController::PlanController(const RobotModel& robot, const ControllerConfig& 
 void PlanController::SetTerrain(const TriangleMesh* terrain) {
   terrain_ = terrain;
   collision_.reset();
+  swing_collision_.reset();
   if (terrain_ != nullptr && !terrain_->triangles.empty()) {
     CollisionOptions options;
     options.measure_penetration = false;
     collision_ = std::make_unique<RobotTerrainCollision>(robot_, *terrain_, options);
+    // The swing leg's path keeps its thigh a little clear: the base it swings from is held only
+    // to within millimetres, and a knee passes close over the edge of a higher foothold.
+    options.thigh_margin = config_.swing.thigh_clearance_m;
+    swing_collision_ = std::make_unique<RobotTerrainCollision>(robot_, *terrain_, options);
   }
 }
 
@@ -195,6 +202,7 @@ struct PlanController::LiftOff {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // planned base orientation
   Eigen::Vector3d com_B = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> stay;                // the three feet that stay down
+  Eigen::Vector3d foothold = Eigen::Vector3d::Zero();  // where the stepping foot goes
 };
 
 double PlanController::Margin(const LiftOff& l, const Eigen::Vector3d& shift) const {
@@ -212,6 +220,9 @@ bool PlanController::Reachable(const LiftOff& l, const Eigen::Vector3d& shift, c
     if (!ik.ok()) return false;
     SetLegJoints(q, leg, ik.q);
   }
+  // The stepping foot must also reach its foothold from there, and the end of its path below it.
+  const Eigen::Vector3d below(0, 0, config_.swing.touchdown_depth_m + kReachSpareM);
+  if (!robot_.SolveLegIk(l.leg, base_W.inverse() * (l.foothold - below)).ok()) return false;
   return !collision_ || !collision_->CheckRobot(base_W, q, {true, true, true, true}).collision;
 }
 
@@ -280,9 +291,13 @@ SwingTrajectory PlanController::PlanSwing(Leg leg, const Eigen::Vector3d& from_W
   // The base holds its pose during the swing: the leg must clear the terrain from there. The
   // foot itself is kept clear by the path's terrain check (it starts and ends on the ground).
   const SwingTrajectory::LegCheck leg_clear = [&](const Eigen::Vector3d& foot_W) {
-    const IkResult ik = robot_.SolveLegIk(leg, pose.inverse() * foot_W);
-    if (ik.status == IkResult::Status::kOutOfReach) return false;
-    return !collision_->CheckLeg(leg, pose, ik.q, true).collision;
+    // A foot the leg cannot reach within its joint bounds would press a joint into its stop,
+    // and one drawn up close to the hip folds the shank against the trunk.
+    const Eigen::Vector3d foot_B = pose.inverse() * foot_W;
+    if ((foot_B - robot_.HipPosition(leg)).norm() < config_.swing.min_hip_distance_m) return false;
+    const IkResult ik = robot_.SolveLegIk(leg, foot_B);
+    if (!ik.ok()) return false;
+    return !swing_collision_->CheckLeg(leg, pose, ik.q, true).collision;
   };
   // Towards the body: from the middle of the swing to the base, across the swing direction.
   const Eigen::Vector2d across = (to_W - from_W).head<2>();
@@ -302,6 +317,7 @@ void PlanController::BeginStep(int index, const Measured& m) {
   for (Leg other : kAllLegs) {
     if (other != l.leg) l.stay.push_back(m.feet_W[static_cast<std::size_t>(Index(other))]);
   }
+  l.foothold = target.feet[static_cast<std::size_t>(Index(l.leg))].position;
   status_.step = index;
   status_.swing_leg = l.leg;
   const Eigen::Quaterniond orientation = QuaternionFromRpy(target.base_rpy);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "rbcp/scenario/scenario.h"
 
@@ -85,12 +86,20 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
   const bool check_terrain = terrain != nullptr && !terrain->triangles.empty();
   if (check_terrain || leg_clear) {
     std::optional<SwingTrajectory> best;
-    const bool can_bow = leg_clear && inward_W.norm() > 1e-9;
-    const int bows = can_bow ? kBows : 1;
+    // Bows tried: none, then towards the body, then back against the swing direction (a knee
+    // that points ahead, into the riser of a higher foothold, stays behind it while the foot rises).
+    std::vector<Eigen::Vector2d> bows = {Eigen::Vector2d::Zero()};
+    if (leg_clear) {
+      const Eigen::Vector2d ahead = (target_W - start_W).head<2>();
+      for (const Eigen::Vector2d& direction : {Eigen::Vector2d(inward_W), Eigen::Vector2d(-ahead)}) {
+        if (direction.norm() < 1e-9) continue;
+        for (int k = 1; k < kBows; ++k) bows.push_back(kBowStep * k * direction.normalized());
+      }
+    }
     bool found = false;
-    for (int bow = 0; bow < bows && !found; ++bow) {
+    for (std::size_t bow = 0; bow < bows.size() && !found; ++bow) {
       SwingTrajectory c = s;
-      if (can_bow) c.bow_ = kBowStep * bow * inward_W.normalized();
+      c.bow_ = bows[bow];
       // The samples' xy do not depend on the apex: query the terrain once per bow.
       std::array<double, kSamples> offset;
       std::array<bool, kSamples> near_end{}, away{};
@@ -121,9 +130,11 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
             if (away[i]) middle = std::min(middle, gap);
             if (gap < (away[i] ? 0.005 : -0.003)) enters = true;
           }
-          // The leg is checked once the foot is off the ground (at its footholds the plan's own
-          // stances hold, and a foot on the ground touches it).
-          const bool lifted = p.z() > std::max(start_W.z(), target_W.z()) + 0.02;
+          // The leg is checked once the foot is off the ground: 2 cm above the foothold it rises
+          // from, then above the one it descends to (at its footholds the plan's own stances
+          // hold, and a foot on the ground touches it). From a lower foothold the knee passes
+          // the riser of the higher one on the way up.
+          const bool lifted = p.z() > (u <= 0.5 ? start_W.z() : target_W.z()) + 0.02;
           if (leg_clear && lifted && k % 2 == 0 && !leg_clear(p)) c.leg_collisions_ += 1;
         }
         c.clearance_m_ = middle;

@@ -97,5 +97,34 @@ TEST(SwingTrajectory, RaisesTheApexUntilTheLegIsClear) {
   EXPECT_LT(s.Apex(), 0.24);
 }
 
+TEST(SwingTrajectory, BowsTowardsTheBodyWhenRaisingDoesNotClearTheLeg) {
+  // A leg check that fails wherever the lifted foot stays near the straight line (a knee that
+  // swings out into a wall beside the robot whatever the apex).
+  const SwingTrajectory::LegCheck clear = [](const Eigen::Vector3d& p) {
+    return !(std::abs(p.y()) < 0.02 && p.z() > 0.03);
+  };
+  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0, 0), nullptr, 0.031,
+                                                  SwingConfig(), clear, Eigen::Vector2d(0, 1));
+  EXPECT_EQ(s.LegCollisions(), 0);
+  EXPECT_GT(s.Bow().y(), 0.02);
+  EXPECT_EQ(s.Bow().x(), 0.0);
+}
+
+TEST(SwingTrajectory, DrawsTheFootBackWhenItsKneeWouldMeetTheRiserAhead) {
+  // Stepping up onto a block ahead: a foot that rises straight up bends its knee forwards into
+  // the block's edge; drawn back while it rises, it keeps the knee behind it.
+  const SwingTrajectory::LegCheck clear = [](const Eigen::Vector3d& p) {
+    return !(p.z() > 0.05 && p.z() < 0.15 && p.x() > -0.01);
+  };
+  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, 0, 0.2), nullptr, 0.031,
+                                                  SwingConfig(), clear, Eigen::Vector2d(0, 1));
+  EXPECT_EQ(s.LegCollisions(), 0);
+  EXPECT_LT(s.Bow().x(), -0.02);
+  EXPECT_EQ(s.Bow().y(), 0.0);
+  // It still starts and ends on its footholds.
+  EXPECT_NEAR((s.Position(0.0) - Eigen::Vector3d::Zero()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(s.Position(s.Duration()).x(), 0.3, 1e-12);
+}
+
 }  // namespace
 }  // namespace rbcp

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/plan_checker/plan_json.h"
 
@@ -93,7 +94,7 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
   result.sim_wall_s = MsSince(start) / 1000.0;
   if (!result.sim->ok()) {
     const auto& f = result.sim->failure;
-    result.failure = "sim: " + (f ? f->what + " at " + std::to_string(f->t) + " s, step " + std::to_string(f->step) +
+    result.failure = "sim: " + (f ? f->what + " at " + FixedNumber(f->t, 2) + " s, step " + std::to_string(f->step) +
                                         (f->leg.empty() ? "" : " (" + f->leg + ")") + " during " + f->phase + ": " +
                                         f->detail
                                   : std::string("the goal was not reached"));

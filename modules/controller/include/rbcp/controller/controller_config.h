@@ -31,6 +31,8 @@ struct BaseMotionConfig {
 struct SwingConfig {
   double height_m = 0.08;              ///< apex above the higher of the two footholds [m]
   double terrain_clearance_m = 0.05;   ///< least height of the foot above the terrain under its path [m]
+  double thigh_clearance_m = 0.01;     ///< the swinging leg's thigh keeps this clear of the terrain [m], in [0, 0.1)
+  double min_hip_distance_m = 0.25;    ///< the swinging foot stays this far from its hip (HAA origin) [m]
   double speed_mps = 0.8;              ///< peak foot speed along the swing path [m/s]
   double min_duration_s = 0.45;        ///< shortest swing [s]
   double touchdown_depth_m = 0.01;     ///< the path ends this far below the foothold [m]

@@ -6,7 +6,7 @@
 ///  1. shift: with four feet down, the base moves to the state's base pose, moved further (at most
 ///     base.max_margin_shift_m) until the CoM's ground projection lies base.support_margin_m
 ///     inside the triangle of the three feet that stay; when the swing from there cannot keep
-///     the leg off the terrain, base poses a few centimetres aside are tried, and when the three
+///     the leg off the terrain, base poses a few centimetres aside, along or higher are tried, and when the three
 ///     feet that stay would ask a joint for more than 85 % of the torque limit, base poses a few
 ///     centimetres lower, higher, along or across that ask less;
 ///  2. unload: L's share of the load ramps to zero;
@@ -142,7 +142,8 @@ class PlanController {
   const RobotModel& robot_;
   ControllerConfig config_;
   const TriangleMesh* terrain_ = nullptr;
-  std::unique_ptr<RobotTerrainCollision> collision_;
+  std::unique_ptr<RobotTerrainCollision> collision_;        // exact shapes: stances
+  std::unique_ptr<RobotTerrainCollision> swing_collision_;  // thighs swing.thigh_clearance_m larger: swing paths
 
   ContactPlan plan_;
   std::optional<ContactPlan> pending_;

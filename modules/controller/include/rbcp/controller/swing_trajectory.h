@@ -6,7 +6,9 @@
 /// to 80 %. The apex is raised until the path clears the terrain under it (and, when a check is
 /// given, until the whole leg does); if raising alone does not clear the leg, the path also bows
 /// sideways towards the body (a lifted foot under an abducted leg swings its knee outwards, into
-/// a wall beside the robot; drawing the foot in keeps the leg upright).
+/// a wall beside the robot; drawing the foot in keeps the leg upright), and then back against the
+/// swing direction (a foot rising under a fixed hip bends its knee forwards, into the edge of a
+/// higher foothold ahead; drawn back, the leg stays straighter until the knee is above it).
 
 #include <Eigen/Core>
 #include <functional>
@@ -30,7 +32,8 @@ class SwingTrajectory {
   /// every sample. The lowest apex that satisfies everything is kept; if none does, the lowest one
   /// with the fewest leg collisions.
   /// `inward_W`: horizontal direction towards the body, along which the path may bow (in 3 cm
-  /// steps up to 9 cm at the apex) when the leg check fails at every apex; zero: never.
+  /// steps up to 9 cm at the apex) when the leg check fails at every apex; zero: never. Then it
+  /// may bow back against the swing direction, in the same steps.
   static SwingTrajectory Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
                               const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config,
                               const LegCheck& leg_clear = {}, const Eigen::Vector2d& inward_W = Eigen::Vector2d::Zero());
