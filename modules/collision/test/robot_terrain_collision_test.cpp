@@ -534,7 +534,9 @@ TEST(RobotTerrainCollision, AThighMarginKeepsTerrainFurtherFromTheThighs) {
     const bool on_wide_thigh = margin.collision && thigh.count(margin.first_shape) > 0;
     hits += on_thigh;
     wide_hits += on_wide_thigh;
-    if (exact.collision) EXPECT_TRUE(margin.collision) << "cube at " << k << " cm";
+    if (exact.collision) {
+      EXPECT_TRUE(margin.collision) << "cube at " << k << " cm";
+    }
   }
   EXPECT_GT(hits, 0);
   EXPECT_GT(wide_hits, hits);

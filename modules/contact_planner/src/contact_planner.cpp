@@ -10,6 +10,7 @@
 #include <tuple>
 #include <unordered_set>
 
+#include "rbcp/affordance/surface_graph.h"
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
@@ -32,6 +33,7 @@ std::string ToString(ContactPlanStatus status) {
     case ContactPlanStatus::kInvalidInput: return "invalid_input";
     case ContactPlanStatus::kNoStartStance: return "no_start_stance";
     case ContactPlanStatus::kNoFoothold: return "no_foothold";
+    case ContactPlanStatus::kGoalUnreachable: return "goal_unreachable";
     case ContactPlanStatus::kTimeout: return "timeout";
   }
   return "unknown";
@@ -209,6 +211,7 @@ struct ContactPlanner::Impl {
   std::unique_ptr<RobotTerrainCollision> collision;       // terrain checks, thighs with their clearance
   std::unique_ptr<RobotTerrainCollision> self_collision;  // self-collision, exact shapes
   std::vector<ConvexPolygon3d> surfaces;
+  std::unique_ptr<SurfaceGraph> surface_graph;
 
   // Per query.
   std::chrono::steady_clock::time_point start_time;
@@ -573,6 +576,42 @@ struct ContactPlanner::Impl {
       }
     }
     return true;
+  }
+
+  // ---- Reachability of the goal ---------------------------------------------------------------
+
+  /// Empty when some surface in reach of the feet at the path's end is joined, through surfaces
+  /// each within max_surface_gap_m of the next, to a surface a start foot stands on; otherwise why not.
+  std::string GoalUnreachable(const std::array<FootContact, kNumLegs>& start_feet) const {
+    if (!surface_graph) return "";
+    std::vector<int> from, to;
+    for (const FootContact& f : start_feet) {
+      for (int s : surface_graph->SurfacesNear(f.position, 0.01)) from.push_back(s);
+    }
+    const FootWorkspace& ws = config.workspace;
+    const double reach = Eigen::Vector3d(std::max(ws.max_forward_m, ws.max_backward_m),
+                                         std::max(ws.max_outward_m, ws.max_inward_m), std::max(ws.max_up_m, ws.max_down_m))
+                             .norm();
+    const Eigen::Isometry3d end = PathBasePose(path->At(path->End()));
+    for (Leg leg : kAllLegs) {
+      for (int s : surface_graph->SurfacesNear(end * robot.ReferenceFootPosition(leg), reach)) to.push_back(s);
+    }
+    if (from.empty() || surface_graph->Joined(from, to)) return "";
+    return "no chain of contact surfaces, each within " + FixedNumber(config.max_surface_gap_m, 2) +
+           " m of the next, joins the start feet's surfaces to one in reach at the path's end";
+  }
+
+  /// The answer to a query whose goal GoalUnreachable, or nullopt.
+  std::optional<ContactPlanResult> GoalUnreachableResult(const std::array<FootContact, kNumLegs>& start_feet) const {
+    const std::string why = GoalUnreachable(start_feet);
+    if (why.empty()) return std::nullopt;
+    ContactPlanResult result;
+    result.status = ContactPlanStatus::kGoalUnreachable;
+    result.reason = why;
+    result.failure_time_s = path->Begin();
+    result.planning_time_s = Elapsed();
+    result.stats = stats;
+    return result;
   }
 
   // ---- Start stance ----------------------------------------------------------------------------
@@ -1191,6 +1230,7 @@ void ContactPlanner::SetTerrain(const TriangleMesh& terrain, const std::vector<A
     }
     impl_->surfaces.emplace_back(s.vertices, s.normal);
   }
+  impl_->surface_graph = std::make_unique<SurfaceGraph>(surfaces, impl_->config.max_surface_gap_m);
 }
 
 ContactPlanResult ContactPlanner::Plan(const RootPath& path) { return Plan(path.SampleEvery(kRootPathSampling)); }
@@ -1216,6 +1256,7 @@ ContactPlanResult ContactPlanner::Plan(const std::vector<RootPathSample>& sample
     result.stats = m.stats;
     return result;
   }
+  if (const auto unreachable = m.GoalUnreachableResult(stance->feet)) return *unreachable;
   Node root;
   root.state = *stance;
   root.t = m.path->Begin();
@@ -1251,6 +1292,7 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
     result.planning_time_s = m.Elapsed();
     return result;
   }
+  if (const auto unreachable = m.GoalUnreachableResult(current.feet)) return *unreachable;
   const PathPose start = m.path->At(root.t);
   root.shift = Yaw(start.yaw).transpose() * (current.base_position - start.p);
   if (m.config.base_pose.follow_feet) root.shift.z() = 0.0;  // the height follows the feet

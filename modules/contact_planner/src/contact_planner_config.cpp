@@ -70,6 +70,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   bp.RejectUnknownKeys();
 
   c.goal_foot_tolerance_m = map.Double("goal_foot_tolerance_m");
+  c.max_surface_gap_m = map.Double("max_surface_gap_m");
 
   const YamlMap rt = map.Map("retry");
   c.retry.earlier_step_s = ReadArray<3>(rt, "earlier_step_s");
@@ -142,6 +143,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   check.NonNegative("base_pose.max_pitch_rad", base_pose.max_pitch_rad);
   check.NonNegative("base_pose.max_roll_rad", base_pose.max_roll_rad);
   check.Positive("goal_foot_tolerance_m", goal_foot_tolerance_m);
+  check.Positive("max_surface_gap_m", max_surface_gap_m);
   for (std::size_t i = 0; i < retry.earlier_step_s.size(); ++i) {
     check.NonNegative("retry.earlier_step_s[" + std::to_string(i) + "]", retry.earlier_step_s[i]);
   }

@@ -143,12 +143,33 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, GoalPlanTest,
                            return std::get<0>(info.param) + "_seed" + std::to_string(std::get<1>(info.param));
                          });
 
+TEST(ContactPlannerTest, PathOverAPitIsAnsweredUnreachableBeforeAnyStep) {
+  // Two platforms with a 1 m gap: no chain of surfaces joins them.
+  const World world = BoxWorld("pit", {{-3.0, -0.5}, {0.5, 3.0}});
+  ContactPlanner planner = MakePlanner(world, PlannerConfig());
+  const ContactPlanResult result = planner.Plan(StraightPath({-1.5, 0.0}, {1.5, 0.0}, 0.0));
+  EXPECT_FALSE(result.ok);
+  EXPECT_EQ(result.status, ContactPlanStatus::kGoalUnreachable) << ToString(result.status);
+  EXPECT_EQ(ToString(result.status), "goal_unreachable");
+  EXPECT_NE(result.reason.find("no chain of contact surfaces"), std::string::npos) << result.reason;
+  EXPECT_EQ(result.stats.step_attempts, 0);
+  EXPECT_TRUE(result.plan.states.empty());
+  // The same platforms 0.3 m apart are joined: the question goes to the search (cut short here).
+  const World near = BoxWorld("gap", {{-3.0, -0.15}, {0.15, 3.0}});
+  ContactPlannerConfig short_search = PlannerConfig();
+  short_search.time_budget_s = 0.2;
+  ContactPlanner near_planner = MakePlanner(near, short_search);
+  EXPECT_NE(near_planner.Plan(StraightPath({-1.5, 0.0}, {1.5, 0.0}, 0.0)).status, ContactPlanStatus::kGoalUnreachable);
+}
+
 TEST(ContactPlannerTest, PathOverAPitFailsWithAReason) {
-  // Two platforms with a 1 m gap: no foothold bridges it.
+  // Two platforms with a 1 m gap, taken to the search (surfaces joined across any gap): no
+  // foothold bridges it.
   const World world = BoxWorld("pit", {{-3.0, -0.5}, {0.5, 3.0}});
   ContactPlannerConfig config = PlannerConfig();
   config.time_budget_s = 600.0;  // bounded by the backtracking limit only
   config.retry.gait_advance_s = {0.3};
+  config.max_surface_gap_m = 2.0;
   ContactPlanner planner = MakePlanner(world, config);
   const RootPath path = StraightPath({-1.5, 0.0}, {1.5, 0.0}, 0.0);
   const ContactPlanResult result = planner.Plan(path);

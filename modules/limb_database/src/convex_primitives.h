@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 
+#include "rbcp/core/segment_distance.h"
+
 namespace rbcp::limb_database_detail {
 
 /// A posed sphere, capsule or oriented box.
@@ -32,11 +34,6 @@ struct ConvexPrimitive {
   Eigen::Vector3d SegmentEnd() const { return centre + half.z() * axes.col(2); }
 };
 
-/// Distance from point p to the closed segment [a, b].
-double PointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
-/// Distance between the closed segments [a0, a1] and [b0, b1].
-double SegmentSegmentDistance(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
-                              const Eigen::Vector3d& b1);
 /// Distance from point p to a solid box (0 inside).
 double PointBoxDistance(const Eigen::Vector3d& p, const ConvexPrimitive& box);
 /// Distance from the closed segment [a, b] to a solid box (0 when they intersect), to 1e-9 m.

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "kinodynamic_birrt.h"
+#include "rbcp/affordance/surface_graph.h"
 #include "rbcp/core/config_checks.h"
 #include "rbcp/core/error.h"
 #include "rbcp/robot/robot_model.h"
@@ -200,6 +201,7 @@ std::string ToString(RootPlanStatus status) {
     case RootPlanStatus::kOk: return "ok";
     case RootPlanStatus::kStartInvalid: return "start_invalid";
     case RootPlanStatus::kGoalInvalid: return "goal_invalid";
+    case RootPlanStatus::kGoalUnreachable: return "goal_unreachable";
     case RootPlanStatus::kTimeout: return "timeout";
   }
   return "unknown";
@@ -233,6 +235,7 @@ RootPlannerConfig RootPlannerConfig::Load(const YamlMap& map, const std::string&
   c.straighten_iterations = map.Int("straighten_iterations");
   c.straighten_knot_spacing = map.Double("straighten_knot_spacing");
   c.max_piece_duration = map.Double("max_piece_duration");
+  c.max_surface_gap = map.Double("max_surface_gap");
   map.RejectUnknownKeys();
   const std::string problem = c.Problem();
   if (!problem.empty()) map.Fail("", problem);
@@ -280,6 +283,9 @@ std::string RootPlannerConfig::Problem() const {
   if (straighten_iterations < 0) return "'straighten_iterations': expected at least 0, got " + std::to_string(straighten_iterations);
   if (!(straighten_knot_spacing >= time_step)) {
     return "'straighten_knot_spacing': expected at least time_step, got " + ConfigNumber(straighten_knot_spacing);
+  }
+  if (!(std::isfinite(max_surface_gap) && max_surface_gap > 0.0)) {
+    return "'max_surface_gap': expected a distance > 0 m, got " + ConfigNumber(max_surface_gap);
   }
   if (!(max_piece_duration > time_step)) {
     return "'max_piece_duration': expected more than time_step, got " + ConfigNumber(max_piece_duration);
@@ -360,6 +366,18 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   if (!start_report.Valid()) return done(RootPlanStatus::kStartInvalid, "start: " + start_report.Reason());
   const ReachabilityReport goal_report = checker.Check(goal.p, rest_goal);
   if (!goal_report.Valid()) return done(RootPlanStatus::kGoalInvalid, "goal: " + goal_report.Reason());
+  {
+    std::vector<int> from, to;
+    for (int s : start_report.leg_surface) from.push_back(s);
+    for (int s : goal_report.leg_surface) to.push_back(s);
+    const SurfaceGraph graph(surfaces, config_.max_surface_gap);
+    if (!graph.Joined(from, to)) {
+      return done(RootPlanStatus::kGoalUnreachable,
+                  "no chain of contact surfaces, each within " + ConfigNumber(config_.max_surface_gap) +
+                      " m of the next, joins the start's surfaces to the goal's (" +
+                      std::to_string(graph.ComponentCount()) + " separate groups of surfaces)");
+    }
+  }
 
   // OMPL problem: the state space bounds cover the surfaces (raised to standing height), the
   // start and the goal, with a margin.

@@ -187,9 +187,25 @@ TEST(RootPlannerTest, TurnsFromTheStartYawToTheGoalYawWithoutJumps) {
   }
 }
 
-TEST(RootPlannerTest, IslandBeyondAWidePitHasNoPath) {
+TEST(RootPlannerTest, IslandBeyondAWidePitIsUnreachableBeforeAnySearch) {
   const RootPlanner planner(Robot(), DefaultConfig());
   // Ground x in [-3, 0], a 1.5 m pit, an island x in [1.5, 3].
+  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const double h = Robot().NominalBaseHeight();
+  const RootPlanResult result =
+      planner.Plan(world.terrain, world.surfaces, {-1.0, 0.0, h}, 0.0, {2.2, 0.0, h}, 0.0, 1, 5.0);
+  EXPECT_EQ(result.status, RootPlanStatus::kGoalUnreachable);
+  EXPECT_EQ(ToString(result.status), "goal_unreachable");
+  EXPECT_NE(result.reason.find("no chain of contact surfaces"), std::string::npos) << result.reason;
+  EXPECT_TRUE(result.samples.empty());
+  EXPECT_EQ(result.iterations, 0);
+}
+
+TEST(RootPlannerTest, IslandBeyondAWidePitHasNoPathWhenTheGapIsNotRuledOut) {
+  // With surfaces joined across any gap the search runs, and finds no path within its budget.
+  RootPlannerConfig config = DefaultConfig();
+  config.max_surface_gap = 2.0;
+  const RootPlanner planner(Robot(), config);
   const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
   const double h = Robot().NominalBaseHeight();
   const RootPlanResult result =

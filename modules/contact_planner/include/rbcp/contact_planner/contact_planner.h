@@ -79,10 +79,13 @@ enum class ContactPlanStatus {
   kInvalidInput,    ///< empty path, no terrain set, invalid current state
   kNoStartStance,   ///< no valid standing stance at the path start
   kNoFoothold,      ///< a step found no valid foothold after every retry
+  /// No chain of contact surfaces, each within max_surface_gap_m of the next, joins the start
+  /// feet's surfaces to those in the feet's reach at the path's end (answered before any step).
+  kGoalUnreachable,
   kTimeout,         ///< time budget exhausted
 };
 
-/// "ok", "invalid_input", "no_start_stance", "no_foothold", "timeout".
+/// "ok", "invalid_input", "no_start_stance", "no_foothold", "goal_unreachable", "timeout".
 std::string ToString(ContactPlanStatus status);
 
 /// Work done by one query.

@@ -108,6 +108,9 @@ struct ContactPlannerConfig {
   BaseShiftConfig base_shift;
   BasePoseConfig base_pose;
   double goal_foot_tolerance_m = 0.05;  ///< [m] feet farther from their goal position are re-placed
+  /// [m] two contact surfaces this close are joined (a step bridges the gap); a path's end whose
+  /// surfaces are joined to none of the start feet's is answered kGoalUnreachable at once.
+  double max_surface_gap_m = 0.45;
   RetryConfig retry;
   double time_budget_s = 5.0;           ///< [s] wall-clock budget of one planning query
 

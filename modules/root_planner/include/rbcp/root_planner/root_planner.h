@@ -70,6 +70,9 @@ struct RootPlannerConfig {
   int straighten_iterations = 0;
   double straighten_knot_spacing = 0.5;  ///< [s]
   double max_piece_duration = 50.0;  ///< [s] longer steered pieces are rejected
+  /// [m] two contact surfaces this close are joined (a step bridges the gap); a goal whose
+  /// surfaces are joined to none of the start's is answered kGoalUnreachable before any search.
+  double max_surface_gap = 0.45;
 
   /// Reads the keys of config/root_planner.yaml (strict) and the ROMs of rom_folder, resolved
   /// against config_dir when relative. Throws InputError.
@@ -84,10 +87,13 @@ enum class RootPlanStatus {
   kOk,            ///< a path was found
   kStartInvalid,  ///< the start state violates the reachability condition (reason says how)
   kGoalInvalid,   ///< the goal state violates it
+  /// No chain of contact surfaces, each within max_surface_gap of the next, joins the surfaces
+  /// in reach at the start to those in reach at the goal: no footholds lead there.
+  kGoalUnreachable,
   kTimeout,       ///< no path within the time budget
 };
 
-/// "ok", "start_invalid", "goal_invalid", "timeout".
+/// "ok", "start_invalid", "goal_invalid", "goal_unreachable", "timeout".
 std::string ToString(RootPlanStatus status);
 
 /// One planning query. Positions are base positions in the world frame [m]; yaw [rad].
