@@ -101,6 +101,7 @@ RootPath Shortcut(RootPath path, const detail::KinodynamicMotionValidator& valid
 // only keeps the height profile and draws such detours (and the heading) toward the straight line.
 constexpr double kStraightTolerance = 0.005;  // [m] knots this close to the line are not moved
 constexpr double kMaxStraightenGrowth = 1.1;  // straightening makes a path at most 10 % longer
+constexpr double kTurnOnTheSpotRate = 0.25;   // [rad/s] heading rate of a path that only turns
 
 RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidator& validator, int iterations,
                     double knot_spacing, double max_duration, std::uint64_t seed,
@@ -377,6 +378,28 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
                       " m of the next, joins the start's surfaces to the goal's (" +
                       std::to_string(graph.ComponentCount()) + " separate groups of surfaces)");
     }
+  }
+
+  // A goal at the start: the base stays where it is and its heading turns to the goal's.
+  if ((goal.p - start.p).norm() < 1e-6 && start.v.norm() < 1e-9) {
+    const double turn = std::abs(WrapAngle(rest_goal - rest_start));
+    const double duration =
+        config_.time_step * std::max(1.0, std::ceil(turn / kTurnOnTheSpotRate / config_.time_step));
+    std::array<AxisProfile, 3> axes;
+    for (int i = 0; i < 3; ++i) axes[static_cast<std::size_t>(i)] = AxisProfile::Rest(start.p[i], duration);
+    RootPath path(config_.yaw);
+    path.Append(RootSegment::Whole(DoubleIntegratorTrajectory(axes, duration), rest_start, rest_goal));
+    for (const RootPathSample& s : path.SampleEvery(config_.time_step / config_.validation_substeps)) {
+      const ReachabilityReport report = checker.Check(s.p, s.yaw);
+      if (!report.Valid()) {
+        return done(RootPlanStatus::kGoalInvalid,
+                    "turning on the spot, at heading " + ConfigNumber(s.yaw) + " rad: " + report.Reason());
+      }
+    }
+    result.path = path;
+    result.samples = path.SampleEvery(config_.time_step);
+    result.validity_checks = checker.Queries();
+    return done(RootPlanStatus::kOk, "");
   }
 
   // OMPL problem: the state space bounds cover the surfaces (raised to standing height), the

@@ -216,6 +216,28 @@ TEST(RootPlannerTest, IslandBeyondAWidePitHasNoPathWhenTheGapIsNotRuledOut) {
   EXPECT_GT(result.iterations, 0);
 }
 
+TEST(RootPlannerTest, AGoalAtTheStartWithAnotherHeadingTurnsOnTheSpot) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms ground = test::MakePlatforms({{-2.0, 2.0}});
+  const Eigen::Vector3d at(0.0, 0.0, Robot().NominalBaseHeight());
+  const RootPlanResult result = planner.Plan(ground.terrain, ground.surfaces, at, 0.2, at, 2.0, 1, 1.0);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  ASSERT_GE(result.samples.size(), 2u);
+  EXPECT_GT(result.path.Duration(), 1.0);
+  for (const RootPathSample& s : result.samples) {
+    EXPECT_LT((s.p - at).norm(), 1e-12);
+    EXPECT_EQ(s.v.norm(), 0.0);
+  }
+  EXPECT_NEAR(result.samples.front().yaw, 0.2, 1e-9);
+  EXPECT_NEAR(result.samples.back().yaw, 2.0, 1e-9);
+  // The heading turns one way, monotonically.
+  for (std::size_t i = 1; i < result.samples.size(); ++i) {
+    EXPECT_GE(result.samples[i].yaw, result.samples[i - 1].yaw - 1e-12);
+  }
+  // The same pose and heading: a valid, trivial request.
+  EXPECT_TRUE(planner.Plan(ground.terrain, ground.surfaces, at, 0.2, at, 0.2, 1, 1.0).ok());
+}
+
 TEST(RootPlannerTest, InvalidStartOrGoalIsReported) {
   const RootPlanner planner(Robot(), DefaultConfig());
   const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
