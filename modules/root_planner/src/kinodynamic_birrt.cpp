@@ -466,7 +466,7 @@ ob::PlannerStatus KinodynamicBiRrt::solve(const ob::PlannerTerminationCondition&
   ob::State* target_state = si_->allocState();
   const YawModel& yaw = validator_->Settings().yaw;
   ob::PlannerStatus status = ob::PlannerStatus::TIMEOUT;
-  while (!ptc()) {
+  while (stats_.iterations < max_iterations_ && !ptc()) {
     ++stats_.iterations;
     sampler.sampleUniform(target_state);
     const PointState target = RootStateSpace::Point(target_state);

@@ -12,6 +12,7 @@
 #include <ompl/util/RandomNumbers.h>
 
 #include <optional>
+#include <limits>
 #include <vector>
 
 #include "rbcp/affordance/affordance_extractor.h"
@@ -185,6 +186,8 @@ class KinodynamicBiRrt : public ob::Planner {
   void getPlannerData(ob::PlannerData& data) const override;
 
   const BiRrtStats& Stats() const { return stats_; }
+  /// The search stops after this many iterations (and when the termination condition says so).
+  void SetMaxIterations(int iterations) { max_iterations_ = iterations; }
 
  private:
   struct Node {
@@ -211,6 +214,7 @@ class KinodynamicBiRrt : public ob::Planner {
   Tree start_tree_;
   Tree goal_tree_;
   BiRrtStats stats_;
+  int max_iterations_ = std::numeric_limits<int>::max();
 };
 
 }  // namespace rbcp::detail

@@ -232,6 +232,7 @@ RootPlannerConfig RootPlannerConfig::Load(const YamlMap& map, const std::string&
   c.repair_step = sampler.Double("repair_step");
   c.bounds_margin = sampler.Double("bounds_margin");
   sampler.RejectUnknownKeys();
+  c.max_iterations = map.Int("max_iterations");
   c.shortcut_iterations = map.Int("shortcut_iterations");
   c.straighten_iterations = map.Int("straighten_iterations");
   c.straighten_knot_spacing = map.Double("straighten_knot_spacing");
@@ -280,6 +281,7 @@ std::string RootPlannerConfig::Problem() const {
   if (repair_moves < 0) return "'sampler.repair_moves': expected at least 0, got " + std::to_string(repair_moves);
   if (!(repair_step > 0.0)) return "'sampler.repair_step': expected a length > 0 m, got " + ConfigNumber(repair_step);
   if (!(bounds_margin >= 0.0)) return "'sampler.bounds_margin': expected a length >= 0 m, got " + ConfigNumber(bounds_margin);
+  if (max_iterations < 1) return "'max_iterations': expected at least 1, got " + std::to_string(max_iterations);
   if (shortcut_iterations < 0) return "'shortcut_iterations': expected at least 0, got " + std::to_string(shortcut_iterations);
   if (straighten_iterations < 0) return "'straighten_iterations': expected at least 0, got " + std::to_string(straighten_iterations);
   if (!(straighten_knot_spacing >= time_step)) {
@@ -453,6 +455,7 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
                                                             &checker, request.seed);
   planner->setProblemDefinition(pdef);
   planner->setup();
+  planner->SetMaxIterations(config_.max_iterations);
 
   const double remaining = request.time_budget_s - Seconds(t0);
   const ob::PlannerTerminationCondition ptc = ob::timedPlannerTerminationCondition(std::max(0.0, remaining));
@@ -463,9 +466,11 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   result.tree_states = planner->Stats().start_tree_states + planner->Stats().goal_tree_states;
   if (status != ob::PlannerStatus::EXACT_SOLUTION || !pdef->hasExactSolution()) {
     result.validity_checks = checker.Queries();
-    return done(RootPlanStatus::kTimeout, "no path found within the time budget of " + ConfigNumber(request.time_budget_s) +
-                                              " s (" + std::to_string(result.iterations) + " iterations, " +
-                                              std::to_string(result.tree_states) + " tree states)");
+    const std::string within = result.iterations >= config_.max_iterations
+                                   ? std::to_string(config_.max_iterations) + " iterations"
+                                   : "the time budget of " + ConfigNumber(request.time_budget_s) + " s";
+    return done(RootPlanStatus::kTimeout, "no path found within " + within + " (" + std::to_string(result.iterations) +
+                                              " iterations, " + std::to_string(result.tree_states) + " tree states)");
   }
   const auto* found = pdef->getSolutionPath()->as<detail::RootTrajectoryPath>();
   result.duration_before_shortcut_s = found->Path().Duration();
@@ -474,8 +479,14 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   result.path = Straighten(result.path, *validator, config_.straighten_iterations, config_.straighten_knot_spacing,
                            std::min(kMaxStraightenGrowth * result.path.Duration(), result.duration_before_shortcut_s),
                            smoothing_seed + 2, ptc);
-  result.samples = result.path.SampleEvery(config_.time_step);
   result.validity_checks = checker.Queries();
+  if (ptc()) {
+    // Cut short, the smoothing would give a path that depends on the machine's load.
+    result.path = RootPath();
+    return done(RootPlanStatus::kTimeout,
+                "the time budget of " + ConfigNumber(request.time_budget_s) + " s ran out while smoothing the path");
+  }
+  result.samples = result.path.SampleEvery(config_.time_step);
   return done(RootPlanStatus::kOk, "");
 }
 

@@ -216,6 +216,24 @@ TEST(RootPlannerTest, IslandBeyondAWidePitHasNoPathWhenTheGapIsNotRuledOut) {
   EXPECT_GT(result.iterations, 0);
 }
 
+TEST(RootPlannerTest, TheSearchEndsAfterItsIterationLimitNotOnTheClock) {
+  // Joined surfaces across the pit (the search runs) and a generous budget: the search ends
+  // after max_iterations, every time the same way.
+  RootPlannerConfig config = DefaultConfig();
+  config.max_surface_gap = 2.0;
+  config.max_iterations = 60;
+  const RootPlanner planner(Robot(), config);
+  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const double h = Robot().NominalBaseHeight();
+  for (int run = 0; run < 2; ++run) {
+    const RootPlanResult result =
+        planner.Plan(world.terrain, world.surfaces, {-1.0, 0.0, h}, 0.0, {2.2, 0.0, h}, 0.0, 3, 60.0);
+    EXPECT_EQ(result.status, RootPlanStatus::kTimeout);
+    EXPECT_EQ(result.iterations, 60);
+    EXPECT_NE(result.reason.find("no path found within 60 iterations"), std::string::npos) << result.reason;
+  }
+}
+
 TEST(RootPlannerTest, AGoalAtTheStartWithAnotherHeadingTurnsOnTheSpot) {
   const RootPlanner planner(Robot(), DefaultConfig());
   const test::Platforms ground = test::MakePlatforms({{-2.0, 2.0}});

@@ -63,6 +63,10 @@ struct RootPlannerConfig {
   double repair_step = 0.03;
   double bounds_margin = 0.5;        ///< [m] the state space extends this far beyond the surfaces
 
+  /// The search stops after this many RRT iterations: with the iteration counts of the smoothing
+  /// below, the path depends only on the inputs and the seed, never on the machine's load. The
+  /// request's time budget is a safety limit; reaching it is a timeout.
+  int max_iterations = 20000;
   int shortcut_iterations = 100;     ///< random-shortcut iterations after a path is found
   /// Horizontal straightening after the shortcuts: runs of knots (every straighten_knot_spacing
   /// [s] of path time) moved onto the straight line between the run's ends, heights and times
@@ -102,8 +106,8 @@ struct RootPlanRequest {
   double start_yaw = 0.0;
   Eigen::Vector3d goal = Eigen::Vector3d::Zero();  ///< goal position, reached at rest
   double goal_yaw = 0.0;
-  unsigned seed = 1;             ///< same seed and inputs, same path (when found within the budget)
-  double time_budget_s = 1.0;    ///< wall-clock budget of the whole query [s]
+  unsigned seed = 1;             ///< same seed and inputs, same path (or a timeout)
+  double time_budget_s = 1.0;    ///< wall-clock safety limit of the whole query [s]
 };
 
 /// The answer to a query.
