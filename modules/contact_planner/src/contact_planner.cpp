@@ -1175,7 +1175,14 @@ struct ContactPlanner::Impl {
     if (first.ok || first.status != ContactPlanStatus::kNoFoothold) return first;
     std::string tried;
     for (const double advance : config.retry.gait_advance_s) {
-      if (OutOfTime()) break;
+      if (OutOfTime()) {
+        // The wall clock is a safety limit: the answer must not depend on how far it let us get.
+        first.status = ContactPlanStatus::kTimeout;
+        first.reason = "time budget of " + FixedNumber(config.time_budget_s, 2) +
+                       " s exhausted before the retry with gait_advance_s " + FixedNumber(advance, 2) +
+                       " s; first search: " + first.reason;
+        return first;
+      }
       gait_advance = advance;
       ResetFailure();
       ContactPlanResult again = Search(root, max_steps);
