@@ -361,19 +361,10 @@ struct ContactPlanner::Impl {
   bool TorquesWithinLimit(const Eigen::Isometry3d& base_W, const JointVector& q,
                           const std::array<FootContact, kNumLegs>& feet, int skip, const Eigen::Vector3d& com_W,
                           std::string* why) {
-    std::vector<StanceFoot> stance;
-    for (int i = 0; i < kNumLegs; ++i) {
-      if (i == skip) continue;
-      StanceFoot f;
-      f.leg = kAllLegs[static_cast<std::size_t>(i)];
-      f.position_W = feet[static_cast<std::size_t>(i)].position;
-      f.normal_W = feet[static_cast<std::size_t>(i)].normal;
-      stance.push_back(f);
-    }
     ForceDistributionParams params;
     params.friction = eq_config.friction;
     params.min_normal_force_N = config.stance_min_normal_force_N;
-    const StanceTorques t = ComputeStanceTorques(robot, base_W, q, stance, com_W, params);
+    const StanceTorques t = ComputeStanceTorques(robot, base_W, q, StanceFeet(feet, skip), com_W, params);
     if (!t.balanced) {
       if (why) *why = "the feet's friction cones cannot hold the weight";
       return false;
@@ -580,10 +571,11 @@ struct ContactPlanner::Impl {
 
   // ---- Reachability of the goal ---------------------------------------------------------------
 
-  /// Empty when some surface in reach of the feet at the path's end is joined, through surfaces
-  /// each within max_surface_gap_m of the next, to a surface a start foot stands on; otherwise why not.
-  std::string GoalUnreachable(const std::array<FootContact, kNumLegs>& start_feet) const {
-    if (!surface_graph) return "";
+  /// The answer to a query whose path ends where no surface in the feet's reach is joined,
+  /// through surfaces each within max_surface_gap_m of the next, to a surface a start foot
+  /// stands on; nullopt when one is (or when the start feet stand on no known surface).
+  std::optional<ContactPlanResult> GoalUnreachableResult(const std::array<FootContact, kNumLegs>& start_feet) const {
+    if (!surface_graph) return std::nullopt;
     std::vector<int> from, to;
     for (const FootContact& f : start_feet) {
       for (int s : surface_graph->SurfacesNear(f.position, 0.01)) from.push_back(s);
@@ -596,18 +588,11 @@ struct ContactPlanner::Impl {
     for (Leg leg : kAllLegs) {
       for (int s : surface_graph->SurfacesNear(end * robot.ReferenceFootPosition(leg), reach)) to.push_back(s);
     }
-    if (from.empty() || surface_graph->Joined(from, to)) return "";
-    return "no chain of contact surfaces, each within " + FixedNumber(config.max_surface_gap_m, 2) +
-           " m of the next, joins the start feet's surfaces to one in reach at the path's end";
-  }
-
-  /// The answer to a query whose goal GoalUnreachable, or nullopt.
-  std::optional<ContactPlanResult> GoalUnreachableResult(const std::array<FootContact, kNumLegs>& start_feet) const {
-    const std::string why = GoalUnreachable(start_feet);
-    if (why.empty()) return std::nullopt;
+    if (from.empty() || surface_graph->Joined(from, to)) return std::nullopt;
     ContactPlanResult result;
     result.status = ContactPlanStatus::kGoalUnreachable;
-    result.reason = why;
+    result.reason = "no chain of contact surfaces, each within " + FixedNumber(config.max_surface_gap_m, 2) +
+                    " m of the next, joins the start feet's surfaces to one in reach at the path's end";
     result.failure_time_s = path->Begin();
     result.planning_time_s = Elapsed();
     result.stats = stats;

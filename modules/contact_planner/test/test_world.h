@@ -134,19 +134,10 @@ inline void ExpectValidPlan(const ContactPlan& plan, const World& world, const s
   };
   auto torques_ok = [&](const Eigen::Isometry3d& base, const JointVector& q, const WholeBodyState& s, int skip,
                         const Eigen::Vector3d& com) {
-    std::vector<StanceFoot> feet;
-    for (int i = 0; i < kNumLegs; ++i) {
-      if (i == skip) continue;
-      StanceFoot f;
-      f.leg = kAllLegs[static_cast<std::size_t>(i)];
-      f.position_W = s.feet[static_cast<std::size_t>(i)].position;
-      f.normal_W = s.feet[static_cast<std::size_t>(i)].normal;
-      feet.push_back(f);
-    }
     ForceDistributionParams params;
     params.friction = eq.friction;
     params.min_normal_force_N = config.stance_min_normal_force_N;
-    const StanceTorques t = ComputeStanceTorques(robot, base, q, feet, com, params);
+    const StanceTorques t = ComputeStanceTorques(robot, base, q, StanceFeet(s.feet, skip), com, params);
     return t.balanced && t.max_abs_Nm <= torque_limit;
   };
 

@@ -4,6 +4,19 @@
 
 namespace rbcp {
 
+std::vector<StanceFoot> StanceFeet(const std::array<FootContact, kNumLegs>& feet, int skip) {
+  std::vector<StanceFoot> out;
+  for (Leg leg : kAllLegs) {
+    if (Index(leg) == skip) continue;
+    StanceFoot f;
+    f.leg = leg;
+    f.position_W = feet[static_cast<std::size_t>(Index(leg))].position;
+    f.normal_W = feet[static_cast<std::size_t>(Index(leg))].normal;
+    out.push_back(f);
+  }
+  return out;
+}
+
 StanceTorques ComputeStanceTorques(const RobotModel& robot, const Eigen::Isometry3d& base_W, const JointVector& q,
                                    const std::vector<StanceFoot>& feet, const Eigen::Vector3d& com_W,
                                    const ForceDistributionParams& params) {

@@ -306,16 +306,8 @@ class PlanChecker {
   /// the torque limit.
   void CheckTorques(int i, const std::string& phase, const Eigen::Isometry3d& base_W, const JointVector& q,
                     const std::array<FootContact, kNumLegs>& feet, int skip, const Eigen::Vector3d& com_W) {
-    std::vector<StanceFoot> stance;
-    for (Leg leg : kAllLegs) {
-      if (Index(leg) == skip) continue;
-      const FootContact& foot = feet[static_cast<std::size_t>(Index(leg))];
-      StanceFoot f;
-      f.leg = leg;
-      f.position_W = foot.position;
-      f.normal_W = foot.normal.normalized();
-      stance.push_back(f);
-    }
+    std::vector<StanceFoot> stance = StanceFeet(feet, skip);
+    for (StanceFoot& f : stance) f.normal_W.normalize();  // a plan's normals are unit within a tolerance
     ForceDistributionParams params;
     params.friction = config_.equilibrium.friction;
     params.min_normal_force_N = config_.min_normal_force_N;

@@ -370,9 +370,8 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   const ReachabilityReport goal_report = checker.Check(goal.p, rest_goal);
   if (!goal_report.Valid()) return done(RootPlanStatus::kGoalInvalid, "goal: " + goal_report.Reason());
   {
-    std::vector<int> from, to;
-    for (int s : start_report.leg_surface) from.push_back(s);
-    for (int s : goal_report.leg_surface) to.push_back(s);
+    const std::vector<int> from(start_report.leg_surface.begin(), start_report.leg_surface.end());
+    const std::vector<int> to(goal_report.leg_surface.begin(), goal_report.leg_surface.end());
     const SurfaceGraph graph(surfaces, config_.max_surface_gap);
     if (!graph.Joined(from, to)) {
       return done(RootPlanStatus::kGoalUnreachable,

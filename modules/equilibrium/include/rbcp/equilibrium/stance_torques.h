@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "rbcp/core/contact_plan.h"
 #include "rbcp/equilibrium/force_distribution.h"
 #include "rbcp/robot/robot_model.h"
 
@@ -25,6 +26,10 @@ struct StanceTorques {
   int worst_joint = -1;     ///< whole-robot index of that joint, -1 with no stance foot
   ForceDistribution forces;
 };
+
+/// The feet of a plan state as stance feet (positions and normals as given), all but `skip`'s
+/// (-1: all four).
+std::vector<StanceFoot> StanceFeet(const std::array<FootContact, kNumLegs>& feet, int skip);
 
 /// Torques of the stance `feet` (contact points and normals, world frame) with the base at
 /// `base_W`, joint angles `q` (only the stance legs' are read) and the CoM at `com_W`.
