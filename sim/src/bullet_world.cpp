@@ -324,8 +324,15 @@ RobotState BulletWorld::State() const {
 }
 
 std::array<Eigen::Vector3d, kNumLegs> BulletWorld::FootCentersW() const {
-  const Impl& m = *impl_;
   std::array<Eigen::Vector3d, kNumLegs> centers;
+  const auto frames = FootFramesW();
+  for (std::size_t i = 0; i < frames.size(); ++i) centers[i] = frames[i].translation();
+  return centers;
+}
+
+std::array<Eigen::Isometry3d, kNumLegs> BulletWorld::FootFramesW() const {
+  const Impl& m = *impl_;
+  std::array<Eigen::Isometry3d, kNumLegs> frames;
   for (Leg leg : kAllLegs) {
     const int b = RobotDescription::FootBody(leg);
     const auto& collider = m.robot.colliders[static_cast<std::size_t>(b)];
@@ -335,10 +342,12 @@ std::array<Eigen::Vector3d, kNumLegs> BulletWorld::FootCentersW() const {
       if (compound.getChildShape(c)->getShapeType() == SPHERE_SHAPE_PROXYTYPE) sphere = c;
     }
     RBCP_CHECK(sphere >= 0, "every foot body has a sphere");
-    centers[static_cast<std::size_t>(Index(leg))] =
-        ToEigen(collider->getWorldTransform() * compound.getChildTransform(sphere).getOrigin());
+    const btTransform& body = collider->getWorldTransform();
+    Eigen::Isometry3d& frame = frames[static_cast<std::size_t>(Index(leg))];
+    frame = ToEigen(body);
+    frame.translation() = ToEigen(body * compound.getChildTransform(sphere).getOrigin());
   }
-  return centers;
+  return frames;
 }
 
 std::vector<TerrainContact> BulletWorld::TerrainContacts() const {

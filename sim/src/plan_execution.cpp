@@ -49,7 +49,8 @@ void PlanExecution::Reset(const Eigen::Vector3d& base_W, const Eigen::Quaternion
   outcome_ = ExecutionOutcome{};
   decided_ = false;
   next_sample_s_ = 0.0;
-  touchdown_W_.fill(std::nullopt);
+  foot_frame_W_.fill(std::nullopt);
+  slide_W_.fill(Eigen::Vector3d::Zero());
   last_contact_s_.fill(0.0);
   saturated_since_.fill(-1.0);
   touching_.clear();
@@ -193,29 +194,47 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
     }
   }
 
-  // Foot slip: a stance foot in contact stays where it touched down. The leg the current step
-  // moves is not a stance foot until its step is done (its swing may brush the terrain).
-  const auto centres = world_->FootCentersW();
+  // Foot slip: a stance foot in contact does not slide from where it touched down. A foot is a
+  // sphere fixed to the shank, so as the trunk moves over it the sphere rolls and its centre
+  // moves r * (rotation) without any sliding (0.95 rad of shank rotation, 3 cm, over a long
+  // stance); what is measured is the sliding of the contact point: each tick the centre's
+  // displacement less the rolling displacement (rotation vector x r n, n the terrain normal),
+  // along the terrain. The leg the current step moves is not a stance foot until its step is
+  // done (its swing may brush the terrain).
+  const auto frames = world_->FootFramesW();
+  std::array<Eigen::Vector3d, kNumLegs> normals;
+  normals.fill(Eigen::Vector3d::UnitZ());
+  for (const TerrainContact& c : world_->TerrainContacts()) {
+    if (c.is_foot && c.leg) normals[static_cast<std::size_t>(Index(*c.leg))] = c.normal_W;
+  }
   for (Leg leg : kAllLegs) {
     const std::size_t i = static_cast<std::size_t>(Index(leg));
     if (status.swing_leg == leg) {
-      touchdown_W_[i].reset();
+      foot_frame_W_[i].reset();
       continue;
     }
     if (state.foot_contact[i]) {
       last_contact_s_[i] = t;
-      if (!touchdown_W_[i]) {
-        touchdown_W_[i] = centres[i];
+      if (!foot_frame_W_[i]) {
+        slide_W_[i].setZero();
       } else {
-        const double slip = (centres[i] - *touchdown_W_[i]).norm();
+        const Eigen::AngleAxisd turn(frames[i].linear() * foot_frame_W_[i]->linear().transpose());
+        const Eigen::Vector3d& n = normals[i];
+        const Eigen::Vector3d rolled = (turn.angle() * turn.axis()).cross(robot_.FootRadius() * n);
+        Eigen::Vector3d slid = frames[i].translation() - foot_frame_W_[i]->translation() - rolled;
+        slid -= slid.dot(n) * n;
+        slide_W_[i] += slid;
+        const double slip = slide_W_[i].norm();
+        outcome_.max_slip_m = std::max(outcome_.max_slip_m, slip);
         if (slip > config_.outcome.max_slip_m) {
           Decide(failure("foot_slip", std::string(LegName(leg)),
-                         std::string(LegName(leg)) + " moved " + FixedNumber(slip) + " m from where it touched down"));
+                         std::string(LegName(leg)) + " slid " + FixedNumber(slip) + " m from where it touched down"));
           return;
         }
       }
-    } else if (touchdown_W_[i] && t - last_contact_s_[i] > config_.outcome.contact_release_s) {
-      touchdown_W_[i].reset();
+      foot_frame_W_[i] = frames[i];
+    } else if (foot_frame_W_[i] && t - last_contact_s_[i] > config_.outcome.contact_release_s) {
+      foot_frame_W_[i].reset();
     }
   }
 
@@ -281,6 +300,7 @@ nlohmann::json OutcomeToJson(const ExecutionOutcome& o) {
   j["early_touchdowns"] = o.early_touchdowns;
   j["late_touchdowns"] = o.late_touchdowns;
   j["final_base_error_m"] = o.final_base_error_m;
+  j["max_slip_m"] = o.max_slip_m;
   j["min_support_margin_m"] =
       std::isfinite(o.min_support_margin_m) ? nlohmann::json(o.min_support_margin_m) : nlohmann::json();
   nlohmann::json trace = nlohmann::json::array();

@@ -29,7 +29,7 @@ const Models& Get() {
 /// flat_ground's floor with a hole through it: 0.12 x 0.16 m centred on `hole_xy`.
 Scenario FloorWithHole(const Eigen::Vector2d& hole_xy) {
   Scenario s = LoadScenario(ScenarioPath("flat_ground"));
-  const double x0 = -1.75, x1 = 3.25, y0 = -1.5, y1 = 1.5, hx = 0.06, hy = 0.08;
+  const double x0 = -1.75, x1 = 6.75, y0 = -1.5, y1 = 1.5, hx = 0.06, hy = 0.08;
   auto box = [](double ax, double bx, double ay, double by) {
     TerrainBox b;
     b.size = Eigen::Vector3d(bx - ax, by - ay, 0.5);
@@ -99,6 +99,46 @@ TEST(PlanExecution, ANewPlanReplacesTheRestAtAStepBoundary) {
   EXPECT_LT((o.trace.back().base_position - second.states.back().base_position).head<2>().norm(), 0.1);
 }
 
+TEST(PlanExecution, AFootThatRollsOverItsContactHasNotSlipped) {
+  // As the trunk moves over a stance foot, its sphere rolls: the centre moves by the radius times
+  // the shank's rotation without any sliding. The judge measures the sliding only.
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  const ContactPlan plan = BuildFlatGroundPlan(g.robot, 4, 0.08);
+  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller);
+  run.Start(plan);
+  // The LH foot stands until the fourth step; follow its centre and its rotation meanwhile.
+  const std::size_t lh = static_cast<std::size_t>(Index(Leg::kLH));
+  while (run.Controller().Status().steps_done < 1) ASSERT_TRUE(run.Tick());
+  const Eigen::Isometry3d start = run.World().FootFramesW()[lh];
+  double moved = 0.0, turned = 0.0;
+  while (run.Controller().Status().steps_done < 3) {
+    ASSERT_TRUE(run.Tick());
+    const Eigen::Isometry3d now = run.World().FootFramesW()[lh];
+    moved = std::max(moved, (now.translation() - start.translation()).head<2>().norm());
+    turned = std::max(turned, Eigen::AngleAxisd(now.linear() * start.linear().transpose()).angle());
+  }
+  const ExecutionOutcome& o = run.Run();
+  ASSERT_TRUE(o.ok()) << (o.failure ? o.failure->what + ": " + o.failure->detail : std::string("not reached"));
+  EXPECT_GT(turned, 0.05);                    // the shank turned over the foot ...
+  EXPECT_GT(moved, 0.5 * g.robot.FootRadius() * turned);  // ... and the sphere rolled with it
+  EXPECT_LT(o.max_slip_m, 0.5 * moved);       // without sliding as far
+}
+
+TEST(PlanExecution, FeetOnIceSlideAndTheJudgeSaysFootSlip) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  SimConfig ice = g.sim;
+  ice.physics.friction = 0.05;
+  PlanExecution run(g.robot, g.urdf, scenario, ice, g.controller);
+  run.Start(BuildFlatGroundPlan(g.robot, 4, 0.08));
+  const ExecutionOutcome& o = run.Run();
+  ASSERT_TRUE(o.failure.has_value());
+  EXPECT_EQ(o.failure->what, "foot_slip") << o.failure->detail;
+  EXPECT_NE(o.failure->detail.find("slid"), std::string::npos) << o.failure->detail;
+  EXPECT_GT(o.max_slip_m, g.sim.outcome.max_slip_m);
+}
+
 TEST(PlanExecution, TwoRunsGiveTheSameTrace) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
@@ -133,7 +173,8 @@ TEST(PlanExecution, WithoutTorquesTheRobotCollapsesAndTheJudgeSaysFall) {
   ControllerConfig limp = g.controller;
   limp.torque_limit_Nm = 1e-9;  // the controller commands (next to) nothing ...
   SimConfig patient = g.sim;
-  patient.outcome.max_saturation_s = 100.0;  // ... which is not to count as saturation here
+  patient.outcome.max_saturation_s = 100.0;  // ... which is not to count as saturation here,
+  patient.outcome.max_slip_m = 1.0;          // nor the feet sliding apart as it sinks
   PlanExecution run(g.robot, g.urdf, scenario, patient, limp);
   run.Start(BuildFlatGroundPlan(g.robot, 4, 0.08));
   const ExecutionOutcome& o = run.Run();

@@ -121,6 +121,9 @@ class BulletWorld {
 
   /// Centre of each foot sphere [m], world frame (LF, RF, LH, RH).
   std::array<Eigen::Vector3d, kNumLegs> FootCentersW() const;
+  /// Each foot sphere's frame in the world: origin at its centre, the foot body's orientation
+  /// (LF, RF, LH, RH). The orientation tells how far a sphere rolled.
+  std::array<Eigen::Isometry3d, kNumLegs> FootFramesW() const;
 
   /// Every robot-terrain contact point of the last step with penetration >= 0 or a positive
   /// normal impulse.

@@ -66,6 +66,7 @@ struct ExecutionOutcome {
   int late_touchdowns = 0;
   double final_base_error_m = 0.0;  ///< base distance to the plan's final base at the end
   double min_support_margin_m = std::numeric_limits<double>::infinity();  ///< least CoM margin in the stance polygon during swings
+  double max_slip_m = 0.0;  ///< farthest a stance foot's contact point slid along the terrain since its touchdown [m]
   std::vector<TraceSample> trace;
   bool fell() const { return failure && failure->what == "fall"; }
   bool ok() const { return reached_goal && !failure; }
@@ -118,7 +119,10 @@ class PlanExecution {
   ExecutionOutcome outcome_;
   double timeout_s_ = 0.0;
   double next_sample_s_ = 0.0;
-  std::array<std::optional<Eigen::Vector3d>, kNumLegs> touchdown_W_;  // foot centre at touchdown
+  // Per stance foot since its touchdown: the sphere's frame at the last tick and the distance its
+  // contact point slid along the terrain (the centre's motion less the sphere's rolling).
+  std::array<std::optional<Eigen::Isometry3d>, kNumLegs> foot_frame_W_;
+  std::array<Eigen::Vector3d, kNumLegs> slide_W_;
   std::array<double, kNumLegs> last_contact_s_{};
   std::array<double, kNumJoints> saturated_since_{};
   std::map<std::string, bool> touching_;  // links other than feet touching the terrain now
@@ -126,7 +130,7 @@ class PlanExecution {
 
 /// The outcome as JSON: sim_ok, reached_goal, fell, sim_time_s, failure (null or {what, t, step,
 /// leg, phase, detail}), max_torque_ratio, collisions, collision_links, steps_total, steps_executed,
-/// early_touchdowns, late_touchdowns, final_base_error_m, min_support_margin_m and sim_trace
+/// early_touchdowns, late_touchdowns, final_base_error_m, min_support_margin_m, max_slip_m and sim_trace
 /// [{t, base: {position, rpy}, feet: [{leg, position, contact}]}].
 nlohmann::json OutcomeToJson(const ExecutionOutcome& outcome);
 
