@@ -267,7 +267,8 @@ struct ContactPlanner::Impl {
   /// stance feet (least squares, in the heading frame), otherwise the base is level at the path
   /// height; shift.z is added to the height in both cases.
   Eigen::Isometry3d StanceBase(const PathPose& pose, const Eigen::Vector3d& shift,
-                               const std::array<FootContact, kNumLegs>& feet, Eigen::Vector3d* rpy_out = nullptr) const {
+                               const std::array<FootContact, kNumLegs>& feet, Eigen::Vector3d* rpy_out = nullptr,
+                               int lifting = -1) const {
     const Eigen::Matrix3d R_yaw = Yaw(pose.yaw);
     Eigen::Vector3d p = pose.p + R_yaw * Eigen::Vector3d(shift.x(), shift.y(), 0.0);
     Eigen::Vector3d rpy(0.0, 0.0, pose.yaw);
@@ -289,11 +290,33 @@ struct ContactPlanner::Impl {
     } else {
       p.z() += shift.z();
     }
+    const Eigen::Matrix3d R = RotationFromRpy(rpy);
+    p.z() = std::min(p.z(), MarginHeightCeiling(p, R, feet, lifting));
     if (rpy_out) *rpy_out = rpy;
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = RotationFromRpy(rpy);
+    T.linear() = R;
     T.translation() = p;
     return T;
+  }
+
+  /// The highest base height, at horizontal position p with orientation R, at which every foot
+  /// lies within the kinematic margins' stance distance of its hip, the `lifting` leg (-1: none)
+  /// within the lift-off distance (less a millimetre); +inf when some foot is beyond it
+  /// horizontally (that stance is rejected later anyway).
+  double MarginHeightCeiling(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
+                             const std::array<FootContact, kNumLegs>& feet, int lifting) const {
+    const KinematicMargins& margins = robot.Margins();
+    double ceiling = std::numeric_limits<double>::infinity();
+    for (Leg leg : kAllLegs) {
+      const double d =
+          (Index(leg) == lifting ? margins.max_lift_off_hip_distance_m : margins.max_stance_hip_distance_m) - 1e-3;
+      const Eigen::Vector3d hip_offset = R * robot.HipPosition(leg);
+      const Eigen::Vector3d& foot = feet[static_cast<std::size_t>(Index(leg))].position;
+      const double h2 = (foot.head<2>() - p.head<2>() - hip_offset.head<2>()).squaredNorm();
+      if (h2 >= d * d) return std::numeric_limits<double>::infinity();
+      ceiling = std::min(ceiling, foot.z() - hip_offset.z() + std::sqrt(d * d - h2));
+    }
+    return ceiling;
   }
 
   // ---- Kinematic and workspace tests ---------------------------------------------------------
@@ -308,8 +331,13 @@ struct ContactPlanner::Impl {
     r = std::max(r, d.z() >= 0.0 ? d.z() / ws.max_up_m : -d.z() / ws.max_down_m);
     const double hip = (p_B - robot.HipPosition(leg)).head<2>().norm();
     r = std::max(r, hip / ws.max_hip_distance_m);
+    // A stance leg short of straight (the kinematic margins).
+    r = std::max(r, (p_B - robot.HipPosition(leg)).norm() / robot.Margins().max_stance_hip_distance_m);
     return r;
   }
+
+  /// The knee bent at least the margins' bend.
+  bool KneeBent(const Eigen::Vector3d& q_leg) const { return std::abs(q_leg.z()) >= robot.Margins().min_knee_bend_rad; }
 
   /// Keeps a foot at foot_W with the base at base_W: workspace, IK within bounds, no collision.
   KeepFailure KeepLeg(Leg leg, const Eigen::Isometry3d& base_W, const Eigen::Vector3d& foot_W, Eigen::Vector3d* q_leg,
@@ -319,7 +347,7 @@ struct ContactPlanner::Impl {
     *stretch = WorkspaceRatio(leg, p_B);
     if (*stretch > 1.0) return KeepFailure::kWorkspace;
     const IkResult ik = robot.SolveLegIk(leg, p_B);
-    if (!ik.ok()) return KeepFailure::kKinematics;
+    if (!ik.ok() || !KneeBent(ik.q)) return KeepFailure::kKinematics;
     *q_leg = ik.q;
     if (collision->CheckLeg(leg, base_W, ik.q, true).collision) return KeepFailure::kCollision;
     return KeepFailure::kNone;
@@ -331,6 +359,24 @@ struct ContactPlanner::Impl {
     for (Leg leg : kAllLegs) {
       const IkResult ik = robot.SolveLegIk(leg, T_BW * feet[static_cast<std::size_t>(Index(leg))].position);
       if (!ik.ok()) return false;
+      SetLegJoints(*q, leg, ik.q);
+    }
+    return true;
+  }
+
+  /// IK of all four feet within the kinematic margins, `lifting` (-1: none) being the leg about
+  /// to lift (it may stretch to the lift-off distance).
+  bool SolveStanceWithinMargins(const Eigen::Isometry3d& base_W, const std::array<FootContact, kNumLegs>& feet,
+                                int lifting, JointVector* q) const {
+    const Eigen::Isometry3d T_BW = base_W.inverse();
+    const KinematicMargins& margins = robot.Margins();
+    for (Leg leg : kAllLegs) {
+      const Eigen::Vector3d p_B = T_BW * feet[static_cast<std::size_t>(Index(leg))].position;
+      const IkResult ik = robot.SolveLegIk(leg, p_B);
+      if (!ik.ok()) return false;
+      const double reach =
+          Index(leg) == lifting ? margins.max_lift_off_hip_distance_m : margins.max_stance_hip_distance_m;
+      if (!robot.WithinMargins(leg, p_B, ik.q, reach)) return false;
       SetLegJoints(*q, leg, ik.q);
     }
     return true;
@@ -686,7 +732,7 @@ struct ContactPlanner::Impl {
   /// halved until the stance is reachable. nullopt when the margin cannot be met.
   std::optional<Eigen::Vector3d> SwingShift(const PathPose& pose, const Node& parent, int skip,
                                             const Eigen::Vector3d& start, JointVector* q_pre, std::string* why) {
-    const auto base_at = [&](const Eigen::Vector3d& s) { return StanceBase(pose, s, parent.state.feet); };
+    const auto base_at = [&](const Eigen::Vector3d& s) { return StanceBase(pose, s, parent.state.feet, nullptr, skip); };
     const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, skip);
     const std::array<Eigen::Vector2d, 3> tri = {stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()};
     const double required = eq_config.support_margin_m;
@@ -708,10 +754,10 @@ struct ContactPlanner::Impl {
     // reached from there.
     Eigen::Vector3d shift = clamp(start);
     Eigen::Isometry3d base = base_at(shift);
-    if (!SolveStance(base, parent.state.feet, q_pre)) {
+    if (!SolveStanceWithinMargins(base, parent.state.feet, skip, q_pre)) {
       shift = clamp(Eigen::Vector3d(parent.shift.x(), parent.shift.y(), start.z()));
       base = base_at(shift);
-      if (!SolveStance(base, parent.state.feet, q_pre)) {
+      if (!SolveStanceWithinMargins(base, parent.state.feet, skip, q_pre)) {
         *why = "stance feet out of reach at the step pose";
         return std::nullopt;
       }
@@ -732,7 +778,7 @@ struct ContactPlanner::Impl {
           trial.z() += dz;
           const Eigen::Isometry3d trial_base = base_at(trial);
           JointVector q = JointVector::Zero();
-          if (SolveStance(trial_base, parent.state.feet, &q)) {
+          if (SolveStanceWithinMargins(trial_base, parent.state.feet, skip, &q)) {
             shift = trial;
             base = trial_base;
             *q_pre = q;
@@ -755,7 +801,8 @@ struct ContactPlanner::Impl {
   }
 
   /// Checks the straight base motion from the parent's base to `base` with the parent's feet.
-  bool TransitValid(const Node& parent, const Eigen::Isometry3d& base, const Eigen::Vector3d& rpy1, std::string* why) {
+  bool TransitValid(const Node& parent, const Eigen::Isometry3d& base, const Eigen::Vector3d& rpy1, int lifting,
+                    std::string* why) {
     const int n = config.base_shift.transit_checks;
     const Eigen::Vector3d p0 = parent.state.base_position;
     const Eigen::Vector3d rpy0 = parent.state.base_rpy;
@@ -768,7 +815,7 @@ struct ContactPlanner::Impl {
       T.linear() = RotationFromRpy(rpy);
       T.translation() = p0 + w * (base.translation() - p0);
       JointVector q = JointVector::Zero();
-      if (!SolveStance(T, parent.state.feet, &q)) {
+      if (!SolveStanceWithinMargins(T, parent.state.feet, lifting, &q)) {
         *why = "feet out of reach while the body moves to the step pose";
         return false;
       }
@@ -782,6 +829,19 @@ struct ContactPlanner::Impl {
       }
     }
     return true;
+  }
+
+  /// Collision of the stance before `lifting` lifts off: the trunk and the stance legs with the
+  /// thighs' clearance, the lifting leg's own shapes exact (its knee rises from there; a knee that
+  /// sits close over a block edge next to its foot is clear once the foot is up).
+  CollisionReport LiftOffCollision(const Eigen::Isometry3d& base, const JointVector& q, Leg lifting) const {
+    CollisionReport hit = collision->CheckTrunk(base);
+    for (Leg leg : kAllLegs) {
+      if (hit.collision) break;
+      const RobotTerrainCollision& c = leg == lifting ? *self_collision : *collision;
+      hit = c.CheckLeg(leg, base, LegJoints(q, leg), true);
+    }
+    return hit;
   }
 
   /// The path pose `lead` [s] after t, or earlier if the heading turns by more than
@@ -810,12 +870,10 @@ struct ContactPlanner::Impl {
     const auto shift = SwingShift(pose, parent, j, BaseVariant(parent, option.variant), &q_pre, why);
     if (!shift) return StepOutcome::kPoseInvalid;
     Eigen::Vector3d rpy;
-    const Eigen::Isometry3d base = StanceBase(pose, *shift, parent.state.feet, &rpy);
+    const Eigen::Isometry3d base = StanceBase(pose, *shift, parent.state.feet, &rpy, j);
 
     // The stance before lift-off: collision, swing triangle, torques of the three-foot stance.
-    std::array<bool, kNumLegs> in_contact{};
-    in_contact.fill(true);
-    const CollisionReport pre_hit = collision->CheckRobot(base, q_pre, in_contact);
+    const CollisionReport pre_hit = LiftOffCollision(base, q_pre, leg);
     if (pre_hit.collision) {
       *why = "collision before lift-off (" + pre_hit.first_shape + ")";
       if (const auto blocking = LegFromName(std::string_view(pre_hit.first_shape).substr(0, 2))) {
@@ -838,7 +896,7 @@ struct ContactPlanner::Impl {
       *why = "three-foot stance at lift-off: " + torque_why;
       return StepOutcome::kPoseInvalid;
     }
-    if (!TransitValid(parent, base, rpy, why)) return StepOutcome::kPoseInvalid;
+    if (!TransitValid(parent, base, rpy, j, why)) return StepOutcome::kPoseInvalid;
 
     // Target of the new foothold.
     PathPose target_pose;
@@ -879,7 +937,7 @@ struct ContactPlanner::Impl {
           continue;
         }
         const IkResult ik = robot.SolveLegIk(leg, p_B);
-        if (!ik.ok()) {
+        if (!ik.ok() || !KneeBent(ik.q)) {
           last_reject = "kinematics";
           continue;
         }

@@ -151,6 +151,10 @@ inline void ExpectValidPlan(const ContactPlan& plan, const World& world, const s
       // Forward kinematics puts the foot contact point on the contact.
       EXPECT_LT((base * robot.FootPosition(leg, LegJoints(q, leg)) - foot.position).norm(), 1e-6) << LegName(leg);
       EXPECT_TRUE(robot.WithinJointBounds(leg, LegJoints(q, leg))) << LegName(leg);
+      // The leg short of straight: within the kinematic margins.
+      EXPECT_TRUE(robot.WithinMargins(leg, base.inverse() * foot.position, LegJoints(q, leg),
+                                      robot.Margins().max_stance_hip_distance_m + 1e-9))
+          << LegName(leg) << " " << (base.inverse() * foot.position - robot.HipPosition(leg)).norm() << " m from its hip";
       // The contact lies on a surface: within 1 mm of its plane and inside its polygon.
       bool on_surface = false;
       for (const AffordanceSurface& surface : world.surfaces) {

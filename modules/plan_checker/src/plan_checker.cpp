@@ -145,6 +145,7 @@ class PlanChecker {
       CheckSurfaces(i, state);
       CheckOneLeg(i, state, k > 0 ? &plan.states[k - 1] : nullptr);
       CheckJointBounds(i, state);
+      CheckKinematicMargins(i, state, k > 0 ? &plan.states[k - 1] : nullptr);
       CheckForwardKinematics(i, state);
       if (collision_) CheckCollision(i, state);
       CheckStabilityAndTorques(i, state);
@@ -246,6 +247,41 @@ class PlanChecker {
       }
     }
     if (!out.empty()) sink_.Add(i, "joint_bounds", out);
+  }
+
+  /// One leg within the kinematic margins, or a description of how it is not.
+  std::string MarginViolation(Leg leg, const Eigen::Vector3d& p_B, const Eigen::Vector3d& q_leg, double reach) const {
+    const double distance = (p_B - robot_.HipPosition(leg)).norm();
+    std::string out;
+    if (distance > reach + 1e-9) {
+      out = Name(leg) + " foot " + Num(distance, 4) + " m from its hip, at most " + Num(reach, 4) + " m";
+    }
+    if (std::abs(q_leg.z()) < robot_.Margins().min_knee_bend_rad - 1e-9) {
+      out += (out.empty() ? "" : ", ") + JointName(leg, 2) + " bent " + Num(std::abs(q_leg.z()), 4) +
+             " rad, at least " + Num(robot_.Margins().min_knee_bend_rad, 4) + " rad";
+    }
+    return out;
+  }
+
+  void CheckKinematicMargins(int i, const WholeBodyState& state, const WholeBodyState* previous) {
+    const Eigen::Isometry3d T_BW = BasePose(state).inverse();
+    std::string out;
+    for (Leg leg : kAllLegs) {
+      const Eigen::Vector3d p_B = T_BW * state.feet[static_cast<std::size_t>(Index(leg))].position;
+      const std::string v = MarginViolation(leg, p_B, LegJoints(state.joints, leg), robot_.Margins().max_stance_hip_distance_m);
+      if (!v.empty()) out += (out.empty() ? "" : "; ") + v;
+    }
+    // At lift-off the trunk is at this state's pose and the swing foot still on its old foothold.
+    if (previous && state.moving_leg >= 0 && state.moving_leg < kNumLegs) {
+      const Leg swing = kAllLegs[static_cast<std::size_t>(state.moving_leg)];
+      const Eigen::Vector3d p_B = T_BW * previous->feet[static_cast<std::size_t>(Index(swing))].position;
+      const IkResult ik = robot_.SolveLegIk(swing, p_B);
+      if (ik.ok()) {  // otherwise reported by "joint_bounds"
+        const std::string v = MarginViolation(swing, p_B, ik.q, robot_.Margins().max_lift_off_hip_distance_m);
+        if (!v.empty()) out += (out.empty() ? "" : "; ") + std::string("at lift-off ") + v;
+      }
+    }
+    if (!out.empty()) sink_.Add(i, "kinematic_margin", out);
   }
 
   void CheckForwardKinematics(int i, const WholeBodyState& state) {

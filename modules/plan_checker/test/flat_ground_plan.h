@@ -65,7 +65,7 @@ inline void SolveJoints(const RobotModel& robot, WholeBodyState& state) {
 /// then a crawl: each step one leg moves `step_length` forward, in the order LF, RH, RF, LH
 /// (`steps` steps). Before each step the base moves (four feet down) so that the whole-body CoM
 /// projects half-way from the centroid of the four feet to the centroid of the three stance feet.
-inline ContactPlan BuildFlatGroundPlan(const RobotModel& robot, int steps = 8, double step_length = 0.10) {
+inline ContactPlan BuildFlatGroundPlan(const RobotModel& robot, int steps = 8, double step_length = 0.06) {
   ContactPlan plan;
   WholeBodyState start;
   start.base_position = Eigen::Vector3d(0.0, 0.0, robot.NominalBaseHeight());

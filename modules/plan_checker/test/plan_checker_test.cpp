@@ -6,6 +6,7 @@
 
 #include "flat_ground_plan.h"
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 
 namespace rbcp {
 namespace {
@@ -183,6 +184,40 @@ TEST_F(PlanCheckerTest, JointsOutsideThePlanningBounds) {
       EXPECT_NE(v.detail.find("LF_KFE"), std::string::npos) << v.detail;
     }
   }
+}
+
+TEST_F(PlanCheckerTest, StretchedLegsLeaveTheKinematicMargins) {
+  // The trunk raised over the same feet, a centimetre at a time: the legs leave the margins
+  // (too far from their hips, or the knees too straight) while they still reach their feet.
+  const KinematicMargins& margins = world.robot.Margins();
+  bool left = false;
+  for (int cm = 1; cm <= 25 && !left; ++cm) {
+    ContactPlan raised = plan;
+    WholeBodyState& s = raised.states[4];
+    s.base_position.z() += 0.01 * cm;
+    bool reachable = true;
+    for (Leg leg : kAllLegs) {
+      const Eigen::Vector3d p_B = test::BasePoseOf(s).inverse() * s.feet[static_cast<std::size_t>(Index(leg))].position;
+      reachable = reachable && world.robot.SolveLegIk(leg, p_B).ok();
+    }
+    ASSERT_TRUE(reachable) << "out of reach at +" << cm << " cm before leaving the margins";
+    SolveJoints(world.robot, s);
+    const PlanCheckReport report = Check(raised);
+    if (!Has(report, 4, "kinematic_margin")) continue;
+    left = true;
+    EXPECT_GE(cm, 3) << Describe(report);  // the reference stance is well inside
+    for (const auto& v : report.violations) {
+      if (v.check != "kinematic_margin" || v.state != 4) continue;
+      const bool far = v.detail.find("m from its hip, at most " + FixedNumber(margins.max_stance_hip_distance_m, 4) +
+                                     " m") != std::string::npos;
+      const bool straight = v.detail.find("rad, at least " + FixedNumber(margins.min_knee_bend_rad, 4) + " rad") !=
+                            std::string::npos;
+      EXPECT_TRUE(far || straight) << v.detail;
+    }
+    EXPECT_FALSE(Has(report, 4, "joint_bounds")) << Describe(report);
+    EXPECT_FALSE(Has(report, 3, "kinematic_margin")) << Describe(report);
+  }
+  EXPECT_TRUE(left);
 }
 
 TEST_F(PlanCheckerTest, BaseLoweredIntoTheGroundCollides) {

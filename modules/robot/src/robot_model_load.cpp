@@ -300,6 +300,22 @@ RobotModel RobotModel::Load(const std::string& urdf_path, const std::string& yam
     if (!(v > 0.0)) yaml.Fail(key, "expected a positive number, got " + Num(v));
     return v;
   };
+  const YamlMap margins = yaml.Map("kinematic_margins");
+  m.margins_.max_stance_hip_distance_m = margins.Double("max_stance_hip_distance");
+  m.margins_.max_lift_off_hip_distance_m = margins.Double("max_lift_off_hip_distance");
+  m.margins_.min_knee_bend_rad = margins.Double("min_knee_bend");
+  if (!(m.margins_.max_stance_hip_distance_m > 0.0)) {
+    margins.Fail("max_stance_hip_distance", "expected a positive distance, got " + Num(m.margins_.max_stance_hip_distance_m));
+  }
+  if (!(m.margins_.max_lift_off_hip_distance_m >= m.margins_.max_stance_hip_distance_m)) {
+    margins.Fail("max_lift_off_hip_distance", "expected at least max_stance_hip_distance (" +
+                                                  Num(m.margins_.max_stance_hip_distance_m) + "), got " +
+                                                  Num(m.margins_.max_lift_off_hip_distance_m));
+  }
+  if (!(m.margins_.min_knee_bend_rad >= 0.0 && m.margins_.min_knee_bend_rad < 2.0)) {
+    margins.Fail("min_knee_bend", "expected an angle in [0, 2) rad, got " + Num(m.margins_.min_knee_bend_rad));
+  }
+  margins.RejectUnknownKeys();
   m.friction_coefficient_ = positive("friction_coefficient");
   m.torque_limit_ = positive("torque_limit");
   m.continuous_torque_limit_ = positive("continuous_torque_limit");

@@ -172,5 +172,34 @@ TEST_F(RobotLoadTest, NonPositiveParametersAreRejected) {
   EXPECT_EQ(error, YamlPath() + ": foot: 'radius': expected a positive radius, got -0.031");
 }
 
+TEST_F(RobotLoadTest, KinematicMarginsAreReadAndChecked) {
+  const RobotModel m = RobotModel::LoadDefault(test::ConfigDir());
+  EXPECT_EQ(m.Margins().max_stance_hip_distance_m, 0.60);
+  EXPECT_EQ(m.Margins().max_lift_off_hip_distance_m, 0.62);
+  EXPECT_EQ(m.Margins().min_knee_bend_rad, 0.2);
+  Replace(yaml_text_, "max_lift_off_hip_distance: 0.62", "max_lift_off_hip_distance: 0.5");
+  const std::string error = LoadError();
+  EXPECT_TRUE(Contains(error, YamlPath() + ": kinematic_margins: 'max_lift_off_hip_distance': expected at least "
+                                           "max_stance_hip_distance"))
+      << error;
+}
+
+TEST(RobotMarginsTest, AStretchedLegIsOutsideTheMargins) {
+  const RobotModel m = RobotModel::LoadDefault(test::ConfigDir());
+  const Eigen::Vector3d q_ref = LegJoints(m.ReferenceConfiguration(), Leg::kLF);
+  const Eigen::Vector3d p_ref = m.FootPosition(Leg::kLF, q_ref);
+  EXPECT_TRUE(m.WithinMargins(Leg::kLF, p_ref, q_ref, m.Margins().max_stance_hip_distance_m));
+  // The leg nearly straight: knee at 0.1 rad, foot far from the hip.
+  const Eigen::Vector3d q_straight(0.0, 0.3, -0.1);
+  const Eigen::Vector3d p_straight = m.FootPosition(Leg::kLF, q_straight);
+  const double reference_distance = (p_ref - m.HipPosition(Leg::kLF)).norm();
+  const double straight_distance = (p_straight - m.HipPosition(Leg::kLF)).norm();
+  EXPECT_GT(straight_distance, reference_distance + 0.05);
+  EXPECT_FALSE(m.WithinMargins(Leg::kLF, p_straight, q_straight, m.Margins().max_lift_off_hip_distance_m));
+  EXPECT_FALSE(m.WithinMargins(Leg::kLF, p_straight, LegJoints(m.ReferenceConfiguration(), Leg::kLF),
+                               0.5 * (reference_distance + straight_distance)));  // the distance alone
+  EXPECT_FALSE(m.WithinMargins(Leg::kLF, p_ref, q_straight, 10.0));  // the knee alone
+}
+
 }  // namespace
 }  // namespace rbcp

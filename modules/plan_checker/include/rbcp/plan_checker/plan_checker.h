@@ -14,6 +14,10 @@
 ///  - "joint_bounds": the joints lie within the planning bounds; for i > 0 the swing leg can also
 ///    still reach its old foothold (inverse kinematics within the bounds) with the trunk at the
 ///    pose of state i (see "support_margin").
+///  - "kinematic_margin": every foot lies within the robot's max_stance_hip_distance of its hip
+///    (HAA origin) with its knee bent at least min_knee_bend (RobotModel::Margins); at lift-off
+///    (trunk at the pose of state i) the swing foot on its old foothold within
+///    max_lift_off_hip_distance, its knee bent as much.
 ///  - "fk": forward kinematics of the joints at the base pose puts every foot contact point on the
 ///    state's foot position within fk_tolerance.
 ///  - "collision": no robot shape touches the terrain; the four feet stand on it and may sink in

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <array>
 #include <optional>
 #include <string>
@@ -65,6 +66,13 @@ struct CollisionShape {
   double radius = 0.0;                                          ///< [m] (cylinder, sphere)
   double length = 0.0;                                          ///< [m] along z (cylinder)
   Eigen::Isometry3d pose_link = Eigen::Isometry3d::Identity();  ///< shape frame in the link frame
+};
+
+/// How far from a straight leg a planned stance stays (a straight leg is at a singularity).
+struct KinematicMargins {
+  double max_stance_hip_distance_m = 0.545;    ///< stance foot to its hip (HAA origin) [m]
+  double max_lift_off_hip_distance_m = 0.565;  ///< the foot about to lift, trunk at the step pose [m]
+  double min_knee_bend_rad = 0.2;              ///< least |KFE| [rad]
 };
 
 /// Immutable robot model. Every query is const, allocation-free (except the reasons of failed
@@ -155,6 +163,15 @@ class RobotModel {
   /// Joint speed limit [rad/s].
   double JointVelocityLimit() const { return joint_velocity_limit_; }
 
+  /// Kinematic margins of a planned stance (see KinematicMargins).
+  const KinematicMargins& Margins() const { return margins_; }
+  /// The leg within the margins with its foot at p_base (base frame) and joints q_leg: the foot
+  /// at most `max_hip_distance` from the hip (HAA origin), the knee bent at least min_knee_bend.
+  bool WithinMargins(Leg leg, const Eigen::Vector3d& p_base, const Eigen::Vector3d& q_leg,
+                     double max_hip_distance) const {
+    return (p_base - HipPosition(leg)).norm() <= max_hip_distance && std::abs(q_leg.z()) >= margins_.min_knee_bend_rad;
+  }
+
   /// HAA joint origin in the base frame [m].
   const Eigen::Vector3d& HipPosition(Leg leg) const { return legs_[static_cast<std::size_t>(Index(leg))].hip; }
   /// Foot contact point of the reference configuration in the base frame [m].
@@ -215,6 +232,7 @@ class RobotModel {
   double friction_coefficient_ = 0.0;
   double torque_limit_ = 0.0;
   double continuous_torque_limit_ = 0.0;
+  KinematicMargins margins_;
   double joint_velocity_limit_ = 0.0;
 };
 
