@@ -26,7 +26,7 @@ inline PhysicsConfig ShippedPhysics() {
   return PhysicsConfig::Load(YamlMap::LoadFile(ConfigDir() + "/sim.yaml").Map("physics"));
 }
 
-/// The flat_ground scenario's floor: 5 x 3 m, top at z = 0.
+/// A 5 x 3 m floor, top at z = 0 (a shorter flat_ground).
 inline std::vector<TerrainElement> FlatGround() {
   TerrainBox floor;
   floor.size = Eigen::Vector3d(5.0, 3.0, 0.5);

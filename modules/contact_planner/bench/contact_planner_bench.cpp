@@ -1,7 +1,8 @@
 // Contact planning time per scenario over 20 seeds. The root paths are planned once per scenario
 // and seed before timing; each benchmark iteration plans the contacts of every path. Counters:
 // successes (of the seeds with a root path), checked (successes whose plan passes the independent
-// plan checker, run outside the timed part), mean / median / max planning time [s], mean steps.
+// plan checker, run outside the timed part), mean / median / max planning time [s], mean steps,
+// mean step length (distance the stepping foot moves) [m] and steps per metre of root path.
 // The limb database uses config/limb_database.yaml (50,000 samples per leg, cached on disk).
 
 #include <benchmark/benchmark.h>
@@ -77,11 +78,13 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
   std::vector<ContactPlan> plans;
   int successes = 0;
   double steps = 0.0;
+  double path_length = 0.0;  // of the planned paths [m]
   for (auto _ : state) {
     times.clear();
     plans.clear();
     successes = 0;
     steps = 0.0;
+    path_length = 0.0;
     for (std::size_t i = 0; i < prepared.paths.size(); ++i) {
       const ContactPlanResult r = planner.Plan(prepared.paths[i]);
       times.push_back(r.planning_time_s);
@@ -89,6 +92,8 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
         ++successes;
         steps += r.steps;
         plans.push_back(r.plan);
+        const std::vector<RootPathSample>& path = prepared.paths[i];
+        for (std::size_t k = 1; k < path.size(); ++k) path_length += (path[k].p - path[k - 1].p).head<2>().norm();
       } else {
         std::cerr << name << " path " << i << ": " << r.reason << "\n";
       }
@@ -112,6 +117,19 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
   state.counters["median_s"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   state.counters["max_s"] = sorted.empty() ? 0.0 : sorted.back();
   state.counters["mean_steps"] = successes > 0 ? steps / successes : 0.0;
+  double moved = 0.0;
+  int moves = 0;
+  for (const ContactPlan& plan : plans) {
+    for (std::size_t k = 1; k < plan.states.size(); ++k) {
+      const int leg = plan.states[k].moving_leg;
+      if (leg < 0 || leg >= kNumLegs) continue;
+      const auto l = static_cast<std::size_t>(leg);
+      moved += (plan.states[k].feet[l].position - plan.states[k - 1].feet[l].position).norm();
+      ++moves;
+    }
+  }
+  state.counters["step_length_m"] = moves > 0 ? moved / moves : 0.0;
+  state.counters["steps_per_m"] = path_length > 0.0 ? steps / path_length : 0.0;
 }
 
 BENCHMARK_CAPTURE(BM_ContactPlan, flat_ground, std::string("flat_ground"))->Unit(benchmark::kMillisecond)->Iterations(1);

@@ -148,7 +148,7 @@ TEST_F(ContactPlannerNodeTest, InvalidPathsFailWithAReasonAndNoPlan) {
   path = FlatGroundRootPath();
   path.points.back().position[0] = 40.0;  // far beyond the floor
   ExpectRejected(path, "root path: point " + std::to_string(path.num_points - 1) +
-                           " at (40, 0) is off the terrain (x in [-1.75, 3.25], y in [-1.5, 1.5])");
+                           " at (40, 0) is off the terrain (x in [-1.75, 6.75], y in [-1.5, 1.5])");
 
   path = FlatGroundRootPath();
   path.points.front().position[0] = -2.0;  // 0.25 m beyond the floor's edge

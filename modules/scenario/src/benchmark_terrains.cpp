@@ -72,12 +72,12 @@ BaseGoal Pose(double x, double y) {
 
 BenchmarkScenario FlatGround() {
   BenchmarkScenario b;
-  b.description = "flat ground: one 5 x 3 m floor with its top at z = 0; walk 1.5 m straight ahead";
+  b.description = "flat ground: one 8.5 x 3 m floor with its top at z = 0; walk 5 m straight ahead";
   Scenario& s = b.scenario;
   s.name = "flat_ground";
-  s.terrain.emplace_back(Slab(-1.75, 3.25, -1.5, 1.5, 0.0));
+  s.terrain.emplace_back(Slab(-1.75, 6.75, -1.5, 1.5, 0.0));
   s.start = Pose(0.0, 0.0);
-  s.goal = Pose(1.5, 0.0);
+  s.goal = Pose(5.0, 0.0);
   return b;
 }
 
