@@ -160,8 +160,9 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
   }
 
   // Body contacts: the trunk or a thigh on the terrain is a fall; others are collisions.
+  const std::vector<TerrainContact> contacts = world_->TerrainContacts();
   std::map<std::string, bool> touching;
-  for (const TerrainContact& c : world_->TerrainContacts()) {
+  for (const TerrainContact& c : contacts) {
     if (c.is_foot) continue;
     if (c.link == "base" || EndsWith(c.link, "_THIGH")) {
       Decide(failure("fall", c.leg ? std::string(LegName(*c.leg)) : "",
@@ -204,7 +205,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
   const auto frames = world_->FootFramesW();
   std::array<Eigen::Vector3d, kNumLegs> normals;
   normals.fill(Eigen::Vector3d::UnitZ());
-  for (const TerrainContact& c : world_->TerrainContacts()) {
+  for (const TerrainContact& c : contacts) {
     if (c.is_foot && c.leg) normals[static_cast<std::size_t>(Index(*c.leg))] = c.normal_W;
   }
   for (Leg leg : kAllLegs) {

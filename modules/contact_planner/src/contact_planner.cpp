@@ -305,11 +305,9 @@ struct ContactPlanner::Impl {
   /// horizontally (that stance is rejected later anyway).
   double MarginHeightCeiling(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
                              const std::array<FootContact, kNumLegs>& feet, int lifting) const {
-    const KinematicMargins& margins = robot.Margins();
     double ceiling = std::numeric_limits<double>::infinity();
     for (Leg leg : kAllLegs) {
-      const double d =
-          (Index(leg) == lifting ? margins.max_lift_off_hip_distance_m : margins.max_stance_hip_distance_m) - 1e-3;
+      const double d = robot.MaxHipDistance(Index(leg) == lifting) - 1e-3;
       const Eigen::Vector3d hip_offset = R * robot.HipPosition(leg);
       const Eigen::Vector3d& foot = feet[static_cast<std::size_t>(Index(leg))].position;
       const double h2 = (foot.head<2>() - p.head<2>() - hip_offset.head<2>()).squaredNorm();
@@ -336,9 +334,6 @@ struct ContactPlanner::Impl {
     return r;
   }
 
-  /// The knee bent at least the margins' bend.
-  bool KneeBent(const Eigen::Vector3d& q_leg) const { return std::abs(q_leg.z()) >= robot.Margins().min_knee_bend_rad; }
-
   /// Keeps a foot at foot_W with the base at base_W: workspace, IK within bounds, no collision.
   KeepFailure KeepLeg(Leg leg, const Eigen::Isometry3d& base_W, const Eigen::Vector3d& foot_W, Eigen::Vector3d* q_leg,
                       double* stretch) {
@@ -347,36 +342,28 @@ struct ContactPlanner::Impl {
     *stretch = WorkspaceRatio(leg, p_B);
     if (*stretch > 1.0) return KeepFailure::kWorkspace;
     const IkResult ik = robot.SolveLegIk(leg, p_B);
-    if (!ik.ok() || !KneeBent(ik.q)) return KeepFailure::kKinematics;
+    if (!ik.ok() || !robot.KneeBent(ik.q)) return KeepFailure::kKinematics;
     *q_leg = ik.q;
     if (collision->CheckLeg(leg, base_W, ik.q, true).collision) return KeepFailure::kCollision;
     return KeepFailure::kNone;
   }
 
-  /// IK of all four feet (bounds only, no workspace).
-  bool SolveStance(const Eigen::Isometry3d& base_W, const std::array<FootContact, kNumLegs>& feet, JointVector* q) const {
-    const Eigen::Isometry3d T_BW = base_W.inverse();
-    for (Leg leg : kAllLegs) {
-      const IkResult ik = robot.SolveLegIk(leg, T_BW * feet[static_cast<std::size_t>(Index(leg))].position);
-      if (!ik.ok()) return false;
-      SetLegJoints(*q, leg, ik.q);
-    }
-    return true;
-  }
+  /// Marks a stance solved without the kinematic margins (a measured state, not a planned one).
+  static constexpr int kNoMargins = -2;
 
-  /// IK of all four feet within the kinematic margins, `lifting` (-1: none) being the leg about
-  /// to lift (it may stretch to the lift-off distance).
-  bool SolveStanceWithinMargins(const Eigen::Isometry3d& base_W, const std::array<FootContact, kNumLegs>& feet,
-                                int lifting, JointVector* q) const {
+  /// IK of all four feet within the joint bounds (no workspace) and the kinematic margins,
+  /// `lifting` (-1: none) being the leg about to lift (it may stretch to the lift-off distance);
+  /// with kNoMargins, within the joint bounds only.
+  bool SolveStance(const Eigen::Isometry3d& base_W, const std::array<FootContact, kNumLegs>& feet, int lifting,
+                   JointVector* q) const {
     const Eigen::Isometry3d T_BW = base_W.inverse();
-    const KinematicMargins& margins = robot.Margins();
     for (Leg leg : kAllLegs) {
       const Eigen::Vector3d p_B = T_BW * feet[static_cast<std::size_t>(Index(leg))].position;
       const IkResult ik = robot.SolveLegIk(leg, p_B);
       if (!ik.ok()) return false;
-      const double reach =
-          Index(leg) == lifting ? margins.max_lift_off_hip_distance_m : margins.max_stance_hip_distance_m;
-      if (!robot.WithinMargins(leg, p_B, ik.q, reach)) return false;
+      if (lifting != kNoMargins && !robot.WithinMargins(leg, p_B, ik.q, robot.MaxHipDistance(Index(leg) == lifting))) {
+        return false;
+      }
       SetLegJoints(*q, leg, ik.q);
     }
     return true;
@@ -754,10 +741,10 @@ struct ContactPlanner::Impl {
     // reached from there.
     Eigen::Vector3d shift = clamp(start);
     Eigen::Isometry3d base = base_at(shift);
-    if (!SolveStanceWithinMargins(base, parent.state.feet, skip, q_pre)) {
+    if (!SolveStance(base, parent.state.feet, skip, q_pre)) {
       shift = clamp(Eigen::Vector3d(parent.shift.x(), parent.shift.y(), start.z()));
       base = base_at(shift);
-      if (!SolveStanceWithinMargins(base, parent.state.feet, skip, q_pre)) {
+      if (!SolveStance(base, parent.state.feet, skip, q_pre)) {
         *why = "stance feet out of reach at the step pose";
         return std::nullopt;
       }
@@ -778,7 +765,7 @@ struct ContactPlanner::Impl {
           trial.z() += dz;
           const Eigen::Isometry3d trial_base = base_at(trial);
           JointVector q = JointVector::Zero();
-          if (SolveStanceWithinMargins(trial_base, parent.state.feet, skip, &q)) {
+          if (SolveStance(trial_base, parent.state.feet, skip, &q)) {
             shift = trial;
             base = trial_base;
             *q_pre = q;
@@ -815,7 +802,7 @@ struct ContactPlanner::Impl {
       T.linear() = RotationFromRpy(rpy);
       T.translation() = p0 + w * (base.translation() - p0);
       JointVector q = JointVector::Zero();
-      if (!SolveStanceWithinMargins(T, parent.state.feet, lifting, &q)) {
+      if (!SolveStance(T, parent.state.feet, lifting, &q)) {
         *why = "feet out of reach while the body moves to the step pose";
         return false;
       }
@@ -937,7 +924,7 @@ struct ContactPlanner::Impl {
           continue;
         }
         const IkResult ik = robot.SolveLegIk(leg, p_B);
-        if (!ik.ok() || !KneeBent(ik.q)) {
+        if (!ik.ok() || !robot.KneeBent(ik.q)) {
           last_reject = "kinematics";
           continue;
         }
@@ -1336,7 +1323,7 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   root.state.moving_leg = -1;
   root.t = m.path->Begin();
   const Eigen::Isometry3d base = BasePose(current);
-  if (!m.SolveStance(base, current.feet, &root.state.joints)) {
+  if (!m.SolveStance(base, current.feet, Impl::kNoMargins, &root.state.joints)) {
     result.status = ContactPlanStatus::kInvalidInput;
     result.reason = "current state: a foot is out of kinematic reach at the current base pose";
     result.planning_time_s = m.Elapsed();

@@ -145,15 +145,32 @@ class PlanChecker {
       CheckSurfaces(i, state);
       CheckOneLeg(i, state, k > 0 ? &plan.states[k - 1] : nullptr);
       CheckJointBounds(i, state);
-      CheckKinematicMargins(i, state, k > 0 ? &plan.states[k - 1] : nullptr);
+      const std::optional<LiftOff> lift_off = k > 0 ? LiftOffOf(plan.states[k - 1], state) : std::nullopt;
+      CheckKinematicMargins(i, state, lift_off);
       CheckForwardKinematics(i, state);
       if (collision_) CheckCollision(i, state);
       CheckStabilityAndTorques(i, state);
-      if (k > 0) CheckSupportMargin(i, plan.states[k - 1], state);
+      if (lift_off) CheckSupportMargin(i, plan.states[k - 1], state, *lift_off);
     }
   }
 
  private:
+  /// The swing of state i at lift-off: the trunk at state i's pose, the swing foot still on its
+  /// foothold of state i - 1 (in the base frame), its joints there by inverse kinematics.
+  struct LiftOff {
+    Leg swing;
+    Eigen::Vector3d foot_B;
+    IkResult ik;
+  };
+
+  /// nullopt when state i names no valid moving leg (reported by "one_leg").
+  std::optional<LiftOff> LiftOffOf(const WholeBodyState& previous, const WholeBodyState& state) const {
+    if (state.moving_leg < 0 || state.moving_leg >= kNumLegs) return std::nullopt;
+    const Leg swing = kAllLegs[static_cast<std::size_t>(state.moving_leg)];
+    const Eigen::Vector3d foot_B = BasePose(state).inverse() * previous.feet[static_cast<std::size_t>(Index(swing))].position;
+    return LiftOff{swing, foot_B, robot_.SolveLegIk(swing, foot_B)};
+  }
+
   void CheckSurfaces(int i, const WholeBodyState& state) {
     const double tol = config_.surface_tolerance;
     for (Leg leg : kAllLegs) {
@@ -263,7 +280,7 @@ class PlanChecker {
     return out;
   }
 
-  void CheckKinematicMargins(int i, const WholeBodyState& state, const WholeBodyState* previous) {
+  void CheckKinematicMargins(int i, const WholeBodyState& state, const std::optional<LiftOff>& lift_off) {
     const Eigen::Isometry3d T_BW = BasePose(state).inverse();
     std::string out;
     for (Leg leg : kAllLegs) {
@@ -271,15 +288,12 @@ class PlanChecker {
       const std::string v = MarginViolation(leg, p_B, LegJoints(state.joints, leg), robot_.Margins().max_stance_hip_distance_m);
       if (!v.empty()) out += (out.empty() ? "" : "; ") + v;
     }
-    // At lift-off the trunk is at this state's pose and the swing foot still on its old foothold.
-    if (previous && state.moving_leg >= 0 && state.moving_leg < kNumLegs) {
-      const Leg swing = kAllLegs[static_cast<std::size_t>(state.moving_leg)];
-      const Eigen::Vector3d p_B = T_BW * previous->feet[static_cast<std::size_t>(Index(swing))].position;
-      const IkResult ik = robot_.SolveLegIk(swing, p_B);
-      if (ik.ok()) {  // otherwise reported by "joint_bounds"
-        const std::string v = MarginViolation(swing, p_B, ik.q, robot_.Margins().max_lift_off_hip_distance_m);
-        if (!v.empty()) out += (out.empty() ? "" : "; ") + std::string("at lift-off ") + v;
-      }
+    // At lift-off the trunk is at this state's pose and the swing foot still on its old foothold
+    // (out of reach there: reported by "joint_bounds").
+    if (lift_off && lift_off->ik.ok()) {
+      const std::string v = MarginViolation(lift_off->swing, lift_off->foot_B, lift_off->ik.q,
+                                            robot_.Margins().max_lift_off_hip_distance_m);
+      if (!v.empty()) out += (out.empty() ? "" : "; ") + std::string("at lift-off ") + v;
     }
     if (!out.empty()) sink_.Add(i, "kinematic_margin", out);
   }
@@ -364,9 +378,8 @@ class PlanChecker {
     }
   }
 
-  void CheckSupportMargin(int i, const WholeBodyState& previous, const WholeBodyState& state) {
-    if (state.moving_leg < 0 || state.moving_leg >= kNumLegs) return;  // reported by "one_leg"
-    const Leg swing = kAllLegs[static_cast<std::size_t>(state.moving_leg)];
+  void CheckSupportMargin(int i, const WholeBodyState& previous, const WholeBodyState& state, const LiftOff& lift_off) {
+    const Leg swing = lift_off.swing;
     std::vector<Eigen::Vector3d> stance;
     std::string stance_names;
     for (Leg leg : kAllLegs) {
@@ -378,9 +391,7 @@ class PlanChecker {
 
     // Lift-off: the trunk has moved to this state's pose, the swing foot is still on its old
     // foothold, the stance legs are already in this state's configuration.
-    const Eigen::Vector3d old_foot_B =
-        base_W.inverse() * previous.feet[static_cast<std::size_t>(Index(swing))].position;
-    const IkResult ik = robot_.SolveLegIk(swing, old_foot_B);
+    const IkResult& ik = lift_off.ik;
     if (ik.ok()) {
       JointVector q_lift = state.joints;
       SetLegJoints(q_lift, swing, ik.q);

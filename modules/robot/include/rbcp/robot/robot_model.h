@@ -169,7 +169,13 @@ class RobotModel {
   /// at most `max_hip_distance` from the hip (HAA origin), the knee bent at least min_knee_bend.
   bool WithinMargins(Leg leg, const Eigen::Vector3d& p_base, const Eigen::Vector3d& q_leg,
                      double max_hip_distance) const {
-    return (p_base - HipPosition(leg)).norm() <= max_hip_distance && std::abs(q_leg.z()) >= margins_.min_knee_bend_rad;
+    return (p_base - HipPosition(leg)).norm() <= max_hip_distance && KneeBent(q_leg);
+  }
+  /// The knee of joints q_leg bent at least the margins' min_knee_bend.
+  bool KneeBent(const Eigen::Vector3d& q_leg) const { return std::abs(q_leg.z()) >= margins_.min_knee_bend_rad; }
+  /// The margins' hip distance of a stance foot, or of the foot about to lift.
+  double MaxHipDistance(bool lifting) const {
+    return lifting ? margins_.max_lift_off_hip_distance_m : margins_.max_stance_hip_distance_m;
   }
 
   /// HAA joint origin in the base frame [m].
