@@ -19,6 +19,7 @@
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/limb_database/limb_database.h"
 #include "rbcp/robot/robot_model.h"
+#include "path_track.h"
 #include "surface_geometry.h"
 
 namespace rbcp {
@@ -26,6 +27,12 @@ namespace rbcp {
 using contact_planner_detail::ClosestPointInTriangle;
 using contact_planner_detail::ConvexPolygon3d;
 using contact_planner_detail::ErodeTriangle;
+using contact_planner_detail::LeadPose;
+using contact_planner_detail::PathBasePose;
+using contact_planner_detail::PathPose;
+using contact_planner_detail::PathTrack;
+using contact_planner_detail::WrapPi;
+using contact_planner_detail::Yaw;
 
 std::string ToString(ContactPlanStatus status) {
   switch (status) {
@@ -57,12 +64,6 @@ constexpr double kSameFoothold = 0.01;
 /// Crawl order used to break ties between equally stretched legs.
 constexpr std::array<Leg, kNumLegs> kTieOrder = {Leg::kLH, Leg::kLF, Leg::kRH, Leg::kRF};
 
-double WrapPi(double a) {
-  a = std::fmod(a + M_PI, 2.0 * M_PI);
-  if (a < 0.0) a += 2.0 * M_PI;
-  return a - M_PI;
-}
-
 /// The leg that steps before `leg` in the crawl order LH, LF, RH, RF.
 Leg CrawlPrevious(Leg leg) {
   switch (leg) {
@@ -90,61 +91,6 @@ int TieRank(Leg leg) {
     if (kTieOrder[static_cast<std::size_t>(i)] == leg) return i;
   }
   return kNumLegs;
-}
-
-/// A root pose on the path: position and heading.
-struct PathPose {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  double yaw = 0.0;
-};
-
-/// The root path, linearly interpolated between its samples, with its heading averaged over
-/// +- yaw_window [s] (shrunk at the ends so the first and last headings are kept).
-class PathTrack {
- public:
-  PathTrack(std::vector<RootPathSample> samples, double yaw_window) : s_(std::move(samples)) {
-    if (yaw_window <= 0.0 || s_.size() < 3) return;
-    const std::size_t n = s_.size();
-    // Prefix sums of the heading's unit vector.
-    std::vector<Eigen::Vector2d> sum(n + 1, Eigen::Vector2d::Zero());
-    for (std::size_t i = 0; i < n; ++i) sum[i + 1] = sum[i] + Eigen::Vector2d(std::cos(s_[i].yaw), std::sin(s_[i].yaw));
-    std::vector<double> smoothed(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double w = std::min({yaw_window, s_[i].t - s_.front().t, s_.back().t - s_[i].t});
-      const auto lo = std::lower_bound(s_.begin(), s_.end(), s_[i].t - w - 1e-12,
-                                       [](const RootPathSample& s, double v) { return s.t < v; });
-      const auto hi = std::upper_bound(s_.begin(), s_.end(), s_[i].t + w + 1e-12,
-                                       [](double v, const RootPathSample& s) { return v < s.t; });
-      const Eigen::Vector2d m = sum[static_cast<std::size_t>(hi - s_.begin())] - sum[static_cast<std::size_t>(lo - s_.begin())];
-      smoothed[i] = m.norm() > 1e-9 ? std::atan2(m.y(), m.x()) : s_[i].yaw;
-    }
-    for (std::size_t i = 0; i < n; ++i) s_[i].yaw = smoothed[i];
-  }
-  double Begin() const { return s_.front().t; }
-  double End() const { return s_.back().t; }
-  PathPose At(double t) const {
-    if (t <= s_.front().t) return {s_.front().p, s_.front().yaw};
-    if (t >= s_.back().t) return {s_.back().p, s_.back().yaw};
-    auto it = std::upper_bound(s_.begin(), s_.end(), t, [](double v, const RootPathSample& s) { return v < s.t; });
-    const RootPathSample& b = *it;
-    const RootPathSample& a = *(it - 1);
-    const double dt = b.t - a.t;
-    const double w = dt > 0.0 ? (t - a.t) / dt : 1.0;
-    return {a.p + w * (b.p - a.p), WrapPi(a.yaw + w * WrapPi(b.yaw - a.yaw))};
-  }
-
- private:
-  std::vector<RootPathSample> s_;
-};
-
-Eigen::Matrix3d Yaw(double yaw) { return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
-
-/// Level base pose at a path pose.
-Eigen::Isometry3d PathBasePose(const PathPose& pose) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Yaw(pose.yaw);
-  T.translation() = pose.p;
-  return T;
 }
 
 /// One node of the step search: a state, the path time it stands at and the body shift.
@@ -831,21 +777,6 @@ struct ContactPlanner::Impl {
     return hit;
   }
 
-  /// The path pose `lead` [s] after t, or earlier if the heading turns by more than
-  /// max_lead_yaw_rad before (a target far round a turn is no useful foothold).
-  PathPose LeadPose(double t, double lead) const {
-    const PathPose now = path->At(t);
-    PathPose ahead = path->At(t + lead);
-    if (std::abs(WrapPi(ahead.yaw - now.yaw)) <= config.foothold.max_lead_yaw_rad) return ahead;
-    double lo = 0.0, hi = lead;
-    for (int i = 0; i < 20; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      if (std::abs(WrapPi(path->At(t + mid).yaw - now.yaw)) <= config.foothold.max_lead_yaw_rad) lo = mid;
-      else hi = mid;
-    }
-    return path->At(t + lo);
-  }
-
   enum class StepOutcome { kFound, kNoCandidate, kCapped, kPoseInvalid };
 
   StepOutcome TryStep(const Node& parent, const Node::Option& option, Node* child, std::string* why) {
@@ -891,7 +822,7 @@ struct ContactPlanner::Impl {
       target_pose = path->At(path->End());
     } else {
       const double lead = config.foothold.lead_time_s * config.foothold.lead_time_factors[static_cast<std::size_t>(option.lead)];
-      target_pose = LeadPose(option.t, lead);
+      target_pose = LeadPose(*path, option.t, lead, config.foothold.max_lead_yaw_rad);
     }
     const Eigen::Vector3d target = PathBasePose(target_pose) * robot.ReferenceFootPosition(leg);
     const Eigen::Isometry3d T_BW = base.inverse();
@@ -949,8 +880,9 @@ struct ContactPlanner::Impl {
         if (!option.goal_step) {
           std::array<FootContact, kNumLegs> ahead_feet = parent.state.feet;
           ahead_feet[static_cast<std::size_t>(j)].position = c.foothold;
-          const Eigen::Isometry3d ahead = StanceBase(LeadPose(option.t, config.foothold.lead_time_s),
-                                                     Eigen::Vector3d(0.0, 0.0, shift->z()), ahead_feet);
+          const PathPose ahead_pose =
+              LeadPose(*path, option.t, config.foothold.lead_time_s, config.foothold.max_lead_yaw_rad);
+          const Eigen::Isometry3d ahead = StanceBase(ahead_pose, Eigen::Vector3d(0.0, 0.0, shift->z()), ahead_feet);
           Eigen::Vector3d q_ahead;
           double stretch_ahead = 0.0;
           if (KeepLeg(leg, ahead, c.foothold, &q_ahead, &stretch_ahead) != KeepFailure::kNone) {
