@@ -20,18 +20,34 @@
 #include "rbcp/limb_database/limb_database.h"
 #include "rbcp/robot/robot_model.h"
 #include "path_track.h"
+#include "planner_context.h"
+#include "stance_checks.h"
 #include "surface_geometry.h"
 
 namespace rbcp {
 
 using contact_planner_detail::ClosestPointInTriangle;
+using contact_planner_detail::Contacts;
+using contact_planner_detail::FeetPositions;
+using contact_planner_detail::KeepFailure;
+using contact_planner_detail::KeepLeg;
+using contact_planner_detail::kNoMargins;
+using contact_planner_detail::LegKeep;
+using contact_planner_detail::LiftOffCollision;
+using contact_planner_detail::PlannerContext;
+using contact_planner_detail::SolveStance;
+using contact_planner_detail::StanceBase;
+using contact_planner_detail::StanceBaseAt;
+using contact_planner_detail::TimeBudget;
+using contact_planner_detail::TorqueProblem;
+using contact_planner_detail::TransitProblem;
+using contact_planner_detail::WorkspaceRatio;
 using contact_planner_detail::ConvexPolygon3d;
 using contact_planner_detail::ErodeTriangle;
 using contact_planner_detail::LeadPose;
 using contact_planner_detail::PathBasePose;
 using contact_planner_detail::PathPose;
 using contact_planner_detail::PathTrack;
-using contact_planner_detail::WrapPi;
 using contact_planner_detail::Yaw;
 
 std::string ToString(ContactPlanStatus status) {
@@ -122,9 +138,6 @@ struct Node {
   std::vector<Child> children;  ///< steps already explored from this node
 };
 
-/// Why a leg could not be kept.
-enum class KeepFailure { kNone, kWorkspace, kKinematics, kCollision };
-
 struct LegRank {
   Leg leg;
   double stretch;  ///< largest workspace ratio (> 1 outside)
@@ -158,11 +171,11 @@ struct ContactPlanner::Impl {
   std::unique_ptr<RobotTerrainCollision> self_collision;  // self-collision, exact shapes
   std::vector<ConvexPolygon3d> surfaces;
   std::unique_ptr<SurfaceGraph> surface_graph;
+  std::optional<PlannerContext> context;  // set with the terrain
 
   // Per query.
-  std::chrono::steady_clock::time_point start_time;
+  TimeBudget budget;
   ContactPlanStats stats;
-  bool timed_out = false;
   std::optional<PathTrack> path;
   // Stance leg that blocked the last lift-off tried (-1: none): it hit the terrain, or it is the
   // leg whose re-placement widens a support triangle the CoM cannot get into.
@@ -184,12 +197,11 @@ struct ContactPlanner::Impl {
     config.Validate();
   }
 
-  double Elapsed() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-  }
-  bool OutOfTime() {
-    if (!timed_out && Elapsed() > config.time_budget_s) timed_out = true;
-    return timed_out;
+  const PlannerContext& ctx() const { return *context; }
+
+  void SetTerrainContext() {
+    context.emplace(PlannerContext{robot, db, eq_config, config, torque_limit, *collision, *self_collision, surfaces,
+                                   equilibrium, stats, budget});
   }
 
   void ResetFailure() {
@@ -206,167 +218,19 @@ struct ContactPlanner::Impl {
     }
   }
 
-  // ---- Base pose -------------------------------------------------------------------------------
-
-  /// Base pose at a path pose, shifted horizontally by shift (path heading frame). With
-  /// base_pose.follow_feet the height and the roll and pitch follow the plane fitted through the
-  /// stance feet (least squares, in the heading frame), otherwise the base is level at the path
-  /// height; shift.z is added to the height in both cases.
-  Eigen::Isometry3d StanceBase(const PathPose& pose, const Eigen::Vector3d& shift,
-                               const std::array<FootContact, kNumLegs>& feet, Eigen::Vector3d* rpy_out = nullptr,
-                               int lifting = -1) const {
-    const Eigen::Matrix3d R_yaw = Yaw(pose.yaw);
-    Eigen::Vector3d p = pose.p + R_yaw * Eigen::Vector3d(shift.x(), shift.y(), 0.0);
-    Eigen::Vector3d rpy(0.0, 0.0, pose.yaw);
-    if (config.base_pose.follow_feet) {
-      // z = a + b x + c y in the heading frame centred at the base.
-      Eigen::Matrix<double, kNumLegs, 3> A;
-      Eigen::Matrix<double, kNumLegs, 1> z;
-      for (int i = 0; i < kNumLegs; ++i) {
-        const Eigen::Vector3d d = R_yaw.transpose() * (feet[static_cast<std::size_t>(i)].position - p);
-        A.row(i) << 1.0, d.x(), d.y();
-        z[i] = feet[static_cast<std::size_t>(i)].position.z();
-      }
-      const Eigen::Vector3d abc = A.colPivHouseholderQr().solve(z);
-      const double max_pitch = config.base_pose.max_pitch_rad;
-      const double max_roll = config.base_pose.max_roll_rad;
-      rpy.y() = std::clamp(-std::atan(abc[1]), -max_pitch, max_pitch);
-      rpy.x() = std::clamp(std::atan(abc[2]), -max_roll, max_roll);
-      p.z() = abc[0] + robot.NominalBaseHeight() + config.base_pose.height_offset_m + shift.z();
-    } else {
-      p.z() += shift.z();
-    }
-    const Eigen::Matrix3d R = RotationFromRpy(rpy);
-    p.z() = std::min(p.z(), MarginHeightCeiling(p, R, feet, lifting));
-    if (rpy_out) *rpy_out = rpy;
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = R;
-    T.translation() = p;
-    return T;
-  }
-
-  /// The highest base height, at horizontal position p with orientation R, at which every foot
-  /// lies within the kinematic margins' stance distance of its hip, the `lifting` leg (-1: none)
-  /// within the lift-off distance (less a millimetre); +inf when some foot is beyond it
-  /// horizontally (that stance is rejected later anyway).
-  double MarginHeightCeiling(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
-                             const std::array<FootContact, kNumLegs>& feet, int lifting) const {
-    double ceiling = std::numeric_limits<double>::infinity();
-    for (Leg leg : kAllLegs) {
-      const double d = robot.MaxHipDistance(Index(leg) == lifting) - 1e-3;
-      const Eigen::Vector3d hip_offset = R * robot.HipPosition(leg);
-      const Eigen::Vector3d& foot = feet[static_cast<std::size_t>(Index(leg))].position;
-      const double h2 = (foot.head<2>() - p.head<2>() - hip_offset.head<2>()).squaredNorm();
-      if (h2 >= d * d) return std::numeric_limits<double>::infinity();
-      ceiling = std::min(ceiling, foot.z() - hip_offset.z() + std::sqrt(d * d - h2));
-    }
-    return ceiling;
-  }
-
-  // ---- Kinematic and workspace tests ---------------------------------------------------------
-
-  /// Largest workspace ratio of a foot at p_B (base frame); <= 1 inside.
-  double WorkspaceRatio(Leg leg, const Eigen::Vector3d& p_B) const {
-    const FootWorkspace& ws = config.workspace;
-    const Eigen::Vector3d d = p_B - robot.ReferenceFootPosition(leg);
-    double r = d.x() >= 0.0 ? d.x() / ws.max_forward_m : -d.x() / ws.max_backward_m;
-    const double out = LeftSign(leg) * d.y();
-    r = std::max(r, out >= 0.0 ? out / ws.max_outward_m : -out / ws.max_inward_m);
-    r = std::max(r, d.z() >= 0.0 ? d.z() / ws.max_up_m : -d.z() / ws.max_down_m);
-    const double hip = (p_B - robot.HipPosition(leg)).head<2>().norm();
-    r = std::max(r, hip / ws.max_hip_distance_m);
-    // A stance leg short of straight (the kinematic margins).
-    r = std::max(r, (p_B - robot.HipPosition(leg)).norm() / robot.Margins().max_stance_hip_distance_m);
-    return r;
-  }
-
-  /// Keeps a foot at foot_W with the base at base_W: workspace, IK within bounds, no collision.
-  KeepFailure KeepLeg(Leg leg, const Eigen::Isometry3d& base_W, const Eigen::Vector3d& foot_W, Eigen::Vector3d* q_leg,
-                      double* stretch) {
-    ++stats.keep_checks;
-    const Eigen::Vector3d p_B = base_W.inverse() * foot_W;
-    *stretch = WorkspaceRatio(leg, p_B);
-    if (*stretch > 1.0) return KeepFailure::kWorkspace;
-    const IkResult ik = robot.SolveLegIk(leg, p_B);
-    if (!ik.ok() || !robot.KneeBent(ik.q)) return KeepFailure::kKinematics;
-    *q_leg = ik.q;
-    if (collision->CheckLeg(leg, base_W, ik.q, true).collision) return KeepFailure::kCollision;
-    return KeepFailure::kNone;
-  }
-
-  /// Marks a stance solved without the kinematic margins (a measured state, not a planned one).
-  static constexpr int kNoMargins = -2;
-
-  /// IK of all four feet within the joint bounds (no workspace) and the kinematic margins,
-  /// `lifting` (-1: none) being the leg about to lift (it may stretch to the lift-off distance);
-  /// with kNoMargins, within the joint bounds only.
-  bool SolveStance(const Eigen::Isometry3d& base_W, const std::array<FootContact, kNumLegs>& feet, int lifting,
-                   JointVector* q) const {
-    const Eigen::Isometry3d T_BW = base_W.inverse();
-    for (Leg leg : kAllLegs) {
-      const Eigen::Vector3d p_B = T_BW * feet[static_cast<std::size_t>(Index(leg))].position;
-      const IkResult ik = robot.SolveLegIk(leg, p_B);
-      if (!ik.ok()) return false;
-      if (lifting != kNoMargins && !robot.WithinMargins(leg, p_B, ik.q, robot.MaxHipDistance(Index(leg) == lifting))) {
-        return false;
-      }
-      SetLegJoints(*q, leg, ik.q);
-    }
-    return true;
-  }
-
-  Eigen::Vector3d CoM(const Eigen::Isometry3d& base_W, const JointVector& q) const {
-    return base_W * robot.CenterOfMass(q);
-  }
-
-  static std::vector<Eigen::Vector3d> FeetPositions(const std::array<FootContact, kNumLegs>& feet, int skip) {
-    std::vector<Eigen::Vector3d> out;
-    for (int i = 0; i < kNumLegs; ++i) {
-      if (i != skip) out.push_back(feet[static_cast<std::size_t>(i)].position);
-    }
-    return out;
-  }
-
-  static std::vector<ContactPoint> Contacts(const std::array<FootContact, kNumLegs>& feet, int skip) {
-    std::vector<ContactPoint> out;
-    for (int i = 0; i < kNumLegs; ++i) {
-      if (i != skip) out.push_back({feet[static_cast<std::size_t>(i)].position, feet[static_cast<std::size_t>(i)].normal});
-    }
-    return out;
-  }
-
-  /// Torques of the stance (all feet but `skip`) within the limit, with the weight spread over
-  /// the feet as the controller spreads it. False when that distribution cannot balance it.
-  bool TorquesWithinLimit(const Eigen::Isometry3d& base_W, const JointVector& q,
-                          const std::array<FootContact, kNumLegs>& feet, int skip, const Eigen::Vector3d& com_W,
-                          std::string* why) {
-    ForceDistributionParams params;
-    params.friction = eq_config.friction;
-    params.min_normal_force_N = config.stance_min_normal_force_N;
-    const StanceTorques t = ComputeStanceTorques(robot, base_W, q, StanceFeet(feet, skip), com_W, params);
-    if (!t.balanced) {
-      if (why) *why = "the feet's friction cones cannot hold the weight";
-      return false;
-    }
-    if (t.max_abs_Nm > torque_limit) {
-      if (why) *why = JointName(t.worst_joint) + " static torque " + FixedNumber(t.max_abs_Nm, 1) + " N m";
-      return false;
-    }
-    return true;
-  }
-
   // ---- Keep phase ------------------------------------------------------------------------------
 
   /// Tests the node's four feet at path time t. Fills per-leg failure flags and stretches.
   bool KeepAt(const Node& node, double t, std::array<bool, kNumLegs>* failing, std::array<double, kNumLegs>* stretch,
               std::string* why) {
-    const Eigen::Isometry3d base = StanceBase(path->At(t), node.shift, node.state.feet);
+    const Eigen::Isometry3d base = StanceBaseAt(ctx(), path->At(t), node.shift, node.state.feet).base_W;
     JointVector q = JointVector::Zero();
     bool all_ok = true;
     for (Leg leg : kAllLegs) {
       const std::size_t i = static_cast<std::size_t>(Index(leg));
-      Eigen::Vector3d q_leg = Eigen::Vector3d::Zero();
-      const KeepFailure f = KeepLeg(leg, base, node.state.feet[i].position, &q_leg, &(*stretch)[i]);
+      const LegKeep keep = KeepLeg(ctx(), leg, base, node.state.feet[i].position);
+      (*stretch)[i] = keep.stretch;
+      const KeepFailure f = keep.failure;
       (*failing)[i] = f != KeepFailure::kNone;
       if (f != KeepFailure::kNone) {
         all_ok = false;
@@ -377,13 +241,13 @@ struct ContactPlanner::Impl {
                                                   : " in collision");
         }
       } else {
-        SetLegJoints(q, leg, q_leg);
+        SetLegJoints(q, leg, keep.q);
       }
     }
     if (!all_ok) return false;
     bool body_ok = !collision->CheckTrunk(base).collision;
     if (body_ok) {
-      const double margin = SupportPolygonMargin(FeetPositions(node.state.feet, -1), CoM(base, q));
+      const double margin = SupportPolygonMargin(FeetPositions(node.state.feet, -1), CoM(ctx(), base, q));
       body_ok = margin >= eq_config.support_margin_m;
     }
     if (!body_ok) {
@@ -573,7 +437,7 @@ struct ContactPlanner::Impl {
     result.reason = "no chain of contact surfaces, each within " + FixedNumber(config.max_surface_gap_m, 2) +
                     " m of the next, joins the start feet's surfaces to one in reach at the path's end";
     result.failure_time_s = path->Begin();
-    result.planning_time_s = Elapsed();
+    result.planning_time_s = budget.Elapsed();
     result.stats = stats;
     return result;
   }
@@ -610,12 +474,11 @@ struct ContactPlanner::Impl {
           }
         }
         if (!separated) continue;
-        Eigen::Vector3d q_leg;
-        double stretch = 0.0;
-        if (KeepLeg(leg, base, c.foothold, &q_leg, &stretch) != KeepFailure::kNone) continue;
+        const LegKeep keep = KeepLeg(ctx(), leg, base, c.foothold);
+        if (keep.failure != KeepFailure::kNone) continue;
         state.feet[i].position = c.foothold;
         state.feet[i].normal = surfaces[static_cast<std::size_t>(c.surface)].Normal();
-        SetLegJoints(q, leg, q_leg);
+        SetLegJoints(q, leg, keep.q);
         placed[i] = true;
         found = true;
         break;
@@ -629,7 +492,7 @@ struct ContactPlanner::Impl {
     if (collision->CheckTrunk(base).collision) return fail("trunk collides with the terrain");
     const CollisionReport self = self_collision->CheckSelf(q);
     if (self.collision) return fail("self-collision " + self.first_shape + " / " + self.obstacle);
-    const Eigen::Vector3d com = CoM(base, q);
+    const Eigen::Vector3d com = CoM(ctx(), base, q);
     ++stats.stability_evaluations;
     const EquilibriumResult eq = equilibrium.Robustness(Contacts(state.feet, -1), com);
     if (!equilibrium.MeetsThreshold(eq)) {
@@ -637,8 +500,8 @@ struct ContactPlanner::Impl {
     }
     const double margin = SupportPolygonMargin(FeetPositions(state.feet, -1), com);
     if (margin < eq_config.support_margin_m) return fail("CoM " + FixedNumber(margin) + " m inside the support polygon");
-    std::string why;
-    if (!TorquesWithinLimit(base, q, state.feet, -1, com, &why)) return fail("standing stance: " + why);
+    const std::string torque = TorqueProblem(ctx(), base, q, state.feet, -1, com);
+    if (!torque.empty()) return fail("standing stance: " + torque);
     return state;
   }
 
@@ -665,7 +528,9 @@ struct ContactPlanner::Impl {
   /// halved until the stance is reachable. nullopt when the margin cannot be met.
   std::optional<Eigen::Vector3d> SwingShift(const PathPose& pose, const Node& parent, int skip,
                                             const Eigen::Vector3d& start, JointVector* q_pre, std::string* why) {
-    const auto base_at = [&](const Eigen::Vector3d& s) { return StanceBase(pose, s, parent.state.feet, nullptr, skip); };
+    const auto base_at = [&](const Eigen::Vector3d& s) {
+      return StanceBaseAt(ctx(), pose, s, parent.state.feet, skip).base_W;
+    };
     const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, skip);
     const std::array<Eigen::Vector2d, 3> tri = {stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()};
     const double required = eq_config.support_margin_m;
@@ -687,16 +552,19 @@ struct ContactPlanner::Impl {
     // reached from there.
     Eigen::Vector3d shift = clamp(start);
     Eigen::Isometry3d base = base_at(shift);
-    if (!SolveStance(base, parent.state.feet, skip, q_pre)) {
+    std::optional<JointVector> q_stance = SolveStance(ctx(), base, parent.state.feet, skip);
+    if (!q_stance) {
       shift = clamp(Eigen::Vector3d(parent.shift.x(), parent.shift.y(), start.z()));
       base = base_at(shift);
-      if (!SolveStance(base, parent.state.feet, skip, q_pre)) {
+      q_stance = SolveStance(ctx(), base, parent.state.feet, skip);
+      if (!q_stance) {
         *why = "stance feet out of reach at the step pose";
         return std::nullopt;
       }
     }
+    *q_pre = *q_stance;
     for (int iter = 0; iter < 6; ++iter) {
-      const Eigen::Vector3d com = CoM(base, *q_pre);
+      const Eigen::Vector3d com = CoM(ctx(), base, *q_pre);
       if (SupportPolygonMargin(stance, com) >= required + 0.5 * config.base_shift.shift_extra_margin_m) return shift;
       const Eigen::Vector2d goal = ClosestPointInTriangle(*eroded, com.head<2>());
       const Eigen::Vector3d delta = R.transpose() * Eigen::Vector3d(goal.x() - com.x(), goal.y() - com.y(), 0.0);
@@ -710,11 +578,10 @@ struct ContactPlanner::Impl {
           Eigen::Vector3d trial = clamp(shift + scale * delta);
           trial.z() += dz;
           const Eigen::Isometry3d trial_base = base_at(trial);
-          JointVector q = JointVector::Zero();
-          if (SolveStance(trial_base, parent.state.feet, skip, &q)) {
+          if (const std::optional<JointVector> q = SolveStance(ctx(), trial_base, parent.state.feet, skip)) {
             shift = trial;
             base = trial_base;
-            *q_pre = q;
+            *q_pre = *q;
             moved = true;
             break;
           }
@@ -725,56 +592,12 @@ struct ContactPlanner::Impl {
         break;
       }
     }
-    if (SupportPolygonMargin(stance, CoM(base, *q_pre)) >= required) return shift;
+    if (SupportPolygonMargin(stance, CoM(ctx(), base, *q_pre)) >= required) return shift;
     if (why->empty()) {
       *why = "CoM cannot be shifted " + FixedNumber(required) + " m inside the swing support triangle";
       blocking_leg = widening_leg;
     }
     return std::nullopt;
-  }
-
-  /// Checks the straight base motion from the parent's base to `base` with the parent's feet.
-  bool TransitValid(const Node& parent, const Eigen::Isometry3d& base, const Eigen::Vector3d& rpy1, int lifting,
-                    std::string* why) {
-    const int n = config.base_shift.transit_checks;
-    const Eigen::Vector3d p0 = parent.state.base_position;
-    const Eigen::Vector3d rpy0 = parent.state.base_rpy;
-    const std::vector<Eigen::Vector3d> feet = FeetPositions(parent.state.feet, -1);
-    for (int k = 1; k <= n; ++k) {
-      const double w = static_cast<double>(k) / static_cast<double>(n + 1);
-      Eigen::Vector3d rpy = rpy0 + w * (rpy1 - rpy0);
-      rpy.z() = WrapPi(rpy0.z() + w * WrapPi(rpy1.z() - rpy0.z()));
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.linear() = RotationFromRpy(rpy);
-      T.translation() = p0 + w * (base.translation() - p0);
-      JointVector q = JointVector::Zero();
-      if (!SolveStance(T, parent.state.feet, lifting, &q)) {
-        *why = "feet out of reach while the body moves to the step pose";
-        return false;
-      }
-      if (SupportPolygonMargin(feet, CoM(T, q)) < eq_config.support_margin_m) {
-        *why = "CoM leaves the support polygon while the body moves to the step pose";
-        return false;
-      }
-      if (collision->CheckTrunk(T).collision) {
-        *why = "trunk collides while the body moves to the step pose";
-        return false;
-      }
-    }
-    return true;
-  }
-
-  /// Collision of the stance before `lifting` lifts off: the trunk and the stance legs with the
-  /// thighs' clearance, the lifting leg's own shapes exact (its knee rises from there; a knee that
-  /// sits close over a block edge next to its foot is clear once the foot is up).
-  CollisionReport LiftOffCollision(const Eigen::Isometry3d& base, const JointVector& q, Leg lifting) const {
-    CollisionReport hit = collision->CheckTrunk(base);
-    for (Leg leg : kAllLegs) {
-      if (hit.collision) break;
-      const RobotTerrainCollision& c = leg == lifting ? *self_collision : *collision;
-      hit = c.CheckLeg(leg, base, LegJoints(q, leg), true);
-    }
-    return hit;
   }
 
   enum class StepOutcome { kFound, kNoCandidate, kCapped, kPoseInvalid };
@@ -787,11 +610,11 @@ struct ContactPlanner::Impl {
     JointVector q_pre = JointVector::Zero();
     const auto shift = SwingShift(pose, parent, j, BaseVariant(parent, option.variant), &q_pre, why);
     if (!shift) return StepOutcome::kPoseInvalid;
-    Eigen::Vector3d rpy;
-    const Eigen::Isometry3d base = StanceBase(pose, *shift, parent.state.feet, &rpy, j);
+    const StanceBase step_base = StanceBaseAt(ctx(), pose, *shift, parent.state.feet, j);
+    const Eigen::Isometry3d& base = step_base.base_W;
 
     // The stance before lift-off: collision, swing triangle, torques of the three-foot stance.
-    const CollisionReport pre_hit = LiftOffCollision(base, q_pre, leg);
+    const CollisionReport pre_hit = LiftOffCollision(ctx(), base, q_pre, leg);
     if (pre_hit.collision) {
       *why = "collision before lift-off (" + pre_hit.first_shape + ")";
       if (const auto blocking = LegFromName(std::string_view(pre_hit.first_shape).substr(0, 2))) {
@@ -804,17 +627,21 @@ struct ContactPlanner::Impl {
       return StepOutcome::kPoseInvalid;
     }
     const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, j);
-    const Eigen::Vector3d com_pre = CoM(base, q_pre);
+    const Eigen::Vector3d com_pre = CoM(ctx(), base, q_pre);
     if (SupportPolygonMargin(stance, com_pre) < eq_config.support_margin_m) {
       *why = "CoM too close to the swing support triangle at lift-off";
       return StepOutcome::kPoseInvalid;
     }
-    std::string torque_why;
-    if (!TorquesWithinLimit(base, q_pre, parent.state.feet, j, com_pre, &torque_why)) {
-      *why = "three-foot stance at lift-off: " + torque_why;
+    const std::string torque = TorqueProblem(ctx(), base, q_pre, parent.state.feet, j, com_pre);
+    if (!torque.empty()) {
+      *why = "three-foot stance at lift-off: " + torque;
       return StepOutcome::kPoseInvalid;
     }
-    if (!TransitValid(parent, base, rpy, j, why)) return StepOutcome::kPoseInvalid;
+    const std::string transit = TransitProblem(ctx(), parent.state, base, step_base.rpy, j);
+    if (!transit.empty()) {
+      *why = transit;
+      return StepOutcome::kPoseInvalid;
+    }
 
     // Target of the new foothold.
     PathPose target_pose;
@@ -842,7 +669,7 @@ struct ContactPlanner::Impl {
           continue;  // evaluated in the first stage
         }
         if (stage == 1) ++candidates_seen;
-        if (OutOfTime()) {
+        if (budget.Exhausted()) {
           *why = "time budget exhausted";
           return StepOutcome::kCapped;
         }
@@ -850,7 +677,7 @@ struct ContactPlanner::Impl {
         if ((c.foothold - old_foot).norm() < kMinStepLength) continue;
         if (!FarEnoughFromFeet(parent.state.feet, j, c.foothold)) continue;
         const Eigen::Vector3d p_B = T_BW * c.foothold;
-        if (WorkspaceRatio(leg, p_B) > 1.0) {
+        if (WorkspaceRatio(ctx(), leg, p_B) > 1.0) {
           last_reject = "outside the workspace";
           continue;
         }
@@ -861,7 +688,7 @@ struct ContactPlanner::Impl {
         }
         JointVector q_post = q_pre;
         SetLegJoints(q_post, leg, ik.q);
-        const Eigen::Vector3d com_post = CoM(base, q_post);
+        const Eigen::Vector3d com_post = CoM(ctx(), base, q_post);
         if (SupportPolygonMargin(stance, com_post) < eq_config.support_margin_m) {
           last_reject = "CoM near the swing triangle edge at touch-down";
           continue;
@@ -882,10 +709,9 @@ struct ContactPlanner::Impl {
           ahead_feet[static_cast<std::size_t>(j)].position = c.foothold;
           const PathPose ahead_pose =
               LeadPose(*path, option.t, config.foothold.lead_time_s, config.foothold.max_lead_yaw_rad);
-          const Eigen::Isometry3d ahead = StanceBase(ahead_pose, Eigen::Vector3d(0.0, 0.0, shift->z()), ahead_feet);
-          Eigen::Vector3d q_ahead;
-          double stretch_ahead = 0.0;
-          if (KeepLeg(leg, ahead, c.foothold, &q_ahead, &stretch_ahead) != KeepFailure::kNone) {
+          const Eigen::Isometry3d ahead =
+              StanceBaseAt(ctx(), ahead_pose, Eigen::Vector3d(0.0, 0.0, shift->z()), ahead_feet).base_W;
+          if (KeepLeg(ctx(), leg, ahead, c.foothold).failure != KeepFailure::kNone) {
             last_reject = "not keepable as the trunk advances";
             continue;
           }
@@ -905,18 +731,17 @@ struct ContactPlanner::Impl {
           last_reject = "robustness " + FixedNumber(eq.robustness_N, 2) + " N";
           continue;
         }
-        std::string tw;
-        if (!TorquesWithinLimit(base, q_post, feet, -1, com_post, &tw)) {
-          last_reject = "four-foot stance: " + tw;
+        if (const std::string four = TorqueProblem(ctx(), base, q_post, feet, -1, com_post); !four.empty()) {
+          last_reject = "four-foot stance: " + four;
           continue;
         }
-        if (!TorquesWithinLimit(base, q_post, feet, j, com_post, &tw)) {
-          last_reject = "three-foot stance at touch-down: " + tw;
+        if (const std::string three = TorqueProblem(ctx(), base, q_post, feet, j, com_post); !three.empty()) {
+          last_reject = "three-foot stance at touch-down: " + three;
           continue;
         }
         // Accepted.
         child->state.base_position = base.translation();
-        child->state.base_rpy = rpy;
+        child->state.base_rpy = step_base.rpy;
         child->state.joints = q_post;
         child->state.feet = feet;
         child->state.moving_leg = j;
@@ -1059,7 +884,7 @@ struct ContactPlanner::Impl {
       return r;
     };
     while (true) {
-      if (OutOfTime()) {
+      if (budget.Exhausted()) {
         return finish_fail(ContactPlanStatus::kTimeout, "time budget of " + FixedNumber(config.time_budget_s, 2) +
                                                             " s exhausted; furthest failure: " + describe_failure());
       }
@@ -1137,7 +962,7 @@ struct ContactPlanner::Impl {
     if (first.ok || first.status != ContactPlanStatus::kNoFoothold) return first;
     std::string tried;
     for (const double advance : config.retry.gait_advance_s) {
-      if (OutOfTime()) {
+      if (budget.Exhausted()) {
         // The wall clock is a safety limit: the answer must not depend on how far it let us get.
         first.status = ContactPlanStatus::kTimeout;
         first.reason = "time budget of " + FixedNumber(config.time_budget_s, 2) +
@@ -1156,9 +981,8 @@ struct ContactPlanner::Impl {
   }
 
   void BeginQuery(std::vector<RootPathSample> samples) {
-    start_time = std::chrono::steady_clock::now();
+    budget.Start(config.time_budget_s);
     stats = ContactPlanStats{};
-    timed_out = false;
     ResetFailure();
     gait_advance = config.gait_advance_s;
     path.emplace(std::move(samples), config.path_yaw_smoothing_s);
@@ -1200,6 +1024,7 @@ void ContactPlanner::SetTerrain(const TriangleMesh& terrain, const std::vector<A
     impl_->surfaces.emplace_back(s.vertices, s.normal);
   }
   impl_->surface_graph = std::make_unique<SurfaceGraph>(surfaces, impl_->config.max_surface_gap_m);
+  impl_->SetTerrainContext();
 }
 
 ContactPlanResult ContactPlanner::Plan(const RootPath& path) { return Plan(path.SampleEvery(kRootPathSampling)); }
@@ -1221,7 +1046,7 @@ ContactPlanResult ContactPlanner::Plan(const std::vector<RootPathSample>& sample
     result.status = ContactPlanStatus::kNoStartStance;
     result.reason = "start stance: " + why;
     result.failure_time_s = m.path->Begin();
-    result.planning_time_s = m.Elapsed();
+    result.planning_time_s = m.budget.Elapsed();
     result.stats = m.stats;
     return result;
   }
@@ -1230,7 +1055,7 @@ ContactPlanResult ContactPlanner::Plan(const std::vector<RootPathSample>& sample
   root.state = *stance;
   root.t = m.path->Begin();
   result = m.SearchWithRetries(root, -1);
-  result.planning_time_s = m.Elapsed();
+  result.planning_time_s = m.budget.Elapsed();
   result.stats = m.stats;
   return result;
 }
@@ -1255,26 +1080,27 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   root.state.moving_leg = -1;
   root.t = m.path->Begin();
   const Eigen::Isometry3d base = BasePose(current);
-  if (!m.SolveStance(base, current.feet, Impl::kNoMargins, &root.state.joints)) {
+  const std::optional<JointVector> joints = SolveStance(m.ctx(), base, current.feet, kNoMargins);
+  if (!joints) {
     result.status = ContactPlanStatus::kInvalidInput;
     result.reason = "current state: a foot is out of kinematic reach at the current base pose";
-    result.planning_time_s = m.Elapsed();
+    result.planning_time_s = m.budget.Elapsed();
     return result;
   }
+  root.state.joints = *joints;
   if (const auto unreachable = m.GoalUnreachableResult(current.feet)) return *unreachable;
   const PathPose start = m.path->At(root.t);
   root.shift = Yaw(start.yaw).transpose() * (current.base_position - start.p);
   if (m.config.base_pose.follow_feet) root.shift.z() = 0.0;  // the height follows the feet
   result = m.SearchWithRetries(root, max_steps);
-  result.planning_time_s = m.Elapsed();
+  result.planning_time_s = m.budget.Elapsed();
   result.stats = m.stats;
   return result;
 }
 
 std::optional<WholeBodyState> ContactPlanner::StandingStance(const Eigen::Vector3d& base_position_W, double yaw,
                                                              std::string* reason) {
-  impl_->start_time = std::chrono::steady_clock::now();
-  impl_->timed_out = false;
+  impl_->budget.Start(impl_->config.time_budget_s);
   return impl_->Standing(base_position_W, yaw, reason);
 }
 

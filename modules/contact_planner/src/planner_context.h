@@ -1,0 +1,62 @@
+#pragma once
+/// What every stage of a contact-planning query works with: the robot, the limb database, the
+/// configuration and the terrain (read only), and the equilibrium LP workspace, the work counters
+/// and the time budget (written).
+
+#include <chrono>
+#include <vector>
+
+#include "rbcp/collision/robot_terrain_collision.h"
+#include "rbcp/contact_planner/contact_planner.h"
+#include "rbcp/equilibrium/static_equilibrium.h"
+#include "surface_geometry.h"
+
+namespace rbcp {
+class LimbDatabase;
+class RobotModel;
+}  // namespace rbcp
+
+namespace rbcp::contact_planner_detail {
+
+/// The wall-clock budget of a query. The clock is read only here, to report the planning time
+/// and to stop the search.
+class TimeBudget {
+ public:
+  /// Starts the clock with `budget_s` [s] to spend.
+  void Start(double budget_s) {
+    start_ = std::chrono::steady_clock::now();
+    budget_s_ = budget_s;
+    exhausted_ = false;
+  }
+  /// Seconds since Start().
+  double Elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  /// True once more than the budget has elapsed, and from then on until the next Start().
+  bool Exhausted() {
+    if (!exhausted_ && Elapsed() > budget_s_) exhausted_ = true;
+    return exhausted_;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  double budget_s_ = 0.0;
+  bool exhausted_ = false;
+};
+
+/// The planner's robot, database, configuration and terrain, shared by reference with every
+/// stage. Through its last three members a stage writes the LP workspace, counts its work and
+/// checks the budget.
+struct PlannerContext {
+  const RobotModel& robot;
+  const LimbDatabase& db;
+  const EquilibriumConfig& eq_config;
+  const ContactPlannerConfig& config;
+  double torque_limit;                          ///< static torque allowed at a joint [N m]
+  const RobotTerrainCollision& collision;       ///< terrain checks, thighs with their clearance
+  const RobotTerrainCollision& self_collision;  ///< self-collision, exact shapes
+  const std::vector<ConvexPolygon3d>& surfaces; ///< the contact surfaces, as given to SetTerrain
+  StaticEquilibrium& equilibrium;
+  ContactPlanStats& stats;
+  TimeBudget& budget;
+};
+
+}  // namespace rbcp::contact_planner_detail
