@@ -19,6 +19,7 @@
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/limb_database/limb_database.h"
 #include "rbcp/robot/robot_model.h"
+#include "foothold_query.h"
 #include "path_track.h"
 #include "planner_context.h"
 #include "stance_checks.h"
@@ -26,6 +27,7 @@
 
 namespace rbcp {
 
+using contact_planner_detail::Candidate;
 using contact_planner_detail::ClosestPointInTriangle;
 using contact_planner_detail::Contacts;
 using contact_planner_detail::FeetPositions;
@@ -35,6 +37,7 @@ using contact_planner_detail::kNoMargins;
 using contact_planner_detail::LegKeep;
 using contact_planner_detail::LiftOffCollision;
 using contact_planner_detail::PlannerContext;
+using contact_planner_detail::RankedCandidates;
 using contact_planner_detail::SolveStance;
 using contact_planner_detail::StanceBase;
 using contact_planner_detail::StanceBaseAt;
@@ -44,6 +47,7 @@ using contact_planner_detail::TransitProblem;
 using contact_planner_detail::WorkspaceRatio;
 using contact_planner_detail::ConvexPolygon3d;
 using contact_planner_detail::ErodeTriangle;
+using contact_planner_detail::FarEnoughFromFeet;
 using contact_planner_detail::LeadPose;
 using contact_planner_detail::PathBasePose;
 using contact_planner_detail::PathPose;
@@ -149,13 +153,6 @@ struct KeepResult {
   double t_good = 0.0;
   std::vector<LegRank> ranking;  ///< failing legs first, by stretch
   std::string why;               ///< what failed first
-};
-
-struct Candidate {
-  int surface = -1;
-  int sample = -1;
-  double score = 0.0;
-  Eigen::Vector3d foothold = Eigen::Vector3d::Zero();
 };
 
 }  // namespace
@@ -320,98 +317,6 @@ struct ContactPlanner::Impl {
 
   // ---- Footholds -------------------------------------------------------------------------------
 
-  /// Database candidates for `leg` with the base at base_W, on the surfaces around the leg's
-  /// workspace, ranked by distance to target_W and offline score (best first) and deduplicated
-  /// by projected foothold.
-  std::vector<Candidate> RankedCandidates(Leg leg, const Eigen::Isometry3d& base_W, const Eigen::Vector3d& target_W,
-                                          double target_yaw, double near_half = 0.0) {
-    const FootholdConfig& fc = config.foothold;
-    std::vector<FootholdCandidate> raw;
-    // The workspace box (base frame, around the reference foot) seen from above: the rectangle in
-    // the base's heading frame that holds its eight corners, widened by the query distance.
-    const FootWorkspace& ws = config.workspace;
-    const Eigen::Vector3d ref = robot.ReferenceFootPosition(leg);
-    const double side = LeftSign(leg);
-    const Eigen::Matrix3d& R = base_W.linear();
-    const double yaw = std::atan2(R(1, 0), R(0, 0));
-    const Eigen::Vector2d axis_x(std::cos(yaw), std::sin(yaw));
-    const Eigen::Vector2d axis_y(-axis_x.y(), axis_x.x());
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector2d hi = -lo;
-    for (const double dx : {-ws.max_backward_m, ws.max_forward_m}) {
-      for (const double dy : {-side * ws.max_inward_m, side * ws.max_outward_m}) {
-        for (const double dz : {-ws.max_down_m, ws.max_up_m}) {
-          const Eigen::Vector2d c = (base_W * (ref + Eigen::Vector3d(dx, dy, dz))).head<2>();
-          const Eigen::Vector2d local(axis_x.dot(c), axis_y.dot(c));
-          lo = lo.cwiseMin(local);
-          hi = hi.cwiseMax(local);
-        }
-      }
-    }
-    lo.array() -= fc.query_distance_m;
-    hi.array() += fc.query_distance_m;
-    const Eigen::Vector2d mid = 0.5 * (lo + hi);
-    const Eigen::Vector2d half_extent = 0.5 * (hi - lo);
-    const Eigen::Vector2d centre = mid.x() * axis_x + mid.y() * axis_y;
-    // World-axis bounds of the rectangle, to skip surfaces far from it.
-    const Eigen::Vector2d reach(half_extent.x() * std::abs(axis_x.x()) + half_extent.y() * std::abs(axis_y.x()),
-                                half_extent.x() * std::abs(axis_x.y()) + half_extent.y() * std::abs(axis_y.y()));
-    for (std::size_t s = 0; s < surfaces.size(); ++s) {
-      const ConvexPolygon3d& surface = surfaces[s];
-      if ((surface.MinXy().array() > (centre + reach).array()).any() ||
-          (surface.MaxXy().array() < (centre - reach).array()).any()) {
-        continue;
-      }
-      std::vector<Eigen::Vector3d> clipped = surface.ClipToRectangle(centre, axis_x, half_extent.x(), half_extent.y());
-      if (clipped.size() < 3) continue;
-      if (near_half > 0.0) {
-        clipped = ConvexPolygon3d(clipped, surface.Normal()).ClipToSquare(target_W.head<2>(), near_half);
-        if (clipped.size() < 3) continue;
-      }
-      db.AppendCandidates(leg, base_W, clipped, surface.Normal(), fc.query_distance_m, static_cast<int>(s), &raw);
-    }
-    stats.candidates += static_cast<int>(raw.size());
-    const Eigen::Matrix3d R_tW = Yaw(target_yaw).transpose();
-    std::vector<Candidate> ranked;
-    ranked.reserve(raw.size());
-    for (const FootholdCandidate& c : raw) {
-      Candidate k;
-      k.surface = c.surface;
-      k.sample = c.sample;
-      // The clipped polygon lies inside the surface, so its closest point is a valid foothold.
-      k.foothold = c.closest_W;
-      const Eigen::Vector3d d = R_tW * (k.foothold - target_W);
-      k.score = fc.static_weight * c.static_score -
-                (fc.weight_x * d.x() * d.x() + fc.weight_y * d.y() * d.y() + fc.weight_z * d.z() * d.z());
-      ranked.push_back(k);
-    }
-    std::sort(ranked.begin(), ranked.end(), [](const Candidate& a, const Candidate& b) {
-      if (a.score != b.score) return a.score > b.score;
-      if (a.surface != b.surface) return a.surface < b.surface;
-      return a.sample < b.sample;
-    });
-    std::vector<Candidate> unique;
-    std::unordered_set<long long> seen;
-    const double cell = fc.dedup_cell_m;
-    for (const Candidate& c : ranked) {
-      const long long ix = static_cast<long long>(std::floor(c.foothold.x() / cell));
-      const long long iy = static_cast<long long>(std::floor(c.foothold.y() / cell));
-      const long long key = ((ix & 0xFFFFFF) << 36) ^ ((iy & 0xFFFFFF) << 12) ^ static_cast<long long>(c.surface);
-      if (seen.insert(key).second) unique.push_back(c);
-    }
-    return unique;
-  }
-
-  bool FarEnoughFromFeet(const std::array<FootContact, kNumLegs>& feet, int skip, const Eigen::Vector3d& p) const {
-    for (int i = 0; i < kNumLegs; ++i) {
-      if (i == skip) continue;
-      if ((feet[static_cast<std::size_t>(i)].position - p).head<2>().norm() < config.foothold.min_foot_separation_m) {
-        return false;
-      }
-    }
-    return true;
-  }
-
   // ---- Reachability of the goal ---------------------------------------------------------------
 
   /// The answer to a query whose path ends where no surface in the feet's reach is joined,
@@ -461,7 +366,7 @@ struct ContactPlanner::Impl {
     for (Leg leg : kTieOrder) {
       const std::size_t i = static_cast<std::size_t>(Index(leg));
       const Eigen::Vector3d target = base * robot.ReferenceFootPosition(leg);
-      const std::vector<Candidate> cands = RankedCandidates(leg, base, target, yaw);
+      const std::vector<Candidate> cands = RankedCandidates(ctx(), leg, base, target, yaw);
       bool found = false;
       for (const Candidate& c : cands) {
         ++stats.candidates_evaluated;
@@ -662,7 +567,7 @@ struct ContactPlanner::Impl {
     const double near_half = config.foothold.near_query_half_m;
     for (int stage = near_half > 0.0 ? 0 : 1; stage < 2; ++stage) {
       const std::vector<Candidate> cands =
-          RankedCandidates(leg, base, target, target_pose.yaw, stage == 0 ? near_half : 0.0);
+          RankedCandidates(ctx(), leg, base, target, target_pose.yaw, stage == 0 ? near_half : 0.0);
       candidates_seen += stage == 0 ? cands.size() : 0;
       for (const Candidate& c : cands) {
         if (stage == 1 && near_half > 0.0 && ((c.foothold - target).head<2>().cwiseAbs().array() < near_half).all()) {
@@ -675,7 +580,7 @@ struct ContactPlanner::Impl {
         }
         ++stats.candidates_evaluated;
         if ((c.foothold - old_foot).norm() < kMinStepLength) continue;
-        if (!FarEnoughFromFeet(parent.state.feet, j, c.foothold)) continue;
+        if (!FarEnoughFromFeet(ctx(), parent.state.feet, j, c.foothold)) continue;
         const Eigen::Vector3d p_B = T_BW * c.foothold;
         if (WorkspaceRatio(ctx(), leg, p_B) > 1.0) {
           last_reject = "outside the workspace";

@@ -1,0 +1,107 @@
+#include "foothold_query.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_set>
+
+#include "path_track.h"
+#include "rbcp/limb_database/limb_database.h"
+#include "rbcp/robot/robot_model.h"
+
+namespace rbcp::contact_planner_detail {
+
+std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, const Eigen::Isometry3d& base_W,
+                                        const Eigen::Vector3d& target_W, double target_yaw, double near_half) {
+  const FootholdConfig& fc = ctx.config.foothold;
+  std::vector<FootholdCandidate> raw;
+  // The workspace box (base frame, around the reference foot) seen from above: the rectangle in
+  // the base's heading frame that holds its eight corners, widened by the query distance.
+  const FootWorkspace& ws = ctx.config.workspace;
+  const Eigen::Vector3d ref = ctx.robot.ReferenceFootPosition(leg);
+  const double side = LeftSign(leg);
+  const Eigen::Matrix3d& R = base_W.linear();
+  const double yaw = std::atan2(R(1, 0), R(0, 0));
+  const Eigen::Vector2d axis_x(std::cos(yaw), std::sin(yaw));
+  const Eigen::Vector2d axis_y(-axis_x.y(), axis_x.x());
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  for (const double dx : {-ws.max_backward_m, ws.max_forward_m}) {
+    for (const double dy : {-side * ws.max_inward_m, side * ws.max_outward_m}) {
+      for (const double dz : {-ws.max_down_m, ws.max_up_m}) {
+        const Eigen::Vector2d c = (base_W * (ref + Eigen::Vector3d(dx, dy, dz))).head<2>();
+        const Eigen::Vector2d local(axis_x.dot(c), axis_y.dot(c));
+        lo = lo.cwiseMin(local);
+        hi = hi.cwiseMax(local);
+      }
+    }
+  }
+  lo.array() -= fc.query_distance_m;
+  hi.array() += fc.query_distance_m;
+  const Eigen::Vector2d mid = 0.5 * (lo + hi);
+  const Eigen::Vector2d half_extent = 0.5 * (hi - lo);
+  const Eigen::Vector2d centre = mid.x() * axis_x + mid.y() * axis_y;
+  // World-axis bounds of the rectangle, to skip surfaces far from it.
+  const Eigen::Vector2d reach(half_extent.x() * std::abs(axis_x.x()) + half_extent.y() * std::abs(axis_y.x()),
+                              half_extent.x() * std::abs(axis_x.y()) + half_extent.y() * std::abs(axis_y.y()));
+  for (std::size_t s = 0; s < ctx.surfaces.size(); ++s) {
+    const ConvexPolygon3d& surface = ctx.surfaces[s];
+    if ((surface.MinXy().array() > (centre + reach).array()).any() ||
+        (surface.MaxXy().array() < (centre - reach).array()).any()) {
+      continue;
+    }
+    std::vector<Eigen::Vector3d> clipped = surface.ClipToRectangle(centre, axis_x, half_extent.x(), half_extent.y());
+    if (clipped.size() < 3) continue;
+    if (near_half > 0.0) {
+      clipped = ConvexPolygon3d(clipped, surface.Normal()).ClipToSquare(target_W.head<2>(), near_half);
+      if (clipped.size() < 3) continue;
+    }
+    ctx.db.AppendCandidates(leg, base_W, clipped, surface.Normal(), fc.query_distance_m, static_cast<int>(s), &raw);
+  }
+  ctx.stats.candidates += static_cast<int>(raw.size());
+  const Eigen::Matrix3d R_tW = Yaw(target_yaw).transpose();
+  std::vector<Candidate> ranked;
+  ranked.reserve(raw.size());
+  for (const FootholdCandidate& c : raw) {
+    Candidate k;
+    k.surface = c.surface;
+    k.sample = c.sample;
+    // The clipped polygon lies inside the surface, so its closest point is a valid foothold.
+    k.foothold = c.closest_W;
+    const Eigen::Vector3d d = R_tW * (k.foothold - target_W);
+    k.score = fc.static_weight * c.static_score -
+              (fc.weight_x * d.x() * d.x() + fc.weight_y * d.y() * d.y() + fc.weight_z * d.z() * d.z());
+    ranked.push_back(k);
+  }
+  std::sort(ranked.begin(), ranked.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.score != b.score) return a.score > b.score;
+    if (a.surface != b.surface) return a.surface < b.surface;
+    return a.sample < b.sample;
+  });
+  return UniqueFootholds(ranked, fc.dedup_cell_m);
+}
+
+std::vector<Candidate> UniqueFootholds(const std::vector<Candidate>& ranked, double cell) {
+  std::vector<Candidate> unique;
+  std::unordered_set<long long> seen;
+  for (const Candidate& c : ranked) {
+    const long long ix = static_cast<long long>(std::floor(c.foothold.x() / cell));
+    const long long iy = static_cast<long long>(std::floor(c.foothold.y() / cell));
+    const long long key = ((ix & 0xFFFFFF) << 36) ^ ((iy & 0xFFFFFF) << 12) ^ static_cast<long long>(c.surface);
+    if (seen.insert(key).second) unique.push_back(c);
+  }
+  return unique;
+}
+
+bool FarEnoughFromFeet(const PlannerContext& ctx, const std::array<FootContact, kNumLegs>& feet, int skip,
+                       const Eigen::Vector3d& p) {
+  for (int i = 0; i < kNumLegs; ++i) {
+    if (i == skip) continue;
+    if ((feet[static_cast<std::size_t>(i)].position - p).head<2>().norm() < ctx.config.foothold.min_foot_separation_m) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace rbcp::contact_planner_detail
