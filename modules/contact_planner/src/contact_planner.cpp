@@ -19,31 +19,43 @@
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/limb_database/limb_database.h"
 #include "rbcp/robot/robot_model.h"
+#include "crawl_order.h"
 #include "foothold_query.h"
 #include "path_track.h"
 #include "planner_context.h"
+#include "search_node.h"
 #include "stance_checks.h"
+#include "step.h"
 #include "surface_geometry.h"
 
 namespace rbcp {
 
+using contact_planner_detail::BaseVariant;
 using contact_planner_detail::Candidate;
 using contact_planner_detail::ClosestPointInTriangle;
+using contact_planner_detail::CrawlNext;
 using contact_planner_detail::Contacts;
 using contact_planner_detail::FeetPositions;
 using contact_planner_detail::KeepFailure;
 using contact_planner_detail::KeepLeg;
 using contact_planner_detail::kNoMargins;
+using contact_planner_detail::kTieOrder;
 using contact_planner_detail::LegKeep;
 using contact_planner_detail::LiftOffCollision;
+using contact_planner_detail::Node;
+using contact_planner_detail::NumVariants;
 using contact_planner_detail::PlannerContext;
 using contact_planner_detail::RankedCandidates;
 using contact_planner_detail::SolveStance;
 using contact_planner_detail::StanceBase;
 using contact_planner_detail::StanceBaseAt;
+using contact_planner_detail::StepAttempt;
+using contact_planner_detail::StepOutcome;
+using contact_planner_detail::TieRank;
 using contact_planner_detail::TimeBudget;
 using contact_planner_detail::TorqueProblem;
 using contact_planner_detail::TransitProblem;
+using contact_planner_detail::TryStep;
 using contact_planner_detail::WorkspaceRatio;
 using contact_planner_detail::ConvexPolygon3d;
 using contact_planner_detail::ErodeTriangle;
@@ -77,71 +89,8 @@ namespace {
 
 /// Interpolation step of a RootPath handed to Plan() [s].
 constexpr double kRootPathSampling = 0.01;
-/// New footholds closer than this to the foot's previous position are no step [m].
-constexpr double kMinStepLength = 0.02;
 /// Two footholds of one leg closer than this are the same step when searching [m].
 constexpr double kSameFoothold = 0.01;
-/// Crawl order used to break ties between equally stretched legs.
-constexpr std::array<Leg, kNumLegs> kTieOrder = {Leg::kLH, Leg::kLF, Leg::kRH, Leg::kRF};
-
-/// The leg that steps before `leg` in the crawl order LH, LF, RH, RF.
-Leg CrawlPrevious(Leg leg) {
-  switch (leg) {
-    case Leg::kLF: return Leg::kLH;
-    case Leg::kRH: return Leg::kLF;
-    case Leg::kRF: return Leg::kRH;
-    case Leg::kLH: return Leg::kRF;
-  }
-  return leg;
-}
-
-/// The leg that steps after `leg` in the crawl order LH, LF, RH, RF.
-Leg CrawlNext(Leg leg) {
-  switch (leg) {
-    case Leg::kLH: return Leg::kLF;
-    case Leg::kLF: return Leg::kRH;
-    case Leg::kRH: return Leg::kRF;
-    case Leg::kRF: return Leg::kLH;
-  }
-  return leg;
-}
-
-int TieRank(Leg leg) {
-  for (int i = 0; i < kNumLegs; ++i) {
-    if (kTieOrder[static_cast<std::size_t>(i)] == leg) return i;
-  }
-  return kNumLegs;
-}
-
-/// One node of the step search: a state, the path time it stands at and the body shift.
-struct Node {
-  WholeBodyState state;
-  double t = 0.0;
-  Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< base offset from the path, path heading frame
-  int steps_at_time = 0;                            ///< steps taken since the trunk last advanced
-  std::array<bool, kNumLegs> stepped_at_time{};     ///< legs that stepped since then
-  // Search bookkeeping.
-  bool expanded = false;
-  bool goal = false;           ///< the node completes the plan
-  struct Option {
-    Leg leg;
-    double t;
-    int lead;                  ///< index into lead_time_factors
-    bool goal_step;
-    int variant = 0;           ///< start of the shift search, see BaseVariant()
-  };
-  std::vector<Option> options;
-  std::size_t next_option = 0;
-  std::set<std::tuple<int, long, int>> exhausted;  ///< (leg, time key, variant) with no valid candidate
-  std::set<std::pair<int, long>> repositions;      ///< (leg, time key) added as blocking a lift-off
-  struct Child {
-    Leg leg;
-    double t;
-    Eigen::Vector3d foot;
-  };
-  std::vector<Child> children;  ///< steps already explored from this node
-};
-
 struct LegRank {
   Leg leg;
   double stretch;  ///< largest workspace ratio (> 1 outside)
@@ -174,9 +123,6 @@ struct ContactPlanner::Impl {
   TimeBudget budget;
   ContactPlanStats stats;
   std::optional<PathTrack> path;
-  // Stance leg that blocked the last lift-off tried (-1: none): it hit the terrain, or it is the
-  // leg whose re-placement widens a support triangle the CoM cannot get into.
-  int blocking_leg = -1;
   // Crawl timing of the current search (gait_advance_s, or one of its retry values).
   double gait_advance = 0.0;
   // The most informative failure seen (deepest along the path).
@@ -315,8 +261,6 @@ struct ContactPlanner::Impl {
     return result;
   }
 
-  // ---- Footholds -------------------------------------------------------------------------------
-
   // ---- Reachability of the goal ---------------------------------------------------------------
 
   /// The answer to a query whose path ends where no surface in the feet's reach is joined,
@@ -410,262 +354,6 @@ struct ContactPlanner::Impl {
     return state;
   }
 
-  // ---- One step --------------------------------------------------------------------------------
-
-  /// Start of the shift search of a step option: 0 the parent's shift (the body stays where it
-  /// is); 1 the path pose; then the lateral offsets; then the height offsets (path heading frame,
-  /// z = height added to the stance height).
-  int NumVariants() const {
-    return 2 + static_cast<int>(config.base_shift.lateral_offsets_m.size() + config.base_shift.height_offsets_m.size());
-  }
-  Eigen::Vector3d BaseVariant(const Node& parent, int variant) const {
-    const BaseShiftConfig& bs = config.base_shift;
-    if (variant == 0) return parent.shift;
-    if (variant == 1) return Eigen::Vector3d::Zero();
-    const std::size_t k = static_cast<std::size_t>(variant - 2);
-    if (k < bs.lateral_offsets_m.size()) return {0.0, bs.lateral_offsets_m[k], 0.0};
-    return {0.0, 0.0, bs.height_offsets_m.at(k - bs.lateral_offsets_m.size())};
-  }
-
-  /// Shift (path heading frame) that puts the CoM support_margin + extra inside the triangle of
-  /// the stance feet, searched from `start` (horizontal offset and height offset). Each update
-  /// moves the CoM toward the eroded triangle; an update that puts a stance foot out of reach is
-  /// halved until the stance is reachable. nullopt when the margin cannot be met.
-  std::optional<Eigen::Vector3d> SwingShift(const PathPose& pose, const Node& parent, int skip,
-                                            const Eigen::Vector3d& start, JointVector* q_pre, std::string* why) {
-    const auto base_at = [&](const Eigen::Vector3d& s) {
-      return StanceBaseAt(ctx(), pose, s, parent.state.feet, skip).base_W;
-    };
-    const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, skip);
-    const std::array<Eigen::Vector2d, 3> tri = {stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()};
-    const double required = eq_config.support_margin_m;
-    const auto eroded = ErodeTriangle(tri, required + config.base_shift.shift_extra_margin_m);
-    // A triangle the CoM cannot get into is widened by the leg before this one in the crawl.
-    const int widening_leg = Index(CrawlPrevious(kAllLegs[static_cast<std::size_t>(skip)]));
-    if (!eroded) {
-      *why = "support triangle too small";
-      blocking_leg = widening_leg;
-      return std::nullopt;
-    }
-    const Eigen::Matrix3d R = Yaw(pose.yaw);
-    const double max_shift = config.base_shift.max_base_shift_m;
-    const auto clamp = [&](Eigen::Vector3d s) {
-      if (s.head<2>().norm() > max_shift) s.head<2>() *= max_shift / s.head<2>().norm();
-      return s;
-    };
-    // Start from `start`; fall back on the current horizontal shift when the feet cannot be
-    // reached from there.
-    Eigen::Vector3d shift = clamp(start);
-    Eigen::Isometry3d base = base_at(shift);
-    std::optional<JointVector> q_stance = SolveStance(ctx(), base, parent.state.feet, skip);
-    if (!q_stance) {
-      shift = clamp(Eigen::Vector3d(parent.shift.x(), parent.shift.y(), start.z()));
-      base = base_at(shift);
-      q_stance = SolveStance(ctx(), base, parent.state.feet, skip);
-      if (!q_stance) {
-        *why = "stance feet out of reach at the step pose";
-        return std::nullopt;
-      }
-    }
-    *q_pre = *q_stance;
-    for (int iter = 0; iter < 6; ++iter) {
-      const Eigen::Vector3d com = CoM(ctx(), base, *q_pre);
-      if (SupportPolygonMargin(stance, com) >= required + 0.5 * config.base_shift.shift_extra_margin_m) return shift;
-      const Eigen::Vector2d goal = ClosestPointInTriangle(*eroded, com.head<2>());
-      const Eigen::Vector3d delta = R.transpose() * Eigen::Vector3d(goal.x() - com.x(), goal.y() - com.y(), 0.0);
-      bool moved = false;
-      // Each update is tried at the same height, then lowered and raised by height_step_m: a
-      // stance spread over stairs or blocks often needs the body lower or higher to reach.
-      const double dz_step = config.base_shift.height_step_m;
-      for (double scale = 1.0; scale > 0.1 && !moved; scale *= 0.5) {
-        for (const double dz : {0.0, -dz_step, dz_step}) {
-          if (dz != 0.0 && dz_step <= 0.0) break;
-          Eigen::Vector3d trial = clamp(shift + scale * delta);
-          trial.z() += dz;
-          const Eigen::Isometry3d trial_base = base_at(trial);
-          if (const std::optional<JointVector> q = SolveStance(ctx(), trial_base, parent.state.feet, skip)) {
-            shift = trial;
-            base = trial_base;
-            *q_pre = *q;
-            moved = true;
-            break;
-          }
-        }
-      }
-      if (!moved) {
-        *why = "stance feet out of reach with the body shifted for the swing";
-        break;
-      }
-    }
-    if (SupportPolygonMargin(stance, CoM(ctx(), base, *q_pre)) >= required) return shift;
-    if (why->empty()) {
-      *why = "CoM cannot be shifted " + FixedNumber(required) + " m inside the swing support triangle";
-      blocking_leg = widening_leg;
-    }
-    return std::nullopt;
-  }
-
-  enum class StepOutcome { kFound, kNoCandidate, kCapped, kPoseInvalid };
-
-  StepOutcome TryStep(const Node& parent, const Node::Option& option, Node* child, std::string* why) {
-    ++stats.step_attempts;
-    const Leg leg = option.leg;
-    const int j = Index(leg);
-    const PathPose pose = path->At(option.t);
-    JointVector q_pre = JointVector::Zero();
-    const auto shift = SwingShift(pose, parent, j, BaseVariant(parent, option.variant), &q_pre, why);
-    if (!shift) return StepOutcome::kPoseInvalid;
-    const StanceBase step_base = StanceBaseAt(ctx(), pose, *shift, parent.state.feet, j);
-    const Eigen::Isometry3d& base = step_base.base_W;
-
-    // The stance before lift-off: collision, swing triangle, torques of the three-foot stance.
-    const CollisionReport pre_hit = LiftOffCollision(ctx(), base, q_pre, leg);
-    if (pre_hit.collision) {
-      *why = "collision before lift-off (" + pre_hit.first_shape + ")";
-      if (const auto blocking = LegFromName(std::string_view(pre_hit.first_shape).substr(0, 2))) {
-        if (*blocking != leg) blocking_leg = Index(*blocking);
-      }
-      return StepOutcome::kPoseInvalid;
-    }
-    if (self_collision->CheckSelf(q_pre).collision) {
-      *why = "self-collision before lift-off";
-      return StepOutcome::kPoseInvalid;
-    }
-    const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, j);
-    const Eigen::Vector3d com_pre = CoM(ctx(), base, q_pre);
-    if (SupportPolygonMargin(stance, com_pre) < eq_config.support_margin_m) {
-      *why = "CoM too close to the swing support triangle at lift-off";
-      return StepOutcome::kPoseInvalid;
-    }
-    const std::string torque = TorqueProblem(ctx(), base, q_pre, parent.state.feet, j, com_pre);
-    if (!torque.empty()) {
-      *why = "three-foot stance at lift-off: " + torque;
-      return StepOutcome::kPoseInvalid;
-    }
-    const std::string transit = TransitProblem(ctx(), parent.state, base, step_base.rpy, j);
-    if (!transit.empty()) {
-      *why = transit;
-      return StepOutcome::kPoseInvalid;
-    }
-
-    // Target of the new foothold.
-    PathPose target_pose;
-    if (option.goal_step) {
-      target_pose = path->At(path->End());
-    } else {
-      const double lead = config.foothold.lead_time_s * config.foothold.lead_time_factors[static_cast<std::size_t>(option.lead)];
-      target_pose = LeadPose(*path, option.t, lead, config.foothold.max_lead_yaw_rad);
-    }
-    const Eigen::Vector3d target = PathBasePose(target_pose) * robot.ReferenceFootPosition(leg);
-    const Eigen::Isometry3d T_BW = base.inverse();
-    const Eigen::Vector3d old_foot = parent.state.feet[static_cast<std::size_t>(j)].position;
-    int lp_evaluations = 0;
-    std::size_t candidates_seen = 0;
-    std::string last_reject;
-    // Footholds near the target first (most steps end there, and the database query is the
-    // planner's main cost), then the rest of the workspace.
-    const double near_half = config.foothold.near_query_half_m;
-    for (int stage = near_half > 0.0 ? 0 : 1; stage < 2; ++stage) {
-      const std::vector<Candidate> cands =
-          RankedCandidates(ctx(), leg, base, target, target_pose.yaw, stage == 0 ? near_half : 0.0);
-      candidates_seen += stage == 0 ? cands.size() : 0;
-      for (const Candidate& c : cands) {
-        if (stage == 1 && near_half > 0.0 && ((c.foothold - target).head<2>().cwiseAbs().array() < near_half).all()) {
-          continue;  // evaluated in the first stage
-        }
-        if (stage == 1) ++candidates_seen;
-        if (budget.Exhausted()) {
-          *why = "time budget exhausted";
-          return StepOutcome::kCapped;
-        }
-        ++stats.candidates_evaluated;
-        if ((c.foothold - old_foot).norm() < kMinStepLength) continue;
-        if (!FarEnoughFromFeet(ctx(), parent.state.feet, j, c.foothold)) continue;
-        const Eigen::Vector3d p_B = T_BW * c.foothold;
-        if (WorkspaceRatio(ctx(), leg, p_B) > 1.0) {
-          last_reject = "outside the workspace";
-          continue;
-        }
-        const IkResult ik = robot.SolveLegIk(leg, p_B);
-        if (!ik.ok() || !robot.KneeBent(ik.q)) {
-          last_reject = "kinematics";
-          continue;
-        }
-        JointVector q_post = q_pre;
-        SetLegJoints(q_post, leg, ik.q);
-        const Eigen::Vector3d com_post = CoM(ctx(), base, q_post);
-        if (SupportPolygonMargin(stance, com_post) < eq_config.support_margin_m) {
-          last_reject = "CoM near the swing triangle edge at touch-down";
-          continue;
-        }
-        if (collision->CheckLeg(leg, base, ik.q, true).collision) {
-          last_reject = "leg collision";
-          continue;
-        }
-        if (self_collision->CheckSelf(q_post).collision) {
-          last_reject = "self-collision";
-          continue;
-        }
-        // Look-ahead: the foot must stay keepable (workspace, kinematics, no collision) at the path
-        // pose lead_time_s later, so it is not placed where the advancing trunk would at once drag
-        // its shank into a riser or a block edge.
-        if (!option.goal_step) {
-          std::array<FootContact, kNumLegs> ahead_feet = parent.state.feet;
-          ahead_feet[static_cast<std::size_t>(j)].position = c.foothold;
-          const PathPose ahead_pose =
-              LeadPose(*path, option.t, config.foothold.lead_time_s, config.foothold.max_lead_yaw_rad);
-          const Eigen::Isometry3d ahead =
-              StanceBaseAt(ctx(), ahead_pose, Eigen::Vector3d(0.0, 0.0, shift->z()), ahead_feet).base_W;
-          if (KeepLeg(ctx(), leg, ahead, c.foothold).failure != KeepFailure::kNone) {
-            last_reject = "not keepable as the trunk advances";
-            continue;
-          }
-        }
-        if (lp_evaluations >= config.foothold.max_stability_evaluations) {
-          *why = "no stable foothold among the " + std::to_string(lp_evaluations) + " best candidates (last: " +
-                 last_reject + ")";
-          return StepOutcome::kCapped;
-        }
-        ++lp_evaluations;
-        ++stats.stability_evaluations;
-        std::array<FootContact, kNumLegs> feet = parent.state.feet;
-        feet[static_cast<std::size_t>(j)].position = c.foothold;
-        feet[static_cast<std::size_t>(j)].normal = surfaces[static_cast<std::size_t>(c.surface)].Normal();
-        const EquilibriumResult eq = equilibrium.Robustness(Contacts(feet, -1), com_post);
-        if (!equilibrium.MeetsThreshold(eq)) {
-          last_reject = "robustness " + FixedNumber(eq.robustness_N, 2) + " N";
-          continue;
-        }
-        if (const std::string four = TorqueProblem(ctx(), base, q_post, feet, -1, com_post); !four.empty()) {
-          last_reject = "four-foot stance: " + four;
-          continue;
-        }
-        if (const std::string three = TorqueProblem(ctx(), base, q_post, feet, j, com_post); !three.empty()) {
-          last_reject = "three-foot stance at touch-down: " + three;
-          continue;
-        }
-        // Accepted.
-        child->state.base_position = base.translation();
-        child->state.base_rpy = step_base.rpy;
-        child->state.joints = q_post;
-        child->state.feet = feet;
-        child->state.moving_leg = j;
-        child->t = option.t;
-        child->shift = *shift;
-        const bool advanced = option.t > parent.t + 1e-9;
-        child->steps_at_time = advanced ? 1 : parent.steps_at_time + 1;
-        if (advanced) child->stepped_at_time.fill(false);
-        else child->stepped_at_time = parent.stepped_at_time;
-        child->stepped_at_time[static_cast<std::size_t>(j)] = true;
-        return StepOutcome::kFound;
-      }
-    }
-    if (candidates_seen == 0) last_reject = "no database sample near a contact surface";
-    *why = "no valid foothold among " + std::to_string(candidates_seen) + " candidates" +
-           (last_reject.empty() ? "" : " (last rejected: " + last_reject + ")");
-    return StepOutcome::kNoCandidate;
-  }
-
   // ---- Search ----------------------------------------------------------------------------------
 
   double GoalDistance(const Node& node, Leg leg) const {
@@ -733,8 +421,8 @@ struct ContactPlanner::Impl {
     // A leg at time t with every target lead, then from every other start of the shift search.
     const auto add_every_variant = [&](Leg leg, double t) {
       for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({leg, t, lead, false, 0});
-      for (int v = 1; v < NumVariants(); ++v) {
-        if ((BaseVariant(node, v) - BaseVariant(node, 0)).norm() < 1e-9) continue;  // same start
+      for (int v = 1; v < NumVariants(config); ++v) {
+        if ((BaseVariant(config, node, v) - BaseVariant(config, node, 0)).norm() < 1e-9) continue;  // same start
         node.options.push_back({leg, t, 0, false, v});
       }
     };
@@ -811,24 +499,22 @@ struct ContactPlanner::Impl {
         const Node::Option option = node.options[node.next_option++];
         const std::tuple<int, long, int> key{Index(option.leg), TimeKey(option.t), option.variant};
         if (node.exhausted.count(key)) continue;
-        Node child;
-        std::string why;
-        blocking_leg = -1;
-        const StepOutcome outcome = TryStep(node, option, &child, &why);
-        if (blocking_leg >= 0) {
+        StepAttempt attempt = TryStep(ctx(), *path, node, option);
+        if (attempt.blocking) {
           // A stance leg hits the terrain (a riser, a wall) when the body shifts for this swing,
           // or narrows the swing's support triangle: re-place that leg first, at the same time,
           // before the remaining options.
-          const Leg blocker = kAllLegs[static_cast<std::size_t>(blocking_leg)];
+          const Leg blocker = *attempt.blocking;
           const bool same_time = option.t <= node.t + 1e-9;
           const bool allowed = !same_time || (node.steps_at_time < config.retry.max_steps_at_one_time &&
-                                              !node.stepped_at_time[static_cast<std::size_t>(blocking_leg)]);
-          if (allowed && node.repositions.insert({blocking_leg, TimeKey(option.t)}).second) {
+                                              !node.stepped_at_time[static_cast<std::size_t>(Index(blocker))]);
+          if (allowed && node.repositions.insert({Index(blocker), TimeKey(option.t)}).second) {
             node.options.insert(node.options.begin() + static_cast<std::ptrdiff_t>(node.next_option),
                                 Node::Option{blocker, option.t, 0, option.goal_step, 0});
           }
         }
-        if (outcome == StepOutcome::kFound) {
+        if (attempt.outcome == StepOutcome::kFound) {
+          Node& child = attempt.child;
           const Eigen::Vector3d& foot = child.state.feet[static_cast<std::size_t>(Index(option.leg))].position;
           const bool duplicate = std::any_of(node.children.begin(), node.children.end(), [&](const auto& c) {
             return c.leg == option.leg && std::abs(c.t - child.t) < 1e-9 && (c.foot - foot).norm() < kSameFoothold;
@@ -838,8 +524,10 @@ struct ContactPlanner::Impl {
           stack.push_back(std::move(child));
           continue;
         }
-        if (outcome == StepOutcome::kNoCandidate || outcome == StepOutcome::kPoseInvalid) node.exhausted.insert(key);
-        NoteFailure(option.t, option.leg, why);
+        if (attempt.outcome == StepOutcome::kNoCandidate || attempt.outcome == StepOutcome::kPoseInvalid) {
+          node.exhausted.insert(key);
+        }
+        NoteFailure(option.t, option.leg, attempt.why);
         continue;
       }
       // Every option failed: undo this node's step.

@@ -1,0 +1,46 @@
+#pragma once
+/// A node of the step search.
+
+#include <Eigen/Core>
+#include <array>
+#include <cstddef>
+#include <set>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "rbcp/core/contact_plan.h"
+#include "rbcp/core/leg.h"
+
+namespace rbcp::contact_planner_detail {
+
+/// One node of the step search: a state, the path time it stands at and the body shift.
+struct Node {
+  WholeBodyState state;
+  double t = 0.0;
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< base offset from the path, path heading frame
+  int steps_at_time = 0;                            ///< steps taken since the trunk last advanced
+  std::array<bool, kNumLegs> stepped_at_time{};     ///< legs that stepped since then
+  // Search bookkeeping.
+  bool expanded = false;
+  bool goal = false;           ///< the node completes the plan
+  struct Option {
+    Leg leg;
+    double t;
+    int lead;                  ///< index into lead_time_factors
+    bool goal_step;
+    int variant = 0;           ///< start of the shift search, see BaseVariant()
+  };
+  std::vector<Option> options;
+  std::size_t next_option = 0;
+  std::set<std::tuple<int, long, int>> exhausted;  ///< (leg, time key, variant) with no valid candidate
+  std::set<std::pair<int, long>> repositions;      ///< (leg, time key) added as blocking a lift-off
+  struct Child {
+    Leg leg;
+    double t;
+    Eigen::Vector3d foot;
+  };
+  std::vector<Child> children;  ///< steps already explored from this node
+};
+
+}  // namespace rbcp::contact_planner_detail

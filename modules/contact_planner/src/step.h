@@ -1,0 +1,63 @@
+#pragma once
+/// One step of the search: the body shift for the swing, the stance at lift-off, and the new
+/// foothold (the first database candidate that passes every test).
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+
+#include "path_track.h"
+#include "planner_context.h"
+#include "rbcp/robot/robot_model.h"
+#include "search_node.h"
+
+namespace rbcp::contact_planner_detail {
+
+/// Start of the shift search of a step option: 0 the parent's shift (the body stays where it
+/// is); 1 the path pose; then the lateral offsets; then the height offsets (path heading frame,
+/// z = height added to the stance height).
+int NumVariants(const ContactPlannerConfig& config);
+Eigen::Vector3d BaseVariant(const ContactPlannerConfig& config, const Node& parent, int variant);
+
+/// The body shift of a swing, or why there is none.
+struct SwingShiftResult {
+  std::optional<Eigen::Vector3d> shift;  ///< path heading frame; nullopt when the margin cannot be met
+  JointVector q = JointVector::Zero();   ///< the stance's joints with the base at the shift
+  std::string why;                       ///< empty with a shift
+  /// The stance leg whose re-placement would widen a support triangle the CoM cannot get into.
+  std::optional<Leg> blocking;
+};
+
+/// Shift (path heading frame) that puts the CoM support_margin + extra inside the triangle of
+/// the stance feet (all of parent's but `swing`), with the base at path pose `pose`, searched from
+/// `start` (horizontal offset and height offset). Each update moves the CoM toward the eroded
+/// triangle; an update that puts a stance foot out of reach is halved until the stance is
+/// reachable.
+SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, const Node& parent, Leg swing,
+                            const Eigen::Vector3d& start);
+
+enum class StepOutcome {
+  kFound,        ///< a valid foothold: `child`
+  kNoCandidate,  ///< every candidate failed
+  kCapped,       ///< stopped early: the equilibrium-test cap or the time budget
+  kPoseInvalid,  ///< no valid stance before lift-off (shift, collision, support, torques, transit)
+};
+
+/// What one step attempt came to.
+struct StepAttempt {
+  StepOutcome outcome = StepOutcome::kNoCandidate;
+  std::string why;  ///< what failed (empty when found)
+  /// A stance leg to re-place first: it hits the terrain when the body shifts for this swing,
+  /// or its re-placement widens a swing triangle the CoM cannot get into.
+  std::optional<Leg> blocking;
+  Node child;  ///< the node after the step, when found
+};
+
+/// Steps option.leg at path time option.t from `parent`: the body shift (from the option's
+/// variant), the lift-off stance and the transit to it, then the database candidates toward the
+/// target (the reference foot at the lead pose, or at the path end for a goal step), nearest
+/// first, until one passes kinematics, support, collision, the look-ahead, equilibrium and
+/// torques.
+StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node& parent, const Node::Option& option);
+
+}  // namespace rbcp::contact_planner_detail
