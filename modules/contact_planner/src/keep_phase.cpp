@@ -1,0 +1,104 @@
+#include "keep_phase.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "crawl_order.h"
+#include "rbcp/equilibrium/support_polygon.h"
+#include "stance_checks.h"
+
+namespace rbcp::contact_planner_detail {
+
+KeepCheck KeepAt(const PlannerContext& ctx, const PathTrack& path, const Node& node, double t) {
+  KeepCheck check;
+  const Eigen::Isometry3d base = StanceBaseAt(ctx, path.At(t), node.shift, node.state.feet).base_W;
+  JointVector q = JointVector::Zero();
+  bool all_ok = true;
+  for (Leg leg : kAllLegs) {
+    const std::size_t i = static_cast<std::size_t>(Index(leg));
+    const LegKeep keep = KeepLeg(ctx, leg, base, node.state.feet[i].position);
+    check.stretch[i] = keep.stretch;
+    const KeepFailure f = keep.failure;
+    check.failing[i] = f != KeepFailure::kNone;
+    if (f != KeepFailure::kNone) {
+      all_ok = false;
+      if (check.why.empty()) {
+        check.why = std::string(LegName(leg)) +
+                    (f == KeepFailure::kWorkspace    ? " leaves its workspace"
+                     : f == KeepFailure::kKinematics ? " out of kinematic reach"
+                                                     : " in collision");
+      }
+    } else {
+      SetLegJoints(q, leg, keep.q);
+    }
+  }
+  if (!all_ok) return check;
+  bool body_ok = !ctx.collision.CheckTrunk(base).collision;
+  if (body_ok) {
+    const double margin = SupportPolygonMargin(FeetPositions(node.state.feet, -1), CoM(ctx, base, q));
+    body_ok = margin >= ctx.eq_config.support_margin_m;
+  }
+  if (!body_ok) {
+    // Not attributable to one leg: every leg may step, the most stretched first.
+    check.failing.fill(true);
+    check.why = "trunk collision or CoM near the edge of the support polygon";
+    return check;
+  }
+  check.ok = true;
+  return check;
+}
+
+KeepResult KeepPhase(const PlannerContext& ctx, const PathTrack& path, const Node& node) {
+  KeepResult result;
+  const double end = path.End();
+  auto finish = [&](double t_good, const std::array<bool, kNumLegs>& fail, const std::array<double, kNumLegs>& str) {
+    result.t_good = t_good;
+    for (Leg leg : kAllLegs) {
+      const std::size_t i = static_cast<std::size_t>(Index(leg));
+      result.ranking.push_back({leg, str[i], fail[i]});
+    }
+    std::sort(result.ranking.begin(), result.ranking.end(), [](const LegRank& a, const LegRank& b) {
+      if (a.failing != b.failing) return a.failing;
+      if (std::abs(a.stretch - b.stretch) > 1e-6) return a.stretch > b.stretch;
+      return TieRank(a.leg) < TieRank(b.leg);
+    });
+  };
+  const KeepCheck first = KeepAt(ctx, path, node, node.t);
+  if (!first.ok) {
+    result.why = first.why;
+    finish(node.t, first.failing, first.stretch);
+    return result;
+  }
+  double t_ok = node.t;
+  std::array<double, kNumLegs> ok_stretch = first.stretch;
+  while (t_ok < end) {
+    const double t = std::min(end, t_ok + ctx.config.path_step_s);
+    const KeepCheck next = KeepAt(ctx, path, node, t);
+    if (next.ok) {
+      t_ok = t;
+      ok_stretch = next.stretch;
+      continue;
+    }
+    // Bisect to the last keepable time.
+    double lo = t_ok, hi = t;
+    KeepCheck at_hi = next;
+    while (hi - lo > ctx.config.step_time_resolution_s) {
+      const double mid = 0.5 * (lo + hi);
+      KeepCheck at_mid = KeepAt(ctx, path, node, mid);
+      if (at_mid.ok) {
+        lo = mid;
+      } else {
+        hi = mid;
+        at_hi = std::move(at_mid);
+      }
+    }
+    result.why = at_hi.why;
+    finish(lo, at_hi.failing, at_hi.stretch);
+    return result;
+  }
+  result.reached_end = true;
+  finish(end, std::array<bool, kNumLegs>{}, ok_stretch);
+  return result;
+}
+
+}  // namespace rbcp::contact_planner_detail

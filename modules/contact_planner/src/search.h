@@ -1,0 +1,42 @@
+#pragma once
+/// The step search: depth first from a root node, each node's options from its keep phase
+/// (which leg steps, when, toward which target and from which start of the shift search),
+/// backtracking when every option of a node fails, and the whole search again with other crawl
+/// timings when it runs out of options.
+
+#include <string>
+
+#include "path_track.h"
+#include "planner_context.h"
+#include "rbcp/contact_planner/contact_planner.h"
+#include "search_node.h"
+
+namespace rbcp::contact_planner_detail {
+
+/// The most informative failure of a search: the one furthest along the path.
+struct Failure {
+  double t = -1.0;  ///< path time [s]; -1 while there is none
+  int leg = -1;     ///< Index(Leg) of the leg that could not step; -1 while there is none
+  std::string why;
+
+  /// Keeps `other` when it lies at least as far along the path (the later of two at one time).
+  void Note(const Failure& other) {
+    if (other.t >= t) *this = other;
+  }
+  /// "no valid step for LF at path time 2.84 s: <why>".
+  std::string Describe() const;
+};
+
+/// Searches for steps from `root` along `path` with the crawl timing `gait_advance` [s] (0: none),
+/// to the goal or, with max_steps >= 0, for at most max_steps steps. The result's plan, status,
+/// reason, failure time and leg; the caller sets the planning time and the stats.
+ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, double gait_advance, Node root,
+                         int max_steps);
+
+/// Search() with gait_advance_s; when that fails for want of footholds (not time), again from
+/// the same root with each of retry.gait_advance_s in turn while time remains. The crawl timing
+/// decides where every foot stands when the terrain gets hard, so a dead end under one timing is
+/// rarely one under another.
+ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps);
+
+}  // namespace rbcp::contact_planner_detail

@@ -1,0 +1,72 @@
+#include "start_stance.h"
+
+#include <array>
+#include <vector>
+
+#include "crawl_order.h"
+#include "foothold_query.h"
+#include "path_track.h"
+#include "rbcp/core/format.h"
+#include "rbcp/equilibrium/support_polygon.h"
+#include "stance_checks.h"
+
+namespace rbcp::contact_planner_detail {
+
+StandingResult StandingAt(const PlannerContext& ctx, const Eigen::Vector3d& base_position, double yaw) {
+  const auto fail = [](std::string why) { return StandingResult{std::nullopt, std::move(why)}; };
+  const PathPose pose{base_position, yaw};
+  const Eigen::Isometry3d base = PathBasePose(pose);
+  WholeBodyState state;
+  state.base_position = base_position;
+  state.base_rpy = Eigen::Vector3d(0.0, 0.0, yaw);
+  state.moving_leg = -1;
+  JointVector q = JointVector::Zero();
+  std::array<bool, kNumLegs> placed{};
+  for (Leg leg : kTieOrder) {
+    const std::size_t i = static_cast<std::size_t>(Index(leg));
+    const Eigen::Vector3d target = base * ctx.robot.ReferenceFootPosition(leg);
+    const std::vector<Candidate> cands = RankedCandidates(ctx, leg, base, target, yaw);
+    bool found = false;
+    for (const Candidate& c : cands) {
+      ++ctx.stats.candidates_evaluated;
+      bool separated = true;
+      for (int k = 0; k < kNumLegs; ++k) {
+        if (placed[static_cast<std::size_t>(k)] &&
+            (state.feet[static_cast<std::size_t>(k)].position - c.foothold).head<2>().norm() <
+                ctx.config.foothold.min_foot_separation_m) {
+          separated = false;
+        }
+      }
+      if (!separated) continue;
+      const LegKeep keep = KeepLeg(ctx, leg, base, c.foothold);
+      if (keep.failure != KeepFailure::kNone) continue;
+      state.feet[i].position = c.foothold;
+      state.feet[i].normal = ctx.surfaces[static_cast<std::size_t>(c.surface)].Normal();
+      SetLegJoints(q, leg, keep.q);
+      placed[i] = true;
+      found = true;
+      break;
+    }
+    if (!found) {
+      return fail(std::string("no valid foothold for ") + std::string(LegName(leg)) + " near its reference position (" +
+                  std::to_string(cands.size()) + " candidates)");
+    }
+  }
+  state.joints = q;
+  if (ctx.collision.CheckTrunk(base).collision) return fail("trunk collides with the terrain");
+  const CollisionReport self = ctx.self_collision.CheckSelf(q);
+  if (self.collision) return fail("self-collision " + self.first_shape + " / " + self.obstacle);
+  const Eigen::Vector3d com = CoM(ctx, base, q);
+  ++ctx.stats.stability_evaluations;
+  const EquilibriumResult eq = ctx.equilibrium.Robustness(Contacts(state.feet, -1), com);
+  if (!ctx.equilibrium.MeetsThreshold(eq)) {
+    return fail("standing stance not statically stable (robustness " + FixedNumber(eq.robustness_N, 2) + " N)");
+  }
+  const double margin = SupportPolygonMargin(FeetPositions(state.feet, -1), com);
+  if (margin < ctx.eq_config.support_margin_m) return fail("CoM " + FixedNumber(margin) + " m inside the support polygon");
+  const std::string torque = TorqueProblem(ctx, base, q, state.feet, -1, com);
+  if (!torque.empty()) return fail("standing stance: " + torque);
+  return {state, ""};
+}
+
+}  // namespace rbcp::contact_planner_detail
