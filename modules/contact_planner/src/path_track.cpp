@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "rbcp/core/error.h"
 
 namespace rbcp::contact_planner_detail {
 
@@ -14,6 +17,10 @@ double WrapPi(double a) {
 Eigen::Matrix3d Yaw(double yaw) { return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
 
 PathTrack::PathTrack(std::vector<RootPathSample> samples, double yaw_window) : s_(std::move(samples)) {
+  RBCP_CHECK(!s_.empty(), "a path track needs a sample");
+  for (std::size_t i = 1; i < s_.size(); ++i) {
+    RBCP_CHECK(s_[i].t > s_[i - 1].t, "path times increase (sample " + std::to_string(i) + ")");
+  }
   if (yaw_window <= 0.0 || s_.size() < 3) return;
   const std::size_t n = s_.size();
   // Prefix sums of the heading's unit vector.

@@ -9,6 +9,7 @@
 
 #include "crawl_order.h"
 #include "keep_phase.h"
+#include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
 #include "rbcp/robot/robot_model.h"
 #include "step.h"
@@ -52,6 +53,8 @@ std::vector<std::pair<double, Leg>> LegsByGoalDistance(const PlannerContext& ctx
 /// which legs step. Returns the keep phase's failure, when a leg must step.
 std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, double gait_advance, Node& node) {
   const ContactPlannerConfig& config = ctx.config;
+  RBCP_CHECK(node.state.moving_leg >= -1 && node.state.moving_leg < kNumLegs,
+             "moving leg " + std::to_string(node.state.moving_leg));
   node.expanded = true;
   const double end = path.End();
   const int n_leads = static_cast<int>(config.foothold.lead_time_factors.size());
@@ -69,6 +72,7 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
     return std::nullopt;
   }
   const KeepResult keep = KeepPhase(ctx, path, node);
+  RBCP_CHECK(keep.ranking.size() == static_cast<std::size_t>(kNumLegs), "the keep phase ranks every leg");
   if (keep.reached_end) {
     // The trunk reaches the path end with these feet: the remaining steps happen there.
     for (const auto& [d, leg] : LegsByGoalDistance(ctx, path, node)) node.options.push_back({leg, end, 0, true, 0});
@@ -127,6 +131,7 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
 }  // namespace
 
 std::string Failure::Describe() const {
+  RBCP_CHECK(leg >= -1 && leg < kNumLegs, "failure leg " + std::to_string(leg));
   std::string r;
   if (leg >= 0) {
     r = std::string("no valid step for ") + std::string(LegName(kAllLegs[static_cast<std::size_t>(leg)])) +
@@ -159,6 +164,7 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, doubl
       return finish_fail(ContactPlanStatus::kTimeout, "time budget of " + FixedNumber(config.time_budget_s, 2) +
                                                           " s exhausted; furthest failure: " + furthest.Describe());
     }
+    RBCP_CHECK(!stack.empty(), "the root is never undone");
     Node& node = stack.back();
     const int steps = static_cast<int>(stack.size()) - 1;
     if (!node.expanded) {
@@ -185,6 +191,7 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, doubl
         // or narrows the swing's support triangle: re-place that leg first, at the same time,
         // before the remaining options.
         const Leg blocker = *attempt.blocking;
+        RBCP_CHECK(blocker != option.leg, "a leg does not block its own lift-off");
         if (MayStep(config, node, blocker, option.t) &&
             node.repositions.insert({Index(blocker), TimeKey(option.t)}).second) {
           node.options.insert(node.options.begin() + static_cast<std::ptrdiff_t>(node.next_option),

@@ -72,6 +72,7 @@ int NumVariants(const ContactPlannerConfig& config) {
 }
 
 Eigen::Vector3d BaseVariant(const ContactPlannerConfig& config, const Node& parent, int variant) {
+  RBCP_CHECK(variant >= 0 && variant < NumVariants(config), "shift start " + std::to_string(variant));
   const BaseShiftConfig& bs = config.base_shift;
   if (variant == 0) return parent.shift;
   if (variant == 1) return Eigen::Vector3d::Zero();
@@ -89,6 +90,7 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
     return StanceBaseAt(ctx, pose, s, parent.state.feet, skip).base_W;
   };
   const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, skip);
+  RBCP_CHECK(stance.size() == 3, "a swing stands on three feet");
   const std::array<Eigen::Vector2d, 3> tri = {stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()};
   const double required = ctx.eq_config.support_margin_m;
   const auto eroded = ErodeTriangle(tri, required + bs.shift_extra_margin_m);
@@ -191,6 +193,8 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
   if (option.goal_step) {
     target_pose = path.At(path.End());
   } else {
+    RBCP_CHECK(option.lead >= 0 && static_cast<std::size_t>(option.lead) < fc.lead_time_factors.size(),
+               "lead index " + std::to_string(option.lead));
     const double lead = fc.lead_time_s * fc.lead_time_factors[static_cast<std::size_t>(option.lead)];
     target_pose = LeadPose(path, option.t, lead, fc.max_lead_yaw_rad);
   }
