@@ -10,8 +10,9 @@
 
 namespace rbcp::contact_planner_detail {
 
-/// `a` wrapped into [-pi, pi) (by fmod after adding pi). Its rounding differs from WrapAngle's
-/// in the last bits; the planner's base headings are defined by this one.
+/// `a` wrapped into [-pi, pi) by fmod after adding pi. It rounds differently from WrapAngle
+/// (rbcp/core/angle.h) in the last bits; the planner's base headings, and so its plans, are
+/// those of this one.
 double WrapPi(double a);
 
 /// Rotation by `yaw` about the world z axis.

@@ -7,6 +7,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "rbcp/core/angle.h"
 #include "rbcp/core/error.h"
 
 namespace rbcp {
@@ -25,12 +26,6 @@ inline Eigen::Matrix3d AxisRotation(const Eigen::Vector3d& u, double q) {
       u.y() * u.x() * v + u.z() * s, c + u.y() * u.y() * v, u.y() * u.z() * v - u.x() * s,   //
       u.z() * u.x() * v - u.y() * s, u.z() * u.y() * v + u.x() * s, c + u.z() * u.z() * v;
   return R;
-}
-
-/// Angle wrapped to (-pi, pi].
-inline double WrapAngle(double a) {
-  a = std::remainder(a, 2.0 * M_PI);
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
 
 std::string Format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "rbcp/core/angle.h"
 #include "rbcp/core/error.h"
 
 namespace rbcp::detail {

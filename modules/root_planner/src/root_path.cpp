@@ -3,14 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rbcp/core/angle.h"
 #include "rbcp/core/error.h"
 
 namespace rbcp {
-
-double WrapAngle(double a) {
-  a = std::remainder(a, 2.0 * M_PI);  // in [-pi, pi]
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
-}
 
 double YawModel::Yaw(const Eigen::Vector2d& v_xy, double rest_yaw) const {
   const double speed = v_xy.norm();

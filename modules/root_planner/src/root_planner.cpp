@@ -13,6 +13,7 @@
 
 #include "kinodynamic_birrt.h"
 #include "rbcp/affordance/surface_graph.h"
+#include "rbcp/core/angle.h"
 #include "rbcp/core/config_checks.h"
 #include "rbcp/core/error.h"
 #include "rbcp/robot/robot_model.h"

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/angle.h"
 #include "rbcp/core/error.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/scenario/scenario.h"

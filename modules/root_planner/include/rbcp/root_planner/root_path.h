@@ -24,9 +24,6 @@ struct YawModel {
   double Yaw(const Eigen::Vector2d& v_xy, double rest_yaw) const;
 };
 
-/// `a` wrapped into (-pi, pi].
-double WrapAngle(double a);
-
 /// One root state on a path.
 struct RootPathSample {
   double t = 0.0;                               ///< time from the path start [s]
