@@ -5,7 +5,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
-#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/core/pose.h"
 
 namespace rbcp::sim {
 namespace {

@@ -10,6 +10,7 @@
 
 #include "bullet_eigen.h"
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "urdf_multibody.h"
 

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <set>
 
+#include "rbcp/core/pose.h"
 #include "sim_test_util.h"
 
 namespace rbcp::sim {

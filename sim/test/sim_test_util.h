@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/scenario/scenario.h"

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/core/yaml_reader.h"
 #ifdef RBCP_HAVE_SCENARIO
 #include "rbcp/scenario/scenario.h"

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "polygon2d.h"
+#include "rbcp/core/pose.h"
 
 namespace rbcp {
 namespace {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rbcp/collision/robot_terrain_collision.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/scenario/scenario.h"
 
 namespace {

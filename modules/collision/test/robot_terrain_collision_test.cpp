@@ -16,6 +16,7 @@
 #include <variant>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/scenario/scenario.h"
 
 namespace rbcp {

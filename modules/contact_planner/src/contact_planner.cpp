@@ -13,6 +13,7 @@
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/robot/robot_model.h"
 #include "search.h"
@@ -47,13 +48,6 @@ std::string ToString(ContactPlanStatus status) {
     case ContactPlanStatus::kTimeout: return "timeout";
   }
   return "unknown";
-}
-
-Eigen::Isometry3d BasePose(const WholeBodyState& state) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = RotationFromRpy(state.base_rpy);
-  T.translation() = state.base_position;
-  return T;
 }
 
 namespace {

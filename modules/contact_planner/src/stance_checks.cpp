@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "rbcp/core/format.h"
-#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/support_polygon.h"
 

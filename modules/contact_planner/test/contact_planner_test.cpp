@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/root_planner/double_integrator.h"
 #include "test_world.h"
 

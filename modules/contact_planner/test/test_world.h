@@ -12,6 +12,7 @@
 #include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/contact_planner/contact_planner.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"

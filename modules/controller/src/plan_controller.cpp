@@ -7,6 +7,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"

@@ -63,10 +63,4 @@ std::string ValidateMesh(const TriangleMesh& mesh, double min_area) {
   return {};
 }
 
-Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
 }  // namespace rbcp

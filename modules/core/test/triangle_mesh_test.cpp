@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <limits>
 
 namespace rbcp {
@@ -45,13 +44,6 @@ TEST(TriangleMesh, ValidationNamesTheProblem) {
   m.triangles[2] = {0, 1, 99};
   EXPECT_NE(ValidateMesh(m).find("refers to vertex 99"), std::string::npos);
   EXPECT_EQ(ValidateMesh(TriangleMesh{}), "mesh has no triangles");
-}
-
-TEST(TriangleMesh, RpyMatchesZyxConvention) {
-  const Eigen::Matrix3d R = RotationFromRpy({0.0, 0.0, M_PI / 2});
-  EXPECT_TRUE((R * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), 1e-12));
-  const Eigen::Matrix3d P = RotationFromRpy({0.0, 0.3, 0.0});
-  EXPECT_NEAR((P * Eigen::Vector3d::UnitX()).z(), -std::sin(0.3), 1e-12);
 }
 
 }  // namespace

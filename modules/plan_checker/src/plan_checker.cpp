@@ -10,6 +10,7 @@
 
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
@@ -115,13 +116,6 @@ void RequireFinite(const ContactPlan& plan) {
       if (!foot.normal.allFinite()) fail(Name(leg) + " foot normal");
     }
   }
-}
-
-Eigen::Isometry3d BasePose(const WholeBodyState& state) {
-  Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-  base_W.linear() = RotationFromRpy(state.base_rpy);
-  base_W.translation() = state.base_position;
-  return base_W;
 }
 
 /// Runs the checks of one plan; one instance per CheckPlan call.

@@ -10,6 +10,7 @@
 
 #include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/config.h"
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/plan_checker/plan_checker.h"
@@ -43,16 +44,9 @@ struct FlatGroundWorld {
   }
 };
 
-inline Eigen::Isometry3d BasePoseOf(const WholeBodyState& state) {
-  Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-  base_W.linear() = RotationFromRpy(state.base_rpy);
-  base_W.translation() = state.base_position;
-  return base_W;
-}
-
 /// Sets every leg's joints by inverse kinematics so the feet stay where `state.feet` says.
 inline void SolveJoints(const RobotModel& robot, WholeBodyState& state) {
-  const Eigen::Isometry3d base_W = BasePoseOf(state);
+  const Eigen::Isometry3d base_W = BasePose(state);
   for (Leg leg : kAllLegs) {
     const Eigen::Vector3d p_B = base_W.inverse() * state.feet[static_cast<std::size_t>(Index(leg))].position;
     const IkResult ik = robot.SolveLegIk(leg, p_B);
@@ -92,7 +86,7 @@ inline ContactPlan BuildFlatGroundPlan(const RobotModel& robot, int steps = 8, d
     const Eigen::Vector2d target = all + 0.5 * (stance - all);
     for (int iteration = 0; iteration < 4; ++iteration) {
       SolveJoints(robot, state);
-      const Eigen::Vector3d com_W = BasePoseOf(state) * robot.CenterOfMass(state.joints);
+      const Eigen::Vector3d com_W = BasePose(state) * robot.CenterOfMass(state.joints);
       state.base_position.head<2>() += target - com_W.head<2>();
     }
     SolveJoints(robot, state);

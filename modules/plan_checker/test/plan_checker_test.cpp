@@ -7,6 +7,7 @@
 #include "flat_ground_plan.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
+#include "rbcp/core/pose.h"
 
 namespace rbcp {
 namespace {
@@ -197,7 +198,7 @@ TEST_F(PlanCheckerTest, StretchedLegsLeaveTheKinematicMargins) {
     s.base_position.z() += 0.01 * cm;
     bool reachable = true;
     for (Leg leg : kAllLegs) {
-      const Eigen::Vector3d p_B = test::BasePoseOf(s).inverse() * s.feet[static_cast<std::size_t>(Index(leg))].position;
+      const Eigen::Vector3d p_B = BasePose(s).inverse() * s.feet[static_cast<std::size_t>(Index(leg))].position;
       reachable = reachable && world.robot.SolveLegIk(leg, p_B).ok();
     }
     ASSERT_TRUE(reachable) << "out of reach at +" << cm << " cm before leaving the margins";

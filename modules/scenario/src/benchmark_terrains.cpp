@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 
 namespace rbcp {
 namespace {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/scenario/scenario.h"
 

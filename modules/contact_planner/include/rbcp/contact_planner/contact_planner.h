@@ -157,7 +157,4 @@ class ContactPlanner {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Base pose of a state: translation base_position, rotation RotationFromRpy(base_rpy).
-Eigen::Isometry3d BasePose(const WholeBodyState& state);
-
 }  // namespace rbcp

@@ -35,7 +35,4 @@ TriangleMesh MakeBoxMesh(const Eigen::Vector3d& size);
 /// a description of the first problem ("triangle 12 is degenerate (area 0 m^2)").
 std::string ValidateMesh(const TriangleMesh& mesh, double min_area = 1e-12);
 
-/// Rotation from roll, pitch, yaw [rad], applied as Rz(yaw) * Ry(pitch) * Rx(roll).
-Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy);
-
 }  // namespace rbcp
