@@ -11,6 +11,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/transport/convert.h"

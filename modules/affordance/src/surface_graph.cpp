@@ -1,5 +1,6 @@
 #include "rbcp/affordance/surface_graph.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>

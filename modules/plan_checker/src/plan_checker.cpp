@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/collision/robot_terrain_collision.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/pose.h"

@@ -15,7 +15,7 @@
 #include <limits>
 #include <vector>
 
-#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/affordance_surface.h"
 #include "rbcp/root_planner/double_integrator.h"
 #include "rbcp/root_planner/reachability_checker.h"
 #include "rbcp/root_planner/root_path.h"

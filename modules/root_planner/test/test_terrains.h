@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/triangle_mesh.h"
 
 namespace rbcp::test {

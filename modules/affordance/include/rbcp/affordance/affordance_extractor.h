@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "rbcp/affordance/affordance_config.h"
+#include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/triangle_mesh.h"
 
 namespace rbcp {
@@ -46,16 +47,6 @@ inline constexpr double kCoplanarTolerance = 1e-3;
 inline constexpr double kMinTriangleArea = 1e-12;
 /// Round joins of the erosion at reflex corners use this many chords per full turn.
 inline constexpr int kErosionArcSegmentsPerCircle = 16;
-
-/// One contact surface.
-struct AffordanceSurface {
-  /// Convex polygon, counter-clockwise seen from the normal side, world frame [m].
-  std::vector<Eigen::Vector3d> vertices;
-  /// Unit plane normal, world frame, pointing out of the terrain.
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
-  /// Area of the (eroded) polygon [m^2].
-  double area = 0.0;
-};
 
 /// What the last Extract() call saw; counts only, cheap to keep.
 struct AffordanceStats {

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/affordance_surface.h"
 
 namespace rbcp {
 

@@ -61,8 +61,8 @@
 #include <string>
 #include <vector>
 
-#include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/contact_planner/contact_planner_config.h"
+#include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/equilibrium/config.h"

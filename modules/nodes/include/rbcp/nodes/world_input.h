@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp_msgs/affordance_set_t.hpp"

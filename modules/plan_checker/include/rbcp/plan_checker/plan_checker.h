@@ -41,7 +41,7 @@
 #include <string>
 #include <vector>
 
-#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/equilibrium/config.h"

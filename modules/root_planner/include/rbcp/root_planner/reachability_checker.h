@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/leg.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/root_planner/convex_polytope.h"
