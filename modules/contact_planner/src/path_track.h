@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "rbcp/root_planner/root_path.h"
+#include "rbcp/core/root_path_sample.h"
 
 namespace rbcp::contact_planner_detail {
 

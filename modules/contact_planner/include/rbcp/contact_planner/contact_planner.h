@@ -64,6 +64,7 @@
 #include "rbcp/contact_planner/contact_planner_config.h"
 #include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/contact_plan.h"
+#include "rbcp/core/root_path_sample.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/equilibrium/config.h"
 #include "rbcp/root_planner/root_path.h"

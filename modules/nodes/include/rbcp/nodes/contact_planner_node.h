@@ -22,9 +22,9 @@
 #include <vector>
 
 #include "rbcp/contact_planner/contact_planner.h"
+#include "rbcp/core/root_path_sample.h"
 #include "rbcp/limb_database/limb_database.h"
 #include "rbcp/nodes/world_input.h"
-#include "rbcp/root_planner/root_path.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/status_reporter.h"

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "rbcp/core/root_path_sample.h"
 #include "rbcp/root_planner/double_integrator.h"
 
 namespace rbcp {
@@ -22,16 +23,6 @@ struct YawModel {
 
   /// Yaw [rad] in (-pi, pi] for a horizontal velocity v_xy [m/s] and a rest yaw [rad].
   double Yaw(const Eigen::Vector2d& v_xy, double rest_yaw) const;
-};
-
-/// One root state on a path.
-struct RootPathSample {
-  double t = 0.0;                               ///< time from the path start [s]
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();  ///< base position, world frame [m]
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();  ///< base velocity, world frame [m/s]
-  Eigen::Vector3d a = Eigen::Vector3d::Zero();  ///< base acceleration, world frame [m/s^2]
-  double yaw = 0.0;                             ///< heading about world z [rad], in (-pi, pi]
-  double rest_yaw = 0.0;                        ///< heading the trunk would keep at rest [rad]
 };
 
 /// The part [begin, end] of a steered trajectory, with the rest yaw going linearly (the short
