@@ -79,7 +79,11 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
   int successes = 0;
   double steps = 0.0;
   double path_length = 0.0;  // of the planned paths [m]
+  double evaluations = 0.0;  // leg evaluations over all queries (the search's bound)
+  double max_evaluations = 0.0;
   for (auto _ : state) {
+    evaluations = 0.0;
+    max_evaluations = 0.0;
     times.clear();
     plans.clear();
     successes = 0;
@@ -88,6 +92,9 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
     for (std::size_t i = 0; i < prepared.paths.size(); ++i) {
       const ContactPlanResult r = planner.Plan(prepared.paths[i]);
       times.push_back(r.planning_time_s);
+      const double e = static_cast<double>(r.stats.keep_checks) + static_cast<double>(r.stats.candidates_evaluated);
+      evaluations += e;
+      max_evaluations = std::max(max_evaluations, e);
       if (r.ok) {
         ++successes;
         steps += r.steps;
@@ -130,6 +137,8 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
   }
   state.counters["step_length_m"] = moves > 0 ? moved / moves : 0.0;
   state.counters["steps_per_m"] = path_length > 0.0 ? steps / path_length : 0.0;
+  state.counters["mean_evaluations"] = evaluations / std::max<double>(1.0, static_cast<double>(prepared.paths.size()));
+  state.counters["max_evaluations"] = max_evaluations;
 }
 
 BENCHMARK_CAPTURE(BM_ContactPlan, flat_ground, std::string("flat_ground"))->Unit(benchmark::kMillisecond)->Iterations(1);

@@ -65,6 +65,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   const YamlMap bp = map.Map("base_pose");
   c.base_pose.follow_feet = bp.Bool("follow_feet");
   c.base_pose.height_offset_m = bp.Double("height_offset_m");
+  c.base_pose.pitch_follow = bp.Double("pitch_follow");
   c.base_pose.max_pitch_rad = bp.Double("max_pitch_rad");
   c.base_pose.max_roll_rad = bp.Double("max_roll_rad");
   bp.RejectUnknownKeys();
@@ -75,6 +76,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   const YamlMap rt = map.Map("retry");
   c.retry.earlier_step_s = ReadArray<3>(rt, "earlier_step_s");
   c.retry.max_backtracks = rt.Int("max_backtracks");
+  c.retry.max_evaluations = rt.Int("max_evaluations");
   c.retry.max_steps_at_one_time = rt.Int("max_steps_at_one_time");
   c.retry.max_children_per_state = rt.Int("max_children_per_state");
   c.retry.gait_advance_s = rt.Numbers("gait_advance_s");
@@ -140,6 +142,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
     check.Finite("base_shift.height_offsets_m[" + std::to_string(i) + "]", base_shift.height_offsets_m[i]);
   }
   check.Finite("base_pose.height_offset_m", base_pose.height_offset_m);
+  check.InRange("base_pose.pitch_follow", base_pose.pitch_follow, 0.0, 1.0);
   check.NonNegative("base_pose.max_pitch_rad", base_pose.max_pitch_rad);
   check.NonNegative("base_pose.max_roll_rad", base_pose.max_roll_rad);
   check.Positive("goal_foot_tolerance_m", goal_foot_tolerance_m);
@@ -148,6 +151,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
     check.NonNegative("retry.earlier_step_s[" + std::to_string(i) + "]", retry.earlier_step_s[i]);
   }
   check.AtLeast("retry.max_backtracks", retry.max_backtracks, 0);
+  check.AtLeast("retry.max_evaluations", retry.max_evaluations, 1);
   check.AtLeast("retry.max_children_per_state", retry.max_children_per_state, 1);
   check.AtLeast("retry.max_steps_at_one_time", retry.max_steps_at_one_time, 1);
   for (std::size_t i = 0; i < retry.gait_advance_s.size(); ++i) {

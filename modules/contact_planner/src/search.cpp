@@ -143,6 +143,23 @@ std::string Failure::Describe() const {
   return r;
 }
 
+namespace {
+
+/// Leg evaluations the query has spent (keep checks and foothold candidates tested).
+long Evaluations(const ContactPlanStats& stats) {
+  return static_cast<long>(stats.keep_checks) + static_cast<long>(stats.candidates_evaluated);
+}
+
+bool EvaluationsSpent(const PlannerContext& ctx) {
+  return Evaluations(ctx.stats) >= ctx.config.retry.max_evaluations;
+}
+
+std::string EvaluationsReason(const PlannerContext& ctx) {
+  return "search bound of " + std::to_string(ctx.config.retry.max_evaluations) + " leg evaluations spent";
+}
+
+}  // namespace
+
 ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, double gait_advance, Node root,
                          int max_steps) {
   const ContactPlannerConfig& config = ctx.config;
@@ -163,6 +180,10 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, doubl
     if (ctx.budget.Exhausted()) {
       return finish_fail(ContactPlanStatus::kTimeout, "time budget of " + FixedNumber(config.time_budget_s, 2) +
                                                           " s exhausted; furthest failure: " + furthest.Describe());
+    }
+    if (EvaluationsSpent(ctx)) {
+      return finish_fail(ContactPlanStatus::kNoFoothold, EvaluationsReason(ctx) + "; furthest failure: " +
+                                                             furthest.Describe());
     }
     RBCP_CHECK(!stack.empty(), "the root is never undone");
     Node& node = stack.back();
@@ -245,6 +266,7 @@ ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& 
                      " s; first search: " + first.reason;
       return first;
     }
+    if (EvaluationsSpent(ctx)) break;
     ContactPlanResult again = Search(ctx, path, advance, root, max_steps);
     if (again.ok || again.status != ContactPlanStatus::kNoFoothold) return again;
     tried += (tried.empty() ? "" : ", ") + FixedNumber(advance, 2);

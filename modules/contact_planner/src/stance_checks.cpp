@@ -27,7 +27,7 @@ StanceBase StanceBaseAt(const PlannerContext& ctx, const PathPose& pose, const E
       z[i] = feet[static_cast<std::size_t>(i)].position.z();
     }
     const Eigen::Vector3d abc = A.colPivHouseholderQr().solve(z);
-    rpy.y() = std::clamp(-std::atan(abc[1]), -bp.max_pitch_rad, bp.max_pitch_rad);
+    rpy.y() = std::clamp(-bp.pitch_follow * std::atan(abc[1]), -bp.max_pitch_rad, bp.max_pitch_rad);
     rpy.x() = std::clamp(std::atan(abc[2]), -bp.max_roll_rad, bp.max_roll_rad);
     p.z() = abc[0] + ctx.robot.NominalBaseHeight() + bp.height_offset_m + shift.z();
   } else {

@@ -17,7 +17,9 @@ ContactPlannerConfig LoadNode(const YAML::Node& node) { return ContactPlannerCon
 TEST(ContactPlannerConfigTest, LoadsTheCommittedFile) {
   const ContactPlannerConfig c = ContactPlannerConfig::LoadFile(kFile);
   EXPECT_EQ(c.path_step_s, 0.02);
-  EXPECT_EQ(c.foothold.lead_time_s, 0.4);
+  EXPECT_EQ(c.foothold.lead_time_s, 0.6);
+  EXPECT_EQ(c.base_pose.pitch_follow, 0.6);
+  EXPECT_GT(c.retry.max_evaluations, 0);
   EXPECT_EQ(c.foothold.lead_time_factors[0], 1.0);
   EXPECT_GT(c.workspace.max_hip_distance_m, 0.0);
   EXPECT_GT(c.time_budget_s, 0.0);
@@ -69,6 +71,16 @@ TEST(ContactPlannerConfigTest, RejectsUnknownMissingAndOutOfRangeKeys) {
   {
     YAML::Node n = YAML::LoadFile(kFile);
     n["gait_advance_s"] = -0.25;
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["base_pose"]["pitch_follow"] = 1.5;
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["retry"]["max_evaluations"] = 0;
     EXPECT_THROW(LoadNode(n), InputError);
   }
   {

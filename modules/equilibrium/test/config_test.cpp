@@ -20,7 +20,7 @@ TEST(EquilibriumConfig, LoadsTheShippedFile) {
   EXPECT_DOUBLE_EQ(c.friction, 0.5);
   EXPECT_EQ(c.generators_per_contact, 4);
   EXPECT_DOUBLE_EQ(c.robustness_threshold_N, 2.0);
-  EXPECT_DOUBLE_EQ(c.support_margin_m, 0.03);
+  EXPECT_DOUBLE_EQ(c.support_margin_m, 0.04);
   EXPECT_DOUBLE_EQ(c.normal_force_slack, 0.01);
 }
 

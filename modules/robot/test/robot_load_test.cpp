@@ -174,10 +174,10 @@ TEST_F(RobotLoadTest, NonPositiveParametersAreRejected) {
 
 TEST_F(RobotLoadTest, KinematicMarginsAreReadAndChecked) {
   const RobotModel m = RobotModel::LoadDefault(test::ConfigDir());
-  EXPECT_EQ(m.Margins().max_stance_hip_distance_m, 0.60);
-  EXPECT_EQ(m.Margins().max_lift_off_hip_distance_m, 0.62);
+  EXPECT_EQ(m.Margins().max_stance_hip_distance_m, 0.545);
+  EXPECT_EQ(m.Margins().max_lift_off_hip_distance_m, 0.565);
   EXPECT_EQ(m.Margins().min_knee_bend_rad, 0.2);
-  Replace(yaml_text_, "max_lift_off_hip_distance: 0.62", "max_lift_off_hip_distance: 0.5");
+  Replace(yaml_text_, "max_lift_off_hip_distance: 0.565", "max_lift_off_hip_distance: 0.5");
   const std::string error = LoadError();
   EXPECT_TRUE(Contains(error, YamlPath() + ": kinematic_margins: 'max_lift_off_hip_distance': expected at least "
                                            "max_stance_hip_distance"))

@@ -65,6 +65,8 @@ struct BasePoseConfig {
   /// level base at the root path's height.
   bool follow_feet = true;
   double height_offset_m = 0.0;  ///< [m]
+  /// [-] share of the feet plane's pitch the base takes, in [0, 1] (0: level in pitch).
+  double pitch_follow = 1.0;
   double max_pitch_rad = 0.35;   ///< [rad] |pitch| bound
   double max_roll_rad = 0.2;     ///< [rad] |roll| bound
 };
@@ -74,6 +76,10 @@ struct RetryConfig {
   /// [s] a failed step is retried this much earlier on the path (before the failure time).
   std::array<double, 3> earlier_step_s = {0.1, 0.25, 0.5};
   int max_backtracks = 500;         ///< steps undone before giving up
+  /// Leg evaluations (a foot kept at a base pose, a foothold candidate tested) a query may spend,
+  /// over all its searches: the search's bound, so a plan does not depend on the machine's load
+  /// (the time budget is only a safety limit).
+  int max_evaluations = 2000000;
   /// Steps explored from one state: once this many of its children failed, the state itself is
   /// undone, so the search goes back further instead of trying every variant at a dead end.
   int max_children_per_state = 4;
