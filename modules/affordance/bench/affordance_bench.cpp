@@ -22,10 +22,7 @@ AffordanceConfig DefaultConfig() {
 TriangleMesh Box(const Eigen::Vector3d& size, const Eigen::Vector3d& centre,
                  const Eigen::Vector3d& rpy = Eigen::Vector3d::Zero()) {
   TriangleMesh m = MakeBoxMesh(size);
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = RotationFromRpy(rpy);
-  T.translation() = centre;
-  m.Transform(T);
+  m.Transform(PoseFromRpy(centre, rpy));
   return m;
 }
 

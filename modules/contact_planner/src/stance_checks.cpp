@@ -63,10 +63,10 @@ double WorkspaceRatio(const PlannerContext& ctx, Leg leg, const Eigen::Vector3d&
   const double out = LeftSign(leg) * d.y();
   r = std::max(r, out >= 0.0 ? out / ws.max_outward_m : -out / ws.max_inward_m);
   r = std::max(r, d.z() >= 0.0 ? d.z() / ws.max_up_m : -d.z() / ws.max_down_m);
-  const double hip = (p_B - ctx.robot.HipPosition(leg)).head<2>().norm();
-  r = std::max(r, hip / ws.max_hip_distance_m);
+  const Eigen::Vector3d from_hip = p_B - ctx.robot.HipPosition(leg);
+  r = std::max(r, from_hip.head<2>().norm() / ws.max_hip_distance_m);
   // A stance leg short of straight (the kinematic margins).
-  r = std::max(r, (p_B - ctx.robot.HipPosition(leg)).norm() / ctx.robot.Margins().max_stance_hip_distance_m);
+  r = std::max(r, from_hip.norm() / ctx.robot.Margins().max_stance_hip_distance_m);
   return r;
 }
 
@@ -145,9 +145,7 @@ std::string TransitProblem(const PlannerContext& ctx, const WholeBodyState& from
     const double w = static_cast<double>(k) / static_cast<double>(n + 1);
     Eigen::Vector3d rpy = rpy0 + w * (rpy_to - rpy0);
     rpy.z() = WrapPi(rpy0.z() + w * WrapPi(rpy_to.z() - rpy0.z()));
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = RotationFromRpy(rpy);
-    T.translation() = p0 + w * (to.translation() - p0);
+    const Eigen::Isometry3d T = PoseFromRpy(p0 + w * (to.translation() - p0), rpy);
     const std::optional<JointVector> q = SolveStance(ctx, T, from.feet, lifting);
     if (!q) return "feet out of reach while the body moves to the step pose";
     if (SupportPolygonMargin(feet, CoM(ctx, T, *q)) < ctx.eq_config.support_margin_m) {

@@ -8,11 +8,13 @@ Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy) {
       .toRotationMatrix();
 }
 
-Eigen::Isometry3d BasePose(const WholeBodyState& state) {
+Eigen::Isometry3d PoseFromRpy(const Eigen::Vector3d& position, const Eigen::Vector3d& rpy) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = RotationFromRpy(state.base_rpy);
-  T.translation() = state.base_position;
+  T.linear() = RotationFromRpy(rpy);
+  T.translation() = position;
   return T;
 }
+
+Eigen::Isometry3d BasePose(const WholeBodyState& state) { return PoseFromRpy(state.base_position, state.base_rpy); }
 
 }  // namespace rbcp

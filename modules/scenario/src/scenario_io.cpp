@@ -135,18 +135,12 @@ bool operator==(const TerrainMeshFile& a, const TerrainMeshFile& b) {
 TriangleMesh ElementMesh(const TerrainElement& element) {
   if (const auto* box = std::get_if<TerrainBox>(&element)) {
     TriangleMesh mesh = MakeBoxMesh(box->size);
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = RotationFromRpy(box->rpy);
-    T.translation() = box->position;
-    mesh.Transform(T);
+    mesh.Transform(PoseFromRpy(box->position, box->rpy));
     return mesh;
   }
   const auto& file = std::get<TerrainMeshFile>(element);
   TriangleMesh mesh = LoadMeshFile(file.resolved_path, file.scale);
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = RotationFromRpy(file.rpy);
-  T.translation() = file.position;
-  mesh.Transform(T);
+  mesh.Transform(PoseFromRpy(file.position, file.rpy));
   return mesh;
 }
 

@@ -11,8 +11,10 @@ namespace rbcp {
 /// Rotation from roll, pitch, yaw [rad], applied as Rz(yaw) * Ry(pitch) * Rx(roll).
 Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy);
 
-/// Base pose of a state (base to world): translation base_position, rotation
-/// RotationFromRpy(base_rpy).
+/// The pose (frame to world) with translation `position` and rotation RotationFromRpy(rpy).
+Eigen::Isometry3d PoseFromRpy(const Eigen::Vector3d& position, const Eigen::Vector3d& rpy);
+
+/// Base pose of a state (base to world): PoseFromRpy(base_position, base_rpy).
 Eigen::Isometry3d BasePose(const WholeBodyState& state);
 
 }  // namespace rbcp
