@@ -26,6 +26,11 @@ const Models& Get() {
   return setup;
 }
 
+/// What ended a run, for the message of a failed expectation.
+std::string Why(const ExecutionOutcome& o) {
+  return o.failure ? o.failure->what + ": " + o.failure->detail : std::string("not reached");
+}
+
 /// flat_ground's floor with a hole through it: 0.12 x 0.16 m centred on `hole_xy`.
 Scenario FloorWithHole(const Eigen::Vector2d& hole_xy) {
   Scenario s = LoadScenario(ScenarioPath("flat_ground"));
@@ -65,7 +70,7 @@ TEST(PlanExecution, AShortFlatGroundPlanReachesItsGoal) {
   PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller);
   run.Start(plan);
   const ExecutionOutcome& o = run.Run();
-  ASSERT_TRUE(o.ok()) << (o.failure ? o.failure->what + ": " + o.failure->detail : std::string("not reached"));
+  ASSERT_TRUE(o.ok()) << Why(o);
   EXPECT_EQ(o.steps_executed, 4);
   EXPECT_LT(o.final_base_error_m, g.sim.outcome.goal_tolerance_m);
   EXPECT_LE(o.max_torque_ratio, 1.0);
@@ -93,7 +98,7 @@ TEST(PlanExecution, ANewPlanReplacesTheRestAtAStepBoundary) {
   run.GivePlan(second);
   EXPECT_EQ(run.Controller().Status().step, 1);  // the step under way goes on
   const ExecutionOutcome& o = run.Run();
-  ASSERT_TRUE(o.ok()) << (o.failure ? o.failure->what + ": " + o.failure->detail : std::string("not reached"));
+  ASSERT_TRUE(o.ok()) << Why(o);
   // One step of the first plan, then the second plan's steps after its first state.
   EXPECT_EQ(run.Controller().Status().steps_done, 1 + 3);
   EXPECT_LT((o.trace.back().base_position - second.states.back().base_position).head<2>().norm(), 0.1);
@@ -119,7 +124,7 @@ TEST(PlanExecution, AFootThatRollsOverItsContactHasNotSlipped) {
     turned = std::max(turned, Eigen::AngleAxisd(now.linear() * start.linear().transpose()).angle());
   }
   const ExecutionOutcome& o = run.Run();
-  ASSERT_TRUE(o.ok()) << (o.failure ? o.failure->what + ": " + o.failure->detail : std::string("not reached"));
+  ASSERT_TRUE(o.ok()) << Why(o);
   EXPECT_GT(turned, 0.05);                    // the shank turned over the foot ...
   EXPECT_GT(moved, 0.5 * g.robot.FootRadius() * turned);  // ... and the sphere rolled with it
   EXPECT_LT(o.max_slip_m, 0.5 * moved);       // without sliding as far

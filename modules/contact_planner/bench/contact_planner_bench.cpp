@@ -92,7 +92,7 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
     for (std::size_t i = 0; i < prepared.paths.size(); ++i) {
       const ContactPlanResult r = planner.Plan(prepared.paths[i]);
       times.push_back(r.planning_time_s);
-      const double e = static_cast<double>(r.stats.keep_checks) + static_cast<double>(r.stats.candidates_evaluated);
+      const double e = static_cast<double>(r.stats.Evaluations());
       evaluations += e;
       max_evaluations = std::max(max_evaluations, e);
       if (r.ok) {

@@ -93,15 +93,20 @@ std::vector<Candidate> UniqueFootholds(const std::vector<Candidate>& ranked, dou
   return unique;
 }
 
-bool FarEnoughFromFeet(const PlannerContext& ctx, const std::array<FootContact, kNumLegs>& feet, int skip,
-                       const Eigen::Vector3d& p) {
-  for (int i = 0; i < kNumLegs; ++i) {
-    if (i == skip) continue;
-    if ((feet[static_cast<std::size_t>(i)].position - p).head<2>().norm() < ctx.config.foothold.min_foot_separation_m) {
-      return false;
-    }
+bool FarEnoughFromFeet(const PlannerContext& ctx, const std::array<FootContact, kNumLegs>& feet,
+                       const std::array<bool, kNumLegs>& among, const Eigen::Vector3d& p) {
+  for (std::size_t i = 0; i < feet.size(); ++i) {
+    if (among[i] && (feet[i].position - p).head<2>().norm() < ctx.config.foothold.min_foot_separation_m) return false;
   }
   return true;
+}
+
+bool FarEnoughFromFeet(const PlannerContext& ctx, const std::array<FootContact, kNumLegs>& feet, int skip,
+                       const Eigen::Vector3d& p) {
+  std::array<bool, kNumLegs> among;
+  among.fill(true);
+  if (skip >= 0) among[static_cast<std::size_t>(skip)] = false;
+  return FarEnoughFromFeet(ctx, feet, among, p);
 }
 
 }  // namespace rbcp::contact_planner_detail

@@ -31,7 +31,11 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
 /// the given order.
 std::vector<Candidate> UniqueFootholds(const std::vector<Candidate>& ranked, double cell);
 
-/// True when p is at least the minimum foot separation (horizontally) from every foot but `skip`.
+/// True when p is at least the minimum foot separation (horizontally) from every foot marked in
+/// `among`.
+bool FarEnoughFromFeet(const PlannerContext& ctx, const std::array<FootContact, kNumLegs>& feet,
+                       const std::array<bool, kNumLegs>& among, const Eigen::Vector3d& p);
+/// The same from every foot but `skip`.
 bool FarEnoughFromFeet(const PlannerContext& ctx, const std::array<FootContact, kNumLegs>& feet, int skip,
                        const Eigen::Vector3d& p);
 

@@ -122,7 +122,7 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
       if (!r.failing && allowed(r.leg, t)) node.options.push_back({r.leg, t, 0, false, 0});
     }
   }
-  if (!keep.ranking.empty() && keep.ranking.front().failing) {
+  if (keep.ranking.front().failing) {
     return Failure{keep.t_good, Index(keep.ranking.front().leg), keep.why};
   }
   return std::nullopt;
@@ -145,14 +145,7 @@ std::string Failure::Describe() const {
 
 namespace {
 
-/// Leg evaluations the query has spent (keep checks and foothold candidates tested).
-long Evaluations(const ContactPlanStats& stats) {
-  return static_cast<long>(stats.keep_checks) + static_cast<long>(stats.candidates_evaluated);
-}
-
-bool EvaluationsSpent(const PlannerContext& ctx) {
-  return Evaluations(ctx.stats) >= ctx.config.retry.max_evaluations;
-}
+bool EvaluationsSpent(const PlannerContext& ctx) { return ctx.stats.Evaluations() >= ctx.config.retry.max_evaluations; }
 
 std::string EvaluationsReason(const PlannerContext& ctx) {
   return "search bound of " + std::to_string(ctx.config.retry.max_evaluations) + " leg evaluations spent";

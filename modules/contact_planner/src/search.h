@@ -34,7 +34,8 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, doubl
                          int max_steps);
 
 /// Search() with gait_advance_s; when that fails for want of footholds (not time), again from
-/// the same root with each of retry.gait_advance_s in turn while time remains. The crawl timing
+/// the same root with each of retry.gait_advance_s in turn while the evaluation bound and the time
+/// budget last. The crawl timing
 /// decides where every foot stands when the terrain gets hard, so a dead end under one timing is
 /// rarely one under another.
 ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps);

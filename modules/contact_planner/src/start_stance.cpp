@@ -29,15 +29,7 @@ StandingResult StandingAt(const PlannerContext& ctx, const Eigen::Vector3d& base
     bool found = false;
     for (const Candidate& c : cands) {
       ++ctx.stats.candidates_evaluated;
-      bool separated = true;
-      for (int k = 0; k < kNumLegs; ++k) {
-        if (placed[static_cast<std::size_t>(k)] &&
-            (state.feet[static_cast<std::size_t>(k)].position - c.foothold).head<2>().norm() <
-                ctx.config.foothold.min_foot_separation_m) {
-          separated = false;
-        }
-      }
-      if (!separated) continue;
+      if (!FarEnoughFromFeet(ctx, state.feet, placed, c.foothold)) continue;
       const LegKeep keep = KeepLeg(ctx, leg, base, c.foothold);
       if (keep.failure != KeepFailure::kNone) continue;
       state.feet[i].position = c.foothold;

@@ -86,9 +86,7 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
   const BaseShiftConfig& bs = ctx.config.base_shift;
   const int skip = Index(swing);
   SwingShiftResult result;
-  const auto base_at = [&](const Eigen::Vector3d& s) {
-    return StanceBaseAt(ctx, pose, s, parent.state.feet, skip).base_W;
-  };
+  const auto base_at = [&](const Eigen::Vector3d& s) { return StanceBaseAt(ctx, pose, s, parent.state.feet, skip); };
   const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, skip);
   RBCP_CHECK(stance.size() == 3, "a swing stands on three feet");
   const std::array<Eigen::Vector2d, 3> tri = {stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()};
@@ -110,12 +108,12 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
   // Start from `start`; fall back on the current horizontal shift when the feet cannot be
   // reached from there.
   Eigen::Vector3d shift = clamp(start);
-  Eigen::Isometry3d base = base_at(shift);
-  std::optional<JointVector> q_stance = SolveStance(ctx, base, parent.state.feet, skip);
+  StanceBase base = base_at(shift);
+  std::optional<JointVector> q_stance = SolveStance(ctx, base.base_W, parent.state.feet, skip);
   if (!q_stance) {
     shift = clamp(Eigen::Vector3d(parent.shift.x(), parent.shift.y(), start.z()));
     base = base_at(shift);
-    q_stance = SolveStance(ctx, base, parent.state.feet, skip);
+    q_stance = SolveStance(ctx, base.base_W, parent.state.feet, skip);
     if (!q_stance) {
       result.why = "stance feet out of reach at the step pose";
       return result;
@@ -124,9 +122,10 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
   JointVector q = *q_stance;
   bool stuck = false;  // an update found no reachable stance
   for (int iter = 0; iter < 6; ++iter) {
-    const Eigen::Vector3d com = CoM(ctx, base, q);
+    const Eigen::Vector3d com = CoM(ctx, base.base_W, q);
     if (SupportPolygonMargin(stance, com) >= required + 0.5 * bs.shift_extra_margin_m) {
       result.shift = shift;
+      result.base = base;
       result.q = q;
       return result;
     }
@@ -141,8 +140,8 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
         if (dz != 0.0 && dz_step <= 0.0) break;
         Eigen::Vector3d trial = clamp(shift + scale * delta);
         trial.z() += dz;
-        const Eigen::Isometry3d trial_base = base_at(trial);
-        if (const std::optional<JointVector> q_trial = SolveStance(ctx, trial_base, parent.state.feet, skip)) {
+        const StanceBase trial_base = base_at(trial);
+        if (const std::optional<JointVector> q_trial = SolveStance(ctx, trial_base.base_W, parent.state.feet, skip)) {
           shift = trial;
           base = trial_base;
           q = *q_trial;
@@ -156,8 +155,9 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
       break;
     }
   }
-  if (SupportPolygonMargin(stance, CoM(ctx, base, q)) >= required) {
+  if (SupportPolygonMargin(stance, CoM(ctx, base.base_W, q)) >= required) {
     result.shift = shift;
+    result.base = base;
     result.q = q;
     return result;
   }
@@ -180,7 +180,7 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
   if (!swing.shift) return {StepOutcome::kPoseInvalid, std::move(swing.why), swing.blocking, Node{}};
   const Eigen::Vector3d shift = *swing.shift;
   const JointVector& q_pre = swing.q;
-  const StanceBase step_base = StanceBaseAt(ctx, pose, shift, parent.state.feet, j);
+  const StanceBase& step_base = swing.base;
   const Eigen::Isometry3d& base = step_base.base_W;
 
   // The stance before lift-off: collision, swing triangle, torques of the three-foot stance.
@@ -202,6 +202,8 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
   const Eigen::Isometry3d T_BW = base.inverse();
   const Eigen::Vector3d old_foot = parent.state.feet[static_cast<std::size_t>(j)].position;
   const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, j);
+  // The pose of the look-ahead below (the path pose lead_time_s later).
+  const PathPose ahead_pose = LeadPose(path, option.t, fc.lead_time_s, fc.max_lead_yaw_rad);
   int lp_evaluations = 0;
   std::size_t candidates_seen = 0;
   std::string last_reject;
@@ -252,7 +254,6 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
       if (!option.goal_step) {
         std::array<FootContact, kNumLegs> ahead_feet = parent.state.feet;
         ahead_feet[static_cast<std::size_t>(j)].position = c.foothold;
-        const PathPose ahead_pose = LeadPose(path, option.t, fc.lead_time_s, fc.max_lead_yaw_rad);
         const Eigen::Isometry3d ahead =
             StanceBaseAt(ctx, ahead_pose, Eigen::Vector3d(0.0, 0.0, shift.z()), ahead_feet).base_W;
         if (KeepLeg(ctx, leg, ahead, c.foothold).failure != KeepFailure::kNone) {

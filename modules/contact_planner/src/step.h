@@ -10,6 +10,7 @@
 #include "planner_context.h"
 #include "rbcp/robot/robot_model.h"
 #include "search_node.h"
+#include "stance_checks.h"
 
 namespace rbcp::contact_planner_detail {
 
@@ -22,6 +23,7 @@ Eigen::Vector3d BaseVariant(const ContactPlannerConfig& config, const Node& pare
 /// The body shift of a swing, or why there is none.
 struct SwingShiftResult {
   std::optional<Eigen::Vector3d> shift;  ///< path heading frame; nullopt when the margin cannot be met
+  StanceBase base;                       ///< the base pose at the shift (with a shift)
   JointVector q = JointVector::Zero();   ///< the stance's joints with the base at the shift
   std::string why;                       ///< empty with a shift
   /// The stance leg whose re-placement would widen a support triangle the CoM cannot get into.

@@ -97,6 +97,10 @@ struct ContactPlanStats {
   int candidates_evaluated = 0;  ///< distinct projected footholds tested
   int stability_evaluations = 0; ///< footholds that reached the equilibrium LPs
   int backtracks = 0;            ///< steps undone
+
+  /// Leg evaluations (keep checks and candidates evaluated): the work that
+  /// ContactPlannerConfig::retry.max_evaluations bounds.
+  long Evaluations() const { return static_cast<long>(keep_checks) + static_cast<long>(candidates_evaluated); }
 };
 
 struct ContactPlanResult {

@@ -85,7 +85,7 @@ struct RetryConfig {
   int max_children_per_state = 4;
   int max_steps_at_one_time = 6;    ///< steps without the trunk advancing along the path
   /// [s] when the search fails for want of footholds, it restarts with the crawl timing
-  /// gait_advance_s replaced by each of these in turn (within the time budget).
+  /// gait_advance_s replaced by each of these in turn (within max_evaluations and the time budget).
   std::vector<double> gait_advance_s = {0.3, 0.4};
 };
 
