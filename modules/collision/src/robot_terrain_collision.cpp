@@ -297,6 +297,11 @@ void RobotTerrainCollision::Impl::BuildShapes() {
       s.radius += options.thigh_margin;
       s.half_length += options.thigh_margin;
     }
+    if (!c.leg) {
+      s.half_extents.array() += options.trunk_margin;
+      s.radius += options.trunk_margin;
+      s.half_length += options.trunk_margin;
+    }
     s.pose_link = c.pose_link;
     s.MakeGeometry();
     s.report_index = static_cast<int>(shapes.size());
@@ -408,6 +413,10 @@ RobotTerrainCollision::RobotTerrainCollision(const RobotModel& robot, const Tria
   if (!problem.empty()) throw InputError("robot-terrain collision: expected a valid terrain mesh, got: " + problem);
   Impl& m = *impl_;
   m.options = options;
+  if (!(options.trunk_margin >= 0.0 && options.trunk_margin < 0.1)) {
+    throw InputError("collision options: 'trunk_margin': expected a clearance in [0, 0.1) m, got " +
+                     Text(options.trunk_margin));
+  }
   if (!(options.thigh_margin >= 0.0 && options.thigh_margin < 0.1)) {
     throw InputError("collision options: 'thigh_margin': expected a clearance in [0, 0.1) m, got " +
                      Text(options.thigh_margin));

@@ -159,6 +159,7 @@ ContactPlanner& ContactPlanner::operator=(ContactPlanner&&) noexcept = default;
 void ContactPlanner::SetTerrain(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces) {
   CollisionOptions terrain_options;
   terrain_options.thigh_margin = impl_->config.thigh_clearance_m;
+  terrain_options.trunk_margin = impl_->config.trunk_clearance_m;
   impl_->collision = std::make_unique<RobotTerrainCollision>(impl_->robot, terrain, terrain_options);
   impl_->self_collision = std::make_unique<RobotTerrainCollision>(impl_->robot, terrain);
   impl_->surfaces.clear();

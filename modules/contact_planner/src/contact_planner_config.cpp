@@ -47,11 +47,13 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.foothold.min_foot_separation_m = fh.Double("min_foot_separation_m");
   c.foothold.max_stability_evaluations = fh.Int("max_stability_evaluations");
   c.foothold.near_query_half_m = fh.Double("near_query_half_m");
+  c.foothold.min_step_length_m = fh.Double("min_step_length_m");
   fh.RejectUnknownKeys();
 
   c.torque_limit_fraction = map.Double("torque_limit_fraction");
   c.stance_min_normal_force_N = map.Double("stance_min_normal_force_N");
   c.thigh_clearance_m = map.Double("thigh_clearance_m");
+  c.trunk_clearance_m = map.Double("trunk_clearance_m");
 
   const YamlMap bs = map.Map("base_shift");
   c.base_shift.max_base_shift_m = bs.Double("max_base_shift_m");
@@ -119,8 +121,12 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   check.NonNegative("foothold.weight_z", foothold.weight_z);
   check.Positive("foothold.dedup_cell_m", foothold.dedup_cell_m);
   check.NonNegative("foothold.near_query_half_m", foothold.near_query_half_m);
+  check.NonNegative("foothold.min_step_length_m", foothold.min_step_length_m);
   check.NonNegative("foothold.min_foot_separation_m", foothold.min_foot_separation_m);
   check.AtLeast("foothold.max_stability_evaluations", foothold.max_stability_evaluations, 1);
+  if (!(std::isfinite(trunk_clearance_m) && trunk_clearance_m >= 0.0 && trunk_clearance_m < 0.1)) {
+    check.Fail("trunk_clearance_m", "a clearance in [0, 0.1) m", ConfigNumber(trunk_clearance_m));
+  }
   if (!(std::isfinite(thigh_clearance_m) && thigh_clearance_m >= 0.0 && thigh_clearance_m < 0.1)) {
     check.Fail("thigh_clearance_m", "a clearance in [0, 0.1) m", ConfigNumber(thigh_clearance_m));
   }

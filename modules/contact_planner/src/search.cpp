@@ -90,9 +90,10 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
     std::stable_partition(ranking.begin(), ranking.end(),
                           [&](const LegRank& r) { return r.failing && r.leg == fore; });
   }
-  // Crawl timing: the next leg in the crawl order steps after at most gait_advance_s of path
-  // time, from the parent's shift first, then from the path pose, with other leads and shift
-  // starts.
+  // Crawl timing: the next leg in the crawl order steps after gait_advance_s of path time, from
+  // the parent's shift first, then from the path pose, with other leads and shift starts. When a
+  // foot can no longer be kept before then, the failing legs step first: the crawl's leg would
+  // step at the failure time, and the failing leg right after it at the same time.
   // A leg at time t with every target lead, then from every other start of the shift search.
   const auto add_every_variant = [&](Leg leg, double t) {
     for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({leg, t, lead, false, 0});
@@ -105,7 +106,10 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
     const double t_gait = std::min(keep.t_good, node.t + gait_advance);
     const Leg gait_leg = node.state.moving_leg < 0 ? ranking.front().leg
                                                    : CrawlNext(kAllLegs[static_cast<std::size_t>(node.state.moving_leg)]);
-    if (allowed(gait_leg, t_gait)) add_every_variant(gait_leg, t_gait);
+    const bool before_failure = node.t + gait_advance < keep.t_good - 1e-9;
+    const bool gait_leg_fails = std::any_of(ranking.begin(), ranking.end(),
+                                            [&](const LegRank& r) { return r.failing && r.leg == gait_leg; });
+    if ((before_failure || gait_leg_fails) && allowed(gait_leg, t_gait)) add_every_variant(gait_leg, t_gait);
   }
   // Failing legs at the failure time, every lead, then with the other starts of the shift
   // search; then earlier; then the other legs.

@@ -14,9 +14,6 @@
 namespace rbcp::contact_planner_detail {
 namespace {
 
-/// New footholds closer than this to the foot's previous position are no step [m].
-constexpr double kMinStepLength = 0.02;
-
 /// Why the stance of `parent` before `leg` lifts off, with the base at `base` and the joints
 /// q_pre, is invalid: collision (a stance leg that hits the terrain is named as blocking),
 /// self-collision, the swing triangle, the torques of the three-foot stance, or the transit from
@@ -221,7 +218,7 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
       if (stage == 1) ++candidates_seen;
       if (ctx.budget.Exhausted()) return {StepOutcome::kCapped, "time budget exhausted", std::nullopt, Node{}};
       ++ctx.stats.candidates_evaluated;
-      if ((c.foothold - old_foot).norm() < kMinStepLength) continue;
+      if ((c.foothold - old_foot).norm() < fc.min_step_length_m) continue;
       if (!FarEnoughFromFeet(ctx, parent.state.feet, j, c.foothold)) continue;
       const Eigen::Vector3d p_B = T_BW * c.foothold;
       if (WorkspaceRatio(ctx, leg, p_B) > 1.0) {

@@ -73,6 +73,10 @@ struct CollisionOptions {
   /// foot on the floor. Self-collision pairs that the larger thighs overlap in the reference
   /// stance are then excluded, so an instance with a margin is meant for terrain checks.
   double thigh_margin = 0.0;
+  /// [m] the trunk's primitives (body, belly plate, hip actuators) are checked this much larger on
+  /// every side, in [0, 0.1): a clearance for a body that walks a centimetre or two off its plan
+  /// past a riser or a block edge. As thigh_margin, meant for terrain checks.
+  double trunk_margin = 0.0;
   /// Fill CollisionReport::penetration. Measuring the depth costs a second FCL pass on colliding
   /// queries (gathering every contact of the shape); planners that only need yes/no turn it off
   /// and get penetration == 0.

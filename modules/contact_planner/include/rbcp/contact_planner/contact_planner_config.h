@@ -37,6 +37,9 @@ struct FootholdConfig {
   double weight_z = 0.01;
   double dedup_cell_m = 0.01;      ///< [m] projected footholds in one grid cell count once
   double min_foot_separation_m = 0.10;  ///< [m] horizontal distance between any two footholds
+  /// [m] a new foothold at least this far from the foot's previous one (shorter re-placements
+  /// cost a step each and rarely unblock the search)
+  double min_step_length_m = 0.05;
   int max_stability_evaluations = 80;   ///< candidates reaching the LP tests per step attempt
   /// [m] candidates are first taken from a square of this half-size around the target, then from
   /// the rest of the workspace (0: the whole workspace at once).
@@ -111,6 +114,8 @@ struct ContactPlannerConfig {
   /// Clearance of the thighs (knee actuators) from the terrain in every stance and swing check
   /// [m], in [0, 0.1).
   double thigh_clearance_m = 0.02;
+  /// Clearance of the trunk (body, belly plate, hip actuators) from the terrain [m], in [0, 0.1).
+  double trunk_clearance_m = 0.01;
   BaseShiftConfig base_shift;
   BasePoseConfig base_pose;
   double goal_foot_tolerance_m = 0.05;  ///< [m] feet farther from their goal position are re-placed
