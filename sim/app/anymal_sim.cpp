@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   nodes::AddCommonOptions(app, common);
   std::string scenario_path, plan_path, sim_config_path, controller_config_path, log_csv_path;
   bool json = false, exit_when_decided = false;
+  sim::SimNodeOptions node_options;
   double realtime_factor = 1.0;
   app.add_option("--scenario", scenario_path, "scenario YAML: the world (terrain, and the start the robot stands on)")
       ->required()->check(CLI::ExistingFile);
@@ -40,6 +41,12 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_flag("--exit-when-decided", exit_when_decided,
                "process: exit once a plan's outcome is decided (status 0 goal reached, 1 failed)");
+  app.add_flag("--replan", node_options.replan,
+               "process: the robot stops at every step boundary until a CONTACT_PLAN starting from that stance "
+               "comes (receding-horizon replanning; the world stands still meanwhile unless --realtime-factor > 0)");
+  app.add_option("--await-timeout", node_options.await_timeout_s,
+                 "process, --replan: wall seconds to wait for a plan before going on with the current one")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--sim-config", sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
   app.add_option("--controller-config", controller_config_path,
                  "controller parameters (default: CONFIG_DIR/controller.yaml)");
@@ -82,12 +89,14 @@ int main(int argc, char** argv) {
     }
 
     auto lcm = transport::OpenLcm(common.lcm_url);
-    sim::SimNode node(*lcm, execution, scenario, sim_config);
+    node_options.pause_while_awaiting = realtime_factor <= 0.0;
+    sim::SimNode node(*lcm, execution, scenario, sim_config, node_options);
     node.status().set_verbose(!common.quiet);
+    node.status().StartBackgroundHeartbeat(0.4);
     transport::InstallStopHandlers();
     std::cerr << "[anymal_sim] " << scenario.name << ": TERRAIN, ROBOT_STATE, STATUS out; CONTACT_PLAN in; "
               << (realtime_factor > 0 ? std::to_string(realtime_factor) + "x real time" : std::string("as fast as possible"))
-              << "\n";
+              << (node_options.replan ? "; replanning at every step boundary" : "") << "\n";
     const auto start = Clock::now();
     auto next_heartbeat = start;
     while (!transport::StopRequested()) {
@@ -105,7 +114,9 @@ int main(int argc, char** argv) {
       }
       const double wall_s = std::chrono::duration<double>(now - start).count();
       if (common.max_runtime_s > 0 && wall_s > common.max_runtime_s) break;
-      if (realtime_factor > 0) {
+      if (node.Paused()) {
+        lcm->handleTimeout(1);  // the world stands still: wait for the plan without spinning
+      } else if (realtime_factor > 0) {
         std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
                                                   std::chrono::duration<double>(node.SimTime() / realtime_factor)));
       }

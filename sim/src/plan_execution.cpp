@@ -14,12 +14,6 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-/// Roll, pitch, yaw of a rotation, R = Rz(yaw) Ry(pitch) Rx(roll).
-Eigen::Vector3d Rpy(const Eigen::Matrix3d& R) {
-  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
-  return Eigen::Vector3d(std::atan2(R(2, 1), R(2, 2)), pitch, std::atan2(R(1, 0), R(0, 0)));
-}
-
 double AngleDiff(double a, double b) { return std::abs(std::remainder(a - b, 2.0 * M_PI)); }
 
 }  // namespace
@@ -55,6 +49,24 @@ void PlanExecution::Reset(const Eigen::Vector3d& base_W, const Eigen::Quaternion
   saturated_since_.fill(-1.0);
   touching_.clear();
   controller_ = std::make_unique<PlanController>(robot_, controller_->Config(), &scenario_.terrain_mesh);
+  controller_->SetAwaitPlans(await_plans_);
+}
+
+void PlanExecution::SetAwaitPlans(bool await) {
+  await_plans_ = await;
+  controller_->SetAwaitPlans(await);
+}
+
+bool PlanExecution::CanContinue() const {
+  if (!has_plan_) return false;
+  const ContactPlan& plan = controller_->Plan();
+  return controller_->Status().step + 1 < static_cast<int>(plan.states.size()) || plan.reaches_goal;
+}
+
+bool PlanExecution::Awaiting() const {
+  if (!await_plans_) return false;
+  const ControllerPhase phase = controller_->Status().phase;
+  return phase == ControllerPhase::kAwait || (!has_plan_ && phase == ControllerPhase::kHold);
 }
 
 void PlanExecution::Start(const ContactPlan& plan) {
@@ -105,6 +117,7 @@ bool PlanExecution::Tick() {
   world_->SetJointTorques(commanded);
   for (int i = 0; i < config_.StepsPerTick(); ++i) world_->Step();
   if (decided_) return false;
+  if (Awaiting()) timeout_s_ += world_->Time() - state.t;  // waiting for a plan is not walking it
   Judge(world_->State(), commanded);
   return !decided_;
 }
@@ -119,7 +132,7 @@ void PlanExecution::Sample(const RobotState& state) {
   TraceSample s;
   s.t = state.t;
   s.base_position = state.base_position_W;
-  s.base_rpy = Rpy(state.base_orientation_W.toRotationMatrix());
+  s.base_rpy = RpyFromRotation(state.base_orientation_W.toRotationMatrix());
   const auto centres = world_->FootCentersW();
   for (std::size_t i = 0; i < centres.size(); ++i) s.feet[i] = centres[i] - Eigen::Vector3d(0, 0, robot_.FootRadius());
   s.contact = state.foot_contact;
@@ -182,7 +195,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
 
   // Tilt against the plan's states on either side of the step being walked.
   if (has_plan_) {
-    const Eigen::Vector3d rpy = Rpy(state.base_orientation_W.toRotationMatrix());
+    const Eigen::Vector3d rpy = RpyFromRotation(state.base_orientation_W.toRotationMatrix());
     double tilt = std::numeric_limits<double>::infinity();
     for (int k : {status.step - 1, status.step}) {
       if (k < 0 || k >= static_cast<int>(plan_.states.size())) continue;
@@ -336,7 +349,7 @@ void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution) {
   const RobotState s = execution.State();
   const ControllerStatus& status = execution.Controller().Status();
   const BaseReference& ref = execution.Controller().Reference();
-  const Eigen::Vector3d rpy = Rpy(s.base_orientation_W.normalized().toRotationMatrix());
+  const Eigen::Vector3d rpy = RpyFromRotation(s.base_orientation_W.normalized().toRotationMatrix());
   out << FixedNumber(s.t, 4) << ',' << ToString(status.phase) << ',' << status.step << ','
       << (status.swing_leg ? LegName(*status.swing_leg) : "") << ',' << FixedNumber(status.support_margin_m, 4);
   for (int k = 0; k < 3; ++k) out << ',' << FixedNumber(s.base_position_W[k], 4);

@@ -1,6 +1,7 @@
 #include "rbcp/sim/sim_node.h"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "rbcp/core/error.h"
@@ -27,45 +28,126 @@ std::string OutcomeSummary(const ExecutionOutcome& o) {
   return os.str();
 }
 
-SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenario, const SimConfig& config)
+SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenario, const SimConfig& config,
+                 SimNodeOptions options)
     : lcm_(lcm),
       execution_(execution),
       scenario_(scenario),
       config_(config),
       status_(lcm, kProcessName, channels::kStatus),
-      plans_in_(lcm, channels::kContactPlan) {
+      options_(std::move(options)),
+      plans_in_(lcm, channels::kContactPlan),
+      planner_failures_(lcm, channels::kStatus, [this](const rbcp_msgs::process_status_t& s) {
+        return s.process == options_.contact_planner && s.state == rbcp_msgs::process_status_t::FAILED;
+      }) {
+  if (!(options_.await_timeout_s > 0.0) || !(options_.retry_hold_s >= 0.0)) {
+    throw InputError("simulator: await_timeout_s expected > 0 and retry_hold_s >= 0");
+  }
+  execution_.SetAwaitPlans(options_.replan);
   execution_.StandAt(scenario_.start);
 }
 
 int64_t SimNode::Utime() const { return static_cast<int64_t>(std::llround(execution_.Time() * 1e6)); }
 
 void SimNode::PublishTerrain() {
+  last_terrain_wall_ = std::chrono::steady_clock::now();
   const auto msg = transport::ToTerrainMsg(scenario_.terrain_mesh, Utime(), scenario_.name);
   lcm_.publish(channels::kTerrain, &msg);
 }
 
+void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
+  if (options_.replan && (!awaiting_since_ || msg.start_utime < *awaiting_since_)) {
+    // Planned from a stance the robot has left (or for a wait already given up): stale.
+    stale_plans_ += 1;
+    if (status_.verbose()) {
+      std::fprintf(stderr, "[%s] dropped stale CONTACT_PLAN %lld: starts from utime %lld, %s\n", kProcessName,
+                   static_cast<long long>(msg.plan_seq), static_cast<long long>(msg.start_utime),
+                   awaiting_since_ ? ("the robot waits since " + std::to_string(*awaiting_since_)).c_str()
+                                   : "the robot is not waiting for a plan");
+    }
+    return;
+  }
+  try {
+    const ContactPlan plan = transport::FromContactPlanMsg(msg);
+    execution_.GivePlan(plan);
+    plans_ += 1;
+    plan_seq_ = msg.plan_seq;
+    awaiting_since_.reset();
+    answered_utime_ = Utime();
+    reported_ = false;
+    plan_utime_ = msg.utime;
+    last_step_reported_ = -1;
+    status_.Busy(Utime(), msg.utime);
+  } catch (const InputError& e) {
+    status_.Failed(Utime(), msg.utime, 0.0, std::string("rejected CONTACT_PLAN: ") + e.what());
+  }
+}
+
+void SimNode::UpdateWait() {
+  const bool failed = [&] {
+    const auto f = planner_failures_.Take();
+    return f && awaiting_since_ && f->input_utime >= *awaiting_since_;
+  }();
+  if (!options_.replan || !execution_.Awaiting()) {
+    awaiting_since_.reset();
+    return;
+  }
+  const auto now = std::chrono::steady_clock::now();
+  if (!awaiting_since_) {
+    // A new wait once the controller has seen the last answer (the world moved on since) and
+    // any hold is over.
+    if (execution_.Time() + 1e-9 < hold_until_s_ || Utime() <= answered_utime_) return;
+    awaiting_since_ = Utime();
+    await_wall_start_ = now;
+    return;
+  }
+  const bool timed_out = std::chrono::duration<double>(now - await_wall_start_).count() > options_.await_timeout_s;
+  if (!failed && !timed_out) return;
+  if (status_.verbose()) {
+    std::fprintf(stderr, "[%s] no new plan for the wait since utime %lld (%s): %s\n", kProcessName,
+                 static_cast<long long>(*awaiting_since_), failed ? "the contact planner failed" : "timed out",
+                 execution_.CanContinue() ? "going on with the current plan" : "holding the stance");
+  }
+  if (execution_.CanContinue()) {
+    execution_.ContinuePlan();
+  } else {
+    hold_until_s_ = execution_.Time() + options_.retry_hold_s;
+  }
+  awaiting_since_.reset();
+  answered_utime_ = Utime();
+}
+
+void SimNode::PublishState() {
+  ControllerProgress progress;
+  progress.plan_seq = plan_seq_;
+  progress.steps_done = execution_.Controller().Status().steps_done;
+  progress.awaiting_since = awaiting_since_;
+  const auto state_msg = transport::ToRobotStateMsg(execution_.State(), progress);
+  lcm_.publish(channels::kRobotState, &state_msg);
+}
+
 void SimNode::Tick() {
   if (auto error = plans_in_.TakeDecodeError()) status_.Failed(Utime(), 0, 0.0, *error);
-  if (auto msg = plans_in_.Take()) {
-    try {
-      const ContactPlan plan = transport::FromContactPlanMsg(*msg);
-      execution_.GivePlan(plan);
-      plans_ += 1;
-      reported_ = false;
-      plan_utime_ = msg->utime;
-      last_step_reported_ = -1;
-      status_.Busy(Utime(), msg->utime);
-    } catch (const InputError& e) {
-      status_.Failed(Utime(), msg->utime, 0.0, std::string("rejected CONTACT_PLAN: ") + e.what());
+  if (auto msg = plans_in_.Take()) TakePlan(*msg);
+  UpdateWait();
+  if (Paused()) {
+    // The world stands still while the robot waits; the state goes out every few milliseconds.
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_state_wall_ >= std::chrono::milliseconds(5)) {
+      last_state_wall_ = now;
+      PublishState();
     }
+    // The terrain, due every terrain_period_s of simulated time, goes out on the wall clock meanwhile.
+    if (now - last_terrain_wall_ >= std::chrono::duration<double>(config_.terrain_period_s)) PublishTerrain();
+    return;
   }
   if (execution_.Time() + 1e-9 >= next_terrain_s_) {
     PublishTerrain();
     next_terrain_s_ += config_.terrain_period_s;
   }
   execution_.Tick();
-  const auto state_msg = transport::ToRobotStateMsg(execution_.State());
-  lcm_.publish(channels::kRobotState, &state_msg);
+  UpdateWait();
+  PublishState();
 
   if (plans_ > 0 && execution_.Decided() && !reported_) {
     reported_ = true;

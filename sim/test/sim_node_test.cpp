@@ -1,5 +1,6 @@
 // The simulator's node over memq://: what it publishes, a plan walked to its verdict on STATUS,
-// and a malformed plan answered with FAILED while the world goes on.
+// a malformed plan answered with FAILED while the world goes on, and the replanning handshake
+// (a wait at every step boundary, stale plans dropped, the planner's failure answered).
 #include "rbcp/sim/sim_node.h"
 
 #include <gtest/gtest.h>
@@ -21,15 +22,30 @@ namespace {
 using rbcp::test::ConfigDir;
 using rbcp::test::ScenarioPath;
 
-class SimNodeTest : public ::testing::Test {
+/// The simulated world and the test's LCM subscriptions, without a node.
+class SimWorld : public ::testing::Test {
+ protected:
+  void Pump() {
+    while (lcm_.handleTimeout(0) > 0) {
+    }
+  }
+
+  RobotModel robot_ = RobotModel::LoadDefault(ConfigDir());
+  SimConfig config_ = SimConfig::LoadFile(ConfigDir() + "/sim.yaml");
+  Scenario scenario_ = LoadScenario(ScenarioPath("flat_ground"));
+  PlanExecution execution_{robot_, ConfigDir() + "/robots/anymal_b.urdf", scenario_, config_,
+                           ControllerConfig::LoadFile(ConfigDir() + "/controller.yaml")};
+  lcm::LCM lcm_{"memq://"};
+  transport::LatestMessage<rbcp_msgs::robot_state_t> states_{lcm_, channels::kRobotState};
+  transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_{lcm_, channels::kTerrain};
+  transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
+};
+
+class SimNodeTest : public SimWorld {
  protected:
   void SetUp() override {
     ASSERT_TRUE(lcm_.good());
     node_.status().set_verbose(false);
-  }
-  void Pump() {
-    while (lcm_.handleTimeout(0) > 0) {
-    }
   }
   /// Ticks until `done` or `seconds` of simulated time passed.
   template <typename Done>
@@ -41,16 +57,7 @@ class SimNodeTest : public ::testing::Test {
     }
   }
 
-  RobotModel robot_ = RobotModel::LoadDefault(ConfigDir());
-  SimConfig config_ = SimConfig::LoadFile(ConfigDir() + "/sim.yaml");
-  Scenario scenario_ = LoadScenario(ScenarioPath("flat_ground"));
-  PlanExecution execution_{robot_, ConfigDir() + "/robots/anymal_b.urdf", scenario_, config_,
-                           ControllerConfig::LoadFile(ConfigDir() + "/controller.yaml")};
-  lcm::LCM lcm_{"memq://"};
   SimNode node_{lcm_, execution_, scenario_, config_};
-  transport::LatestMessage<rbcp_msgs::robot_state_t> states_{lcm_, channels::kRobotState};
-  transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_{lcm_, channels::kTerrain};
-  transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
 };
 
 TEST_F(SimNodeTest, PublishesTheTerrainAndTheStateAtTheControlRate) {
@@ -97,6 +104,103 @@ TEST_F(SimNodeTest, AMalformedPlanIsRejectedAndTheRobotKeepsStanding) {
   EXPECT_FALSE(node_.Decided());
   const RobotState state = transport::FromRobotStateMsg(*states_.Latest());
   for (bool c : state.foot_contact) EXPECT_TRUE(c);
+}
+
+class ReplanningSimNodeTest : public SimWorld {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(lcm_.good());
+    replanning_.status().set_verbose(false);
+  }
+  static SimNodeOptions Options() {
+    SimNodeOptions o;
+    o.replan = true;
+    o.retry_hold_s = 0.5;
+    return o;
+  }
+  SimNode replanning_{lcm_, execution_, scenario_, config_, Options()};
+  /// Ticks the replanning node until it waits at a step boundary (at most `seconds` simulated).
+  void TickUntilWaiting(double seconds) {
+    const long ticks = std::lround(seconds * config_.control_rate_hz);
+    for (long k = 0; k < ticks; ++k) {
+      replanning_.Tick();
+      Pump();
+      if (replanning_.Paused()) return;
+    }
+  }
+  rbcp_msgs::robot_state_t Tick() {
+    replanning_.Tick();
+    Pump();
+    return *states_.Latest();
+  }
+  void PublishPlannerFailure(int64_t input_utime) {
+    rbcp_msgs::process_status_t f{};
+    f.process = "contact_planner";
+    f.state = rbcp_msgs::process_status_t::FAILED;
+    f.reason = "no_foothold: test";
+    f.input_utime = input_utime;
+    f.handled = ++handled_;
+    lcm_.publish(channels::kStatus, &f);
+    Pump();
+  }
+  /// The planner fails the wait since `boundary`: the robot stops waiting, then ticks (at most
+  /// `seconds` simulated) to its next wait; returns the state there.
+  rbcp_msgs::robot_state_t FailAndTickToTheNextWait(int64_t boundary, double seconds) {
+    PublishPlannerFailure(boundary);
+    EXPECT_FALSE(Tick().awaiting_plan);
+    TickUntilWaiting(seconds);
+    EXPECT_TRUE(replanning_.Paused());
+    return Tick();
+  }
+  int64_t handled_ = 0;
+};
+
+TEST_F(ReplanningSimNodeTest, WaitsAtEveryStepBoundaryForAPlanFromThatStance) {
+  // Standing with no plan: the world stands still and ROBOT_STATE says the robot waits.
+  auto state = Tick();
+  ASSERT_TRUE(replanning_.Paused());
+  for (int k = 0; k < 5; ++k) state = Tick();
+  EXPECT_TRUE(state.awaiting_plan);
+  EXPECT_EQ(state.utime, state.awaiting_since) << "the world stands still while the robot waits";
+  EXPECT_EQ(state.plan_seq, 0);
+
+  // A plan of two steps that stops short of the goal, from this wait: taken.
+  ContactPlan piece = rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08);
+  piece.reaches_goal = false;
+  const auto first = transport::ToContactPlanMsg(piece, state.utime, 7, 1, state.utime);
+  lcm_.publish(channels::kContactPlan, &first);
+  Pump();
+  state = Tick();
+  EXPECT_FALSE(state.awaiting_plan);
+  EXPECT_EQ(state.plan_seq, 1);
+  TickUntilWaiting(20.0);
+  ASSERT_TRUE(replanning_.Paused()) << "the robot waits after its first step";
+  state = Tick();
+  EXPECT_EQ(state.steps_done, 1);
+  EXPECT_GT(state.awaiting_since, first.start_utime);
+  const int64_t boundary = state.awaiting_since;
+
+  // A plan from the stance before that step is stale: dropped, and the robot goes on waiting.
+  lcm_.publish(channels::kContactPlan, &first);
+  Pump();
+  state = Tick();
+  EXPECT_EQ(replanning_.StalePlans(), 1);
+  EXPECT_TRUE(state.awaiting_plan);
+  EXPECT_EQ(state.utime, boundary);
+
+  // The planner fails this wait: the robot walks the rest of its plan, then waits again.
+  state = FailAndTickToTheNextWait(boundary, 20.0);
+  EXPECT_EQ(state.steps_done, 2);
+  EXPECT_FALSE(replanning_.Decided()) << "a plan short of the goal is no verdict";
+
+  // Nothing left to walk and the planner fails again: the robot holds its stance for
+  // retry_hold_s of simulated time, then asks again.
+  const int64_t second_boundary = state.awaiting_since;
+  state = FailAndTickToTheNextWait(second_boundary, 2.0);
+  EXPECT_GE(state.awaiting_since - second_boundary, 500000);
+  EXPECT_EQ(state.steps_done, 2);
+  const RobotState measured = transport::FromRobotStateMsg(state);
+  for (bool c : measured.foot_contact) EXPECT_TRUE(c);
 }
 
 }  // namespace

@@ -5,7 +5,11 @@
 // the scenario's start to its goal; it waits for ROOT_PATH and CONTACT_PLAN, checks the plan with
 // the plan checker, with --until sim waits for the simulator's verdict on the walked plan, and
 // prints a summary. A FAILED status from any process (on an input handled after the start) ends
-// the run with the process's name and reason.
+// the run with the process's name and reason. With --until loop (the replanning loop: anymal_sim
+// --replan, contact_planner --horizon-steps K) it follows the run instead: progress every few
+// seconds (steps walked, distance to the goal, plans), then the outcome, the replans and their
+// latency (from the first ROBOT_STATE of a wait received here to the CONTACT_PLAN answering it);
+// a contact planner's FAILED answer only costs a replan, the simulator's verdict ends the run.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,10 +18,12 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
 #include "rbcp/nodes/process.h"
+#include "rbcp/nodes/run_record.h"
 #include "rbcp/plan_checker/plan_checker.h"
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/transport/channels.h"
@@ -28,6 +34,7 @@
 #include "rbcp_msgs/contact_plan_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
+#include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
 
 namespace {
@@ -106,6 +113,83 @@ void Pump(lcm::LCM& lcm, double timeout_s, const std::function<bool()>& done) {
   while (!done() && std::chrono::duration<double>(Clock::now() - start).count() < timeout_s) lcm.handleTimeout(20);
 }
 
+/// The replanning loop seen from outside: a RunRecord fed with the receive times here.
+class LoopWatch {
+ public:
+  explicit LoopWatch(lcm::LCM& lcm) : start_(Clock::now()) {
+    lcm.subscribe(channels::kRobotState, &LoopWatch::OnState, this);
+    lcm.subscribe(channels::kContactPlan, &LoopWatch::OnPlan, this);
+  }
+  nodes::RunRecord record;
+
+ private:
+  int64_t Now() const {
+    return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start_).count();
+  }
+  void OnState(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::robot_state_t* msg) {
+    record.OnRobotState(Now(), *msg);
+  }
+  void OnPlan(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::contact_plan_t* msg) {
+    try {
+      record.OnContactPlan(Now(), *msg);
+    } catch (const InputError& e) {
+      std::cerr << "scenario_publisher: malformed CONTACT_PLAN: " << e.what() << "\n";
+    }
+  }
+  Clock::time_point start_;
+};
+
+/// --until loop: follows the run until the simulator's verdict, printing progress; returns the
+/// exit status.
+int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenario& scenario, double run_timeout_s,
+               double first_plan_timeout_s, std::string summary) {
+  const auto start = Clock::now();
+  auto next_print = start + std::chrono::seconds(5);
+  int planner_failures = 0;
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  const auto finish = [&](int rc, const std::string& outcome) {
+    const auto& s = watch.record.Latest();
+    std::ostringstream os;
+    os << summary << ", " << outcome << "; " << (s ? FixedNumber(static_cast<double>(s->utime) * 1e-6, 1) : "0")
+       << " s simulated in " << FixedNumber(elapsed(), 1) << " s wall, " << (s ? s->steps_done : 0) << " steps, "
+       << watch.record.Plans() << " plans (" << planner_failures << " failed replans), replanning latency median "
+       << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
+       << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.95), 1) << " ms";
+    std::cout << os.str() << std::endl;
+    return rc;
+  };
+  std::cout << "loop: the robot walks to the goal, replanning at every step" << std::endl;
+  while (!transport::StopRequested()) {
+    lcm.handleTimeout(20);
+    while (auto f = board.TakeFailure()) {
+      if (f->process == "contact_planner") {
+        planner_failures += 1;
+        std::cout << "contact_planner: no plan for this step boundary: " << f->reason << std::endl;
+        continue;
+      }
+      std::cout << f->process << ": FAILED: " << f->reason << std::endl;
+      return finish(kPlanningFailed, f->process == "anymal_sim" ? "the robot did not reach the goal: " + f->reason
+                                                                 : f->process + " failed: " + f->reason);
+    }
+    if (const auto ok = board.NewOk("anymal_sim")) return finish(kOk, "the robot reached the goal: " + ok->reason);
+    if (watch.record.Plans() == 0 && elapsed() > first_plan_timeout_s) {
+      std::cerr << "scenario_publisher: no CONTACT_PLAN within " << first_plan_timeout_s
+                << " s: is contact_planner running with --horizon-steps, and anymal_sim with --replan?\n";
+      return finish(kNoAnswer, "no CONTACT_PLAN from contact_planner");
+    }
+    if (elapsed() > run_timeout_s) return finish(kNoAnswer, "no verdict within " + FixedNumber(run_timeout_s, 0) + " s");
+    if (Clock::now() >= next_print && watch.record.Latest()) {
+      next_print += std::chrono::seconds(5);
+      const auto& s = *watch.record.Latest();
+      const double dx = s.base_position[0] - scenario.goal.position.x(), dy = s.base_position[1] - scenario.goal.position.y();
+      std::cout << "loop: " << FixedNumber(static_cast<double>(s.utime) * 1e-6, 1) << " s simulated, " << s.steps_done
+                << " steps, " << FixedNumber(std::hypot(dx, dy), 2) << " m to the goal, " << watch.record.Plans() << " plans"
+                << (s.awaiting_plan ? ", waiting for a plan" : "") << std::endl;
+    }
+  }
+  return finish(kNoAnswer, "stopped");
+}
+
 void PrintSurfaces(const Scenario& scenario, const std::vector<AffordanceSurface>& surfaces, double extract_ms) {
   double area = 0.0;
   for (const auto& s : surfaces) area += s.area;
@@ -139,8 +223,10 @@ int main(int argc, char** argv) {
   double timeout_s = 10.0, period_s = 0.5, budget_s = 5.0, sim_timeout_s = 900.0;
   int seed = 1;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
-  app.add_option("--until", until, "last answer to wait for: affordance, root, contact or sim")
-      ->capture_default_str()->check(CLI::IsMember({"affordance", "root", "contact", "sim"}));
+  app.add_option("--until", until,
+                 "last answer to wait for: affordance, root, contact, sim (one plan walked whole) or loop (the "
+                 "replanning loop walks to the goal)")
+      ->capture_default_str()->check(CLI::IsMember({"affordance", "root", "contact", "sim", "loop"}));
   app.add_option("--sim-timeout", sim_timeout_s, "with --until sim: give up after this many seconds of walking")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--timeout", timeout_s, "give up after this many seconds without the awaited answer")
@@ -161,8 +247,11 @@ int main(int argc, char** argv) {
 
     std::vector<std::string> processes = {"affordance_extractor"};
     if (until != "affordance") processes.push_back("root_planner");
-    if (until == "contact" || until == "sim") processes.push_back("contact_planner");
-    const bool simulated = until == "sim";
+    if (until == "contact" || until == "sim" || until == "loop") processes.push_back("contact_planner");
+    const bool loop = until == "loop";
+    const bool simulated = until == "sim" || loop;
+    std::optional<LoopWatch> watch;
+    if (loop) watch.emplace(*lcm);
     if (simulated) processes.push_back("anymal_sim");
     std::string summary = "summary: " + scenario.name;
     auto finish = [&](int rc, const std::string& last) {
@@ -245,6 +334,7 @@ int main(int argc, char** argv) {
     summary += ", root path of " + FixedNumber(duration_s, 2) + " s" +
                (root_ok ? " in " + FixedNumber(root_ok->compute_ms, 1) + " ms" : std::string());
     if (until == "root") return finish(kOk, "");
+    if (loop) return FollowLoop(*lcm, board, *watch, scenario, sim_timeout_s, timeout_s, summary);
 
     // CONTACT_PLAN along the path, then the independent check.
     std::optional<rbcp_msgs::contact_plan_t> plan_msg;

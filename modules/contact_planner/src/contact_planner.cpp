@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -248,6 +249,42 @@ std::optional<WholeBodyState> ContactPlanner::StandingStance(const Eigen::Vector
   StandingResult stance = StandingAt(impl_->ctx(), base_position_W, yaw);
   if (!stance.state && reason) *reason = stance.why;
   return std::move(stance.state);
+}
+
+std::optional<WholeBodyState> ContactPlanner::MeasuredStance(const Eigen::Vector3d& base_position_W,
+                                                             const Eigen::Vector3d& base_rpy,
+                                                             const std::array<Eigen::Vector3d, kNumLegs>& feet_W,
+                                                             double max_offset_m, std::string* reason) const {
+  const auto fail = [&](std::string why) -> std::optional<WholeBodyState> {
+    if (reason) *reason = std::move(why);
+    return std::nullopt;
+  };
+  if (!impl_->context) return fail("no terrain set");
+  if (!base_position_W.allFinite() || !base_rpy.allFinite()) return fail("the base pose is not finite");
+  WholeBodyState state;
+  state.base_position = base_position_W;
+  state.base_rpy = base_rpy;
+  for (Leg leg : kAllLegs) {
+    const std::size_t i = static_cast<std::size_t>(Index(leg));
+    const Eigen::Vector3d& p = feet_W[i];
+    if (!p.allFinite()) return fail(std::string(LegName(leg)) + " foot position is not finite");
+    double best = std::numeric_limits<double>::infinity();
+    for (const ConvexPolygon3d& surface : impl_->surfaces) {
+      const Eigen::Vector3d c = surface.ClosestPoint(p);
+      const double d = (c - p).norm();
+      if (d < best) {
+        best = d;
+        state.feet[i].position = c;
+        state.feet[i].normal = surface.Normal();
+      }
+    }
+    if (!(best <= max_offset_m)) {
+      return fail(std::string(LegName(leg)) + " foot at (" + FixedNumber(p.x()) + ", " + FixedNumber(p.y()) + ", " +
+                  FixedNumber(p.z()) + ") is " + FixedNumber(best) + " m from the nearest contact surface (at most " +
+                  FixedNumber(max_offset_m) + " m)");
+    }
+  }
+  return state;
 }
 
 const ContactPlannerConfig& ContactPlanner::Config() const { return impl_->config; }

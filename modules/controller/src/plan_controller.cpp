@@ -70,6 +70,7 @@ const char* ToString(ControllerPhase phase) {
     case ControllerPhase::kSwing: return "swing";
     case ControllerPhase::kSearch: return "search";
     case ControllerPhase::kLoad: return "load";
+    case ControllerPhase::kAwait: return "await";
     case ControllerPhase::kFinalShift: return "final_shift";
     case ControllerPhase::kDone: return "done";
     case ControllerPhase::kFailed: return "failed";
@@ -162,6 +163,10 @@ void PlanController::ReplacePlan(const ContactPlan& plan) {
   } else {
     pending_ = plan;
   }
+}
+
+void PlanController::ContinuePlan() {
+  if (status_.phase == ControllerPhase::kAwait) continue_requested_ = true;
 }
 
 void PlanController::Enter(ControllerPhase phase, double t) {
@@ -363,6 +368,16 @@ void PlanController::BeginStep(int index, const Measured& m) {
 void PlanController::FinishStep(const Measured& m) {
   status_.steps_done += 1;
   status_.swing_leg.reset();
+  if (await_plans_) {
+    const bool last = status_.step + 1 >= static_cast<int>(plan_.states.size());
+    if (last && plan_.reaches_goal && !pending_) {
+      BeginFinalShift(m);
+    } else {
+      continue_requested_ = false;
+      Enter(ControllerPhase::kAwait, m.t);
+    }
+    return;
+  }
   if (pending_) {
     plan_ = std::move(*pending_);
     pending_.reset();
@@ -375,6 +390,20 @@ void PlanController::FinishStep(const Measured& m) {
     BeginStep(status_.step + 1, m);
     return;
   }
+  BeginFinalShift(m);
+}
+
+void PlanController::NextStepOrFinish(const Measured& m) {
+  if (status_.step + 1 < static_cast<int>(plan_.states.size())) {
+    BeginStep(status_.step + 1, m);
+  } else if (plan_.reaches_goal) {
+    BeginFinalShift(m);
+  } else {
+    Enter(ControllerPhase::kAwait, m.t);  // nothing left to walk: hold the stance
+  }
+}
+
+void PlanController::BeginFinalShift(const Measured& m) {
   const WholeBodyState& last = plan_.states.back();
   MoveBaseTo(last.base_position, QuaternionFromRpy(last.base_rpy), m.t, config_.base.min_shift_s);
   Enter(ControllerPhase::kFinalShift, m.t);
@@ -466,6 +495,19 @@ void PlanController::Advance(const Measured& m) {
         if (elapsed >= config_.stance.load_s) {
           load_[sl] = 1.0;
           FinishStep(m);
+        }
+        break;
+      case ControllerPhase::kAwait:
+        if (pending_) {
+          plan_ = std::move(*pending_);
+          pending_.reset();
+          continue_requested_ = false;
+          status_.plan_start_s = t;
+          status_.step = 0;
+          NextStepOrFinish(m);
+        } else if (continue_requested_) {
+          continue_requested_ = false;
+          NextStepOrFinish(m);
         }
         break;
       case ControllerPhase::kFinalShift:

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     std::cerr << "[contact_planner] listening: ROOT_PATH, ROBOT_STATE, TERRAIN, AFFORDANCES -> CONTACT_PLAN, STATUS ("
               << (options.horizon_steps > 0 ? "horizon of " + std::to_string(options.horizon_steps) + " steps"
                                             : std::string("whole path")) << ")\n";
+    node.status().StartBackgroundHeartbeat(0.4);  // STATUS at least every 0.4 s, also while working
     return transport::RunLoop(*lcm, [&] { node.Step(); }, [&] { node.Heartbeat(); }, {1.0, 20, common.max_runtime_s});
   });
 }

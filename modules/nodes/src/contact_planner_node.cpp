@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/transport/convert.h"
 #include "rbcp_msgs/contact_plan_t.hpp"
@@ -41,6 +42,7 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
                                        const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config,
                                        ContactPlannerNodeOptions options)
     : lcm_(lcm),
+      robot_(robot),
       options_(std::move(options)),
       planner_(robot, database, equilibrium, config),
       root_path_(lcm, options_.root_path_channel),
@@ -49,6 +51,14 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
       status_(lcm, kProcessName, options_.status_channel) {
   if (options_.horizon_steps < 0) {
     throw InputError("contact planner node: horizon_steps expected >= 0, got " + std::to_string(options_.horizon_steps));
+  }
+  if (!(options_.max_foot_offset_m > 0.0)) {
+    throw InputError("contact planner node: max_foot_offset_m expected > 0, got " +
+                     std::to_string(options_.max_foot_offset_m));
+  }
+  if (!(options_.foothold_match_m >= 0.0)) {
+    throw InputError("contact planner node: foothold_match_m expected >= 0, got " +
+                     std::to_string(options_.foothold_match_m));
   }
   if (!(options_.max_path_offset_m > 0.0)) {
     throw InputError("contact planner node: max_path_offset_m expected > 0, got " +
@@ -110,11 +120,129 @@ bool ContactPlannerNode::Step() {
     return true;
   }
   LogWaiting();
+  if (options_.horizon_steps > 0) {
+    bool worked = false;
+    if (pending_ && world_set_) {
+      const rbcp_msgs::root_path_t msg = std::move(*pending_);
+      pending_.reset();
+      TakePath(msg);
+      worked = true;
+    }
+    const auto& state = robot_state_.Latest();
+    if (!state || !state->awaiting_plan || !world_set_ || path_.empty()) return worked;
+    if (answered_since_ == state->awaiting_since) return worked;
+    answered_since_ = state->awaiting_since;
+    Replan(*state);
+    return true;
+  }
   if (!pending_ || !world_set_) return false;
   const rbcp_msgs::root_path_t msg = std::move(*pending_);
   pending_.reset();
   Plan(msg);
   return true;
+}
+
+void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
+  std::vector<RootPathSample> samples;
+  if (auto problem = ToSamples(msg, &samples)) {
+    status_.Failed(Now(), msg.utime, 0.0, *problem);
+    return;
+  }
+  path_ = std::move(samples);
+  path_request_id_ = msg.request_id;
+  path_progress_ = 0;
+  answered_since_.reset();
+  last_plan_.reset();  // a wait already answered on the old path gets a plan on the new one
+  if (verbose_) {
+    std::fprintf(stderr, "[%s] following the root path of request %lld: %zu points, %.2f s\n", kProcessName,
+                 static_cast<long long>(msg.request_id), path_.size(), path_.back().t - path_.front().t);
+  }
+}
+
+void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
+  status_.Busy(Now(), msg.utime);
+  const auto fail = [&](const std::string& why, double ms = 0.0) {
+    last_result_.reset();
+    status_.Failed(Now(), msg.utime, ms, why);
+  };
+  RobotState measured;
+  try {
+    measured = transport::FromRobotStateMsg(msg);
+  } catch (const InputError& e) {
+    return fail(e.what());
+  }
+  const Eigen::Isometry3d base_W = Eigen::Translation3d(measured.base_position_W) * measured.base_orientation_W;
+  const Eigen::Vector3d rpy = RpyFromRotation(measured.base_orientation_W.toRotationMatrix());
+  std::array<Eigen::Vector3d, kNumLegs> feet_W;
+  for (Leg leg : kAllLegs) {
+    const int i = Index(leg);
+    feet_W[static_cast<std::size_t>(i)] = base_W * robot_.FootPosition(leg, measured.q.segment<3>(3 * i));
+  }
+  std::string why;
+  std::optional<WholeBodyState> stance =
+      planner_.MeasuredStance(measured.base_position_W, rpy, feet_W, options_.max_foot_offset_m, &why);
+  if (!stance) return fail("measured stance: " + why);
+  if (last_plan_) {
+    // A foot still on a foothold of the previous plan stands exactly there.
+    for (std::size_t i = 0; i < stance->feet.size(); ++i) {
+      const FootContact* match = nullptr;
+      double best_d = options_.foothold_match_m;
+      for (const WholeBodyState& s : last_plan_->states) {
+        const double d = (s.feet[i].position - stance->feet[i].position).norm();
+        if (d <= best_d) {
+          best_d = d;
+          match = &s.feet[i];
+        }
+      }
+      if (match) stance->feet[i] = *match;
+    }
+  }
+  // Progress along the path: the sample nearest to the measured base, not behind the last one.
+  std::size_t nearest = path_progress_;
+  double best = std::numeric_limits<double>::infinity();
+  double best_xy = best;
+  for (std::size_t i = path_progress_; i < path_.size(); ++i) {
+    const double xy = (path_[i].p.head<2>() - measured.base_position_W.head<2>()).norm();
+    const double d = xy + 0.3 * std::abs(std::remainder(path_[i].yaw - rpy.z(), 2.0 * M_PI));
+    if (d < best) {
+      best = d;
+      best_xy = xy;
+      nearest = i;
+    }
+  }
+  if (best_xy > options_.max_path_offset_m) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "robot state: the base is " << best_xy << " m from the root path (at most " << options_.max_path_offset_m
+       << " m)";
+    return fail(os.str());
+  }
+  path_progress_ = nearest;
+  const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(nearest), path_.end());
+  const int k = options_.horizon_steps;
+  if (verbose_) {
+    std::fprintf(stderr, "[%s] planning %d steps from the measured stance at utime %lld, base (%.3f, %.3f), %zu path points left\n",
+                 kProcessName, k, static_cast<long long>(msg.utime), measured.base_position_W.x(),
+                 measured.base_position_W.y(), remaining.size());
+  }
+  try {
+    last_result_ = planner_.PlanHorizon(*stance, remaining, k);
+  } catch (const std::exception& e) {
+    return fail(std::string("internal error: ") + e.what());
+  }
+  ContactPlanResult& r = *last_result_;
+  const double ms = 1000.0 * r.planning_time_s;
+  if (!r.ok) {
+    const std::string reason = ToString(r.status) + ": " + r.reason;
+    status_.Failed(Now(), msg.utime, ms, reason);
+    return;
+  }
+  r.plan.reaches_goal = r.reached_goal;
+  last_plan_ = r.plan;
+  plan_seq_ += 1;
+  const auto out = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, plan_seq_, msg.utime);
+  lcm_.publish(options_.contact_plan_channel, &out);
+  status_.Ok(Now(), msg.utime, ms, "plan " + std::to_string(plan_seq_) + ": " + Summary(r, k));
 }
 
 std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_path_t& msg,
@@ -173,63 +301,12 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
     status_.Failed(Now(), msg.utime, 0.0, *problem);
     return;
   }
-  const int k = options_.horizon_steps;
   try {
-    if (k == 0) {
-      if (verbose_) {
-        std::fprintf(stderr, "[%s] planning the whole root path (request %lld): %zu points, %.2f s\n", kProcessName,
-                     static_cast<long long>(msg.request_id), samples.size(), samples.back().t - samples.front().t);
-      }
-      last_result_ = planner_.Plan(samples);
-    } else {
-      // The current state: a standing stance at the measured base (or the path start).
-      std::size_t nearest = 0;
-      Eigen::Vector2d base_xy = samples.front().p.head<2>();
-      double yaw = samples.front().yaw;
-      const auto& state = robot_state_.Latest();
-      if (state) {
-        if (!transport::AllFinite(state->base_position, 3) || !transport::AllFinite(state->base_orientation, 4) ||
-            QuaternionNorm(state->base_orientation) < 1e-9) {
-          last_result_.reset();
-          status_.Failed(Now(), msg.utime, 0.0, "robot state: base pose is not finite");
-          return;
-        }
-        base_xy = {state->base_position[0], state->base_position[1]};
-        yaw = YawOf(state->base_orientation);
-        double best = std::numeric_limits<double>::infinity();
-        for (std::size_t i = 0; i < samples.size(); ++i) {
-          const double d = (samples[i].p.head<2>() - base_xy).norm();
-          if (d < best) {
-            best = d;
-            nearest = i;
-          }
-        }
-        if (best > options_.max_path_offset_m) {
-          std::ostringstream os;
-          os.precision(3);
-          os << "robot state: the base is " << best << " m from the root path (at most " << options_.max_path_offset_m
-             << " m)";
-          last_result_.reset();
-          status_.Failed(Now(), msg.utime, 0.0, os.str());
-          return;
-        }
-      }
-      const std::vector<RootPathSample> remaining(samples.begin() + static_cast<std::ptrdiff_t>(nearest), samples.end());
-      const Eigen::Vector3d base(base_xy.x(), base_xy.y(), remaining.front().p.z());
-      if (verbose_) {
-        std::fprintf(stderr, "[%s] planning %d steps (request %lld) from (%.3f, %.3f) %s along %zu path points\n",
-                     kProcessName, k, static_cast<long long>(msg.request_id), base.x(), base.y(),
-                     state ? "(measured)" : "(path start)", remaining.size());
-      }
-      std::string why;
-      const std::optional<WholeBodyState> current = planner_.StandingStance(base, yaw, &why);
-      if (!current) {
-        last_result_.reset();
-        status_.Failed(Now(), msg.utime, 0.0, "current stance: " + why);
-        return;
-      }
-      last_result_ = planner_.PlanHorizon(*current, remaining, k);
+    if (verbose_) {
+      std::fprintf(stderr, "[%s] planning the whole root path (request %lld): %zu points, %.2f s\n", kProcessName,
+                   static_cast<long long>(msg.request_id), samples.size(), samples.back().t - samples.front().t);
     }
+    last_result_ = planner_.Plan(samples);
   } catch (const std::exception& e) {
     last_result_.reset();
     status_.Failed(Now(), msg.utime, 0.0, std::string("internal error: ") + e.what());
@@ -241,9 +318,10 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
     status_.Failed(Now(), msg.utime, ms, ToString(r.status) + ": " + r.reason);
     return;
   }
-  const auto out = transport::ToContactPlanMsg(r.plan, Now(), msg.request_id);
+  plan_seq_ += 1;
+  const auto out = transport::ToContactPlanMsg(r.plan, Now(), msg.request_id, plan_seq_, 0);
   lcm_.publish(options_.contact_plan_channel, &out);
-  status_.Ok(Now(), msg.utime, ms, Summary(r, k));
+  status_.Ok(Now(), msg.utime, ms, Summary(r, 0));
 }
 
 void ContactPlannerNode::Heartbeat() { status_.Heartbeat(Now()); }

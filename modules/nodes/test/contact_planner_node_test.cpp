@@ -72,17 +72,26 @@ class ContactPlannerNodeTest : public ::testing::Test {
     }
   }
   void PublishWorld() { test::PublishWorld(lcm_, FlatGround(), kConfig); }
-  /// Publishes a path, steps the node once and expects FAILED with `reason` and no plan.
-  void ExpectRejected(const rbcp_msgs::root_path_t& path, const std::string& reason) {
-    lcm_.publish(channels::kRootPath, &path);
+  /// Publishes a message on `channel`, steps the node once and expects FAILED with no plan; returns
+  /// the reason.
+  template <typename Msg>
+  std::string ExpectFailed(const char* channel, const Msg& msg) {
+    lcm_.publish(channel, &msg);
     Pump();
-    ASSERT_TRUE(node_->Step());
+    EXPECT_TRUE(node_->Step());
     Pump();
-    ASSERT_TRUE(status_.Latest().has_value());
+    EXPECT_FALSE(plan_.Take().has_value());
+    if (!status_.Latest()) {
+      ADD_FAILURE() << "no STATUS";
+      return "";
+    }
     EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
     EXPECT_EQ(status_.Latest()->process, "contact_planner");
-    EXPECT_EQ(status_.Latest()->reason, reason);
-    EXPECT_FALSE(plan_.Take().has_value());
+    return status_.Latest()->reason;
+  }
+  /// Publishes a path and expects FAILED with `reason` and no plan.
+  void ExpectRejected(const rbcp_msgs::root_path_t& path, const std::string& reason) {
+    EXPECT_EQ(ExpectFailed(channels::kRootPath, path), reason);
   }
 
   lcm::LCM lcm_{"memq://"};
@@ -164,45 +173,76 @@ TEST_F(ContactPlannerNodeTest, InvalidPathsFailWithAReasonAndNoPlan) {
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
 }
 
-TEST_F(ContactPlannerNodeTest, HorizonModePlansAtMostKStepsFromTheMeasuredState) {
+/// A ROBOT_STATE of the robot standing in the reference configuration at (x, y), waiting.
+rbcp_msgs::robot_state_t WaitingState(int64_t utime, double x, double y) {
+  rbcp_msgs::robot_state_t state{};
+  state.utime = utime;
+  state.base_position[0] = x;
+  state.base_position[1] = y;
+  state.base_position[2] = Robot().NominalBaseHeight();
+  state.base_orientation[0] = 1.0;
+  for (int j = 0; j < kNumJoints; ++j) state.joint_position[j] = Robot().ReferenceConfiguration()[j];
+  for (auto& c : state.foot_contact) c = 1;
+  state.awaiting_plan = true;
+  state.awaiting_since = utime;
+  return state;
+}
+
+TEST_F(ContactPlannerNodeTest, HorizonModeAnswersEachWaitWithKStepsFromTheMeasuredStance) {
   constexpr int kSteps = 3;
   node_ = MakeNode(kSteps);
   PublishWorld();
-  rbcp_msgs::robot_state_t state{};
-  state.utime = 300;
-  state.base_position[0] = 0.02;
-  state.base_position[1] = 0.01;
-  state.base_position[2] = 0.45;
-  state.base_orientation[0] = 1.0;
-  lcm_.publish(channels::kRobotState, &state);
   lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+  Pump();
+  ASSERT_TRUE(node_->Step());  // takes the path
+  Pump();
+  EXPECT_FALSE(plan_.Take().has_value()) << "no plan before the robot waits for one";
+
+  rbcp_msgs::robot_state_t state = WaitingState(300, 0.02, 0.01);
+  lcm_.publish(channels::kRobotState, &state);
   Pump();
   ASSERT_TRUE(node_->Step());
   Pump();
   auto msg = plan_.Take();
   ASSERT_TRUE(msg.has_value()) << status_.Latest()->reason;
+  EXPECT_EQ(msg->plan_seq, 1);
+  EXPECT_EQ(msg->start_utime, 300);
+  EXPECT_FALSE(msg->reaches_goal);
+  EXPECT_EQ(status_.Latest()->input_utime, 300);
   const ContactPlan plan = transport::FromContactPlanMsg(*msg);
-  ASSERT_GE(plan.states.size(), 2u);
-  EXPECT_LE(plan.states.size(), static_cast<std::size_t>(kSteps + 1));
-  EXPECT_EQ(msg->utime, 300);
+  ASSERT_EQ(plan.states.size(), static_cast<std::size_t>(kSteps + 1));
   EXPECT_EQ(plan.states.front().moving_leg, -1);
-  EXPECT_LT((plan.states.front().base_position.head<2>() - Eigen::Vector2d(0.02, 0.01)).norm(), 1e-6)
+  EXPECT_LT((plan.states.front().base_position.head<2>() - Eigen::Vector2d(0.02, 0.01)).norm(), 1e-9)
       << "the horizon starts at the measured base";
+  const Eigen::Isometry3d base_W(Eigen::Translation3d(0.02, 0.01, Robot().NominalBaseHeight()));
+  for (Leg leg : kAllLegs) {
+    const Eigen::Vector3d fk =
+        base_W * Robot().FootPosition(leg, Robot().ReferenceConfiguration().segment<3>(3 * Index(leg)));
+    const Eigen::Vector3d& foot = plan.states.front().feet[static_cast<std::size_t>(Index(leg))].position;
+    EXPECT_LT((foot.head<2>() - fk.head<2>()).norm(), 1e-9) << "the measured feet, " << LegName(leg);
+    EXPECT_NEAR(foot.z(), 0.0, 1e-9) << "on the floor";
+  }
   const PlanCheckReport report = CheckPlanForScenario(kConfig, FlatGround(), plan);
   EXPECT_TRUE(report.ok) << report.Summary();
-  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
-  EXPECT_FALSE(node_->last_result()->reached_goal);
 
-  // A measured state far from the path is rejected.
-  state.base_position[1] = 1.0;
+  // The same wait is answered once.
+  state.utime = 310;
   lcm_.publish(channels::kRobotState, &state);
-  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
   Pump();
-  ASSERT_TRUE(node_->Step());
+  EXPECT_FALSE(node_->Step());
   Pump();
   EXPECT_FALSE(plan_.Take().has_value());
-  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
-  EXPECT_NE(status_.Latest()->reason.find("from the root path"), std::string::npos) << status_.Latest()->reason;
+
+  // A new wait with the base far from the path is rejected with the reason.
+  std::string reason = ExpectFailed(channels::kRobotState, WaitingState(400, 0.02, 1.0));
+  EXPECT_NE(reason.find("from the root path"), std::string::npos) << reason;
+  EXPECT_EQ(status_.Latest()->input_utime, 400);
+
+  // So is one with a foot in the air.
+  state = WaitingState(500, 0.02, 0.01);
+  state.joint_position[1] += 0.6;  // LF_HFE: the foot swings forward and up
+  reason = ExpectFailed(channels::kRobotState, state);
+  EXPECT_NE(reason.find("measured stance: LF foot"), std::string::npos) << reason;
 }
 
 TEST_F(ContactPlannerNodeTest, MalformedWorldFailsWithAReason) {

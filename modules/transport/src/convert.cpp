@@ -89,10 +89,14 @@ std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set
   return out;
 }
 
-rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utime, int64_t request_id) {
+rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utime, int64_t request_id,
+                                           int64_t plan_seq, int64_t start_utime) {
   rbcp_msgs::contact_plan_t msg;
   msg.utime = utime;
   msg.request_id = request_id;
+  msg.plan_seq = plan_seq;
+  msg.start_utime = start_utime;
+  msg.reaches_goal = plan.reaches_goal;
   msg.num_states = static_cast<int32_t>(plan.states.size());
   msg.states.reserve(plan.states.size());
   for (const WholeBodyState& s : plan.states) {
@@ -120,6 +124,7 @@ ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg) {
                      std::to_string(msg.states.size()) + " states");
   }
   ContactPlan plan;
+  plan.reaches_goal = msg.reaches_goal;
   plan.states.reserve(msg.states.size());
   for (std::size_t i = 0; i < msg.states.size(); ++i) {
     const auto& in = msg.states[i];
@@ -145,8 +150,12 @@ ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg) {
   return plan;
 }
 
-rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state) {
+rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state, const ControllerProgress& progress) {
   rbcp_msgs::robot_state_t msg{};
+  msg.plan_seq = progress.plan_seq;
+  msg.steps_done = progress.steps_done;
+  msg.awaiting_plan = progress.awaiting_since.has_value();
+  msg.awaiting_since = progress.awaiting_since.value_or(0);
   msg.utime = static_cast<int64_t>(std::llround(state.t * 1e6));
   for (int k = 0; k < 3; ++k) {
     msg.base_position[k] = state.base_position_W[k];
@@ -196,6 +205,21 @@ RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg) {
     state.foot_force_W[static_cast<std::size_t>(i)] = Vec3(msg.foot_force[i]);
   }
   return state;
+}
+
+ControllerProgress ProgressFromRobotStateMsg(const rbcp_msgs::robot_state_t& msg) {
+  if (msg.steps_done < 0) {
+    throw InputError("robot state: steps_done expected >= 0, got " + std::to_string(msg.steps_done));
+  }
+  if (msg.awaiting_plan && msg.awaiting_since > msg.utime) {
+    throw InputError("robot state: awaiting_since " + std::to_string(msg.awaiting_since) +
+                     " us expected at or before the message's utime " + std::to_string(msg.utime) + " us");
+  }
+  ControllerProgress progress;
+  progress.plan_seq = msg.plan_seq;
+  progress.steps_done = msg.steps_done;
+  if (msg.awaiting_plan) progress.awaiting_since = msg.awaiting_since;
+  return progress;
 }
 
 }  // namespace rbcp::transport

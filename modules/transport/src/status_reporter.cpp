@@ -7,10 +7,42 @@
 namespace rbcp::transport {
 
 StatusReporter::StatusReporter(lcm::LCM& lcm, std::string process, std::string channel)
-    : lcm_(lcm), channel_(std::move(channel)) {
-  last_.process = std::move(process);
+    : lcm_(lcm), channel_(std::move(channel)), process_(std::move(process)) {
+  last_.process = process_;
   last_.pid = static_cast<int32_t>(::getpid());
   last_.state = rbcp_msgs::process_status_t::ALIVE;
+}
+
+StatusReporter::~StatusReporter() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  stop_cv_.notify_all();
+  if (heartbeat_.joinable()) heartbeat_.join();
+}
+
+void StatusReporter::StartBackgroundHeartbeat(double period_s) {
+  if (heartbeat_.joinable() || !(period_s > 0.0)) return;
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(period_s));
+  heartbeat_ = std::thread([this, period] {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_) {
+      const auto due = last_publish_ + period;
+      if (std::chrono::steady_clock::now() >= due) {
+        last_publish_ = std::chrono::steady_clock::now();
+        lcm_.publish(channel_, &last_);  // LCM's functions are thread-safe
+        continue;
+      }
+      stop_cv_.wait_until(lock, due);
+    }
+  });
+}
+
+rbcp_msgs::process_status_t StatusReporter::last() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_;
 }
 
 const char* StatusName(int8_t state) {
@@ -24,7 +56,8 @@ const char* StatusName(int8_t state) {
 }
 
 void StatusReporter::Heartbeat(int64_t utime) {
-  Publish(last_.state, utime, last_.input_utime, last_.compute_ms, last_.reason, false);
+  const rbcp_msgs::process_status_t now = last();
+  Publish(now.state, utime, now.input_utime, now.compute_ms, now.reason, false);
 }
 
 void StatusReporter::Busy(int64_t utime, int64_t input_utime) {
@@ -32,29 +65,32 @@ void StatusReporter::Busy(int64_t utime, int64_t input_utime) {
 }
 
 void StatusReporter::Ok(int64_t utime, int64_t input_utime, double compute_ms, const std::string& summary) {
-  ++last_.handled;
   Publish(rbcp_msgs::process_status_t::OK, utime, input_utime, compute_ms, summary, true);
 }
 
 void StatusReporter::Failed(int64_t utime, int64_t input_utime, double compute_ms, const std::string& reason) {
-  ++last_.handled;
   Publish(rbcp_msgs::process_status_t::FAILED, utime, input_utime, compute_ms, reason, true);
 }
 
 void StatusReporter::Publish(int8_t state, int64_t utime, int64_t input_utime, double compute_ms,
                              const std::string& reason, bool log) {
-  last_.utime = utime;
-  last_.state = state;
-  last_.reason = reason;
-  last_.input_utime = input_utime;
-  last_.compute_ms = compute_ms;
-  lcm_.publish(channel_, &last_);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (log) ++last_.handled;  // OK and FAILED answer an input
+    last_.utime = utime;
+    last_.state = state;
+    last_.reason = reason;
+    last_.input_utime = input_utime;
+    last_.compute_ms = compute_ms;
+    last_publish_ = std::chrono::steady_clock::now();
+    lcm_.publish(channel_, &last_);
+  }
   if (verbose_ && log) {
     if (state == rbcp_msgs::process_status_t::FAILED) {
-      std::fprintf(stderr, "[%s] failed on input utime %lld: %s\n", last_.process.c_str(),
+      std::fprintf(stderr, "[%s] failed on input utime %lld: %s\n", process_.c_str(),
                    static_cast<long long>(input_utime), reason.c_str());
     } else if (state == rbcp_msgs::process_status_t::OK) {
-      std::fprintf(stderr, "[%s] ok: input utime %lld handled in %.3f ms%s%s\n", last_.process.c_str(),
+      std::fprintf(stderr, "[%s] ok: input utime %lld handled in %.3f ms%s%s\n", process_.c_str(),
                    static_cast<long long>(input_utime), compute_ms, reason.empty() ? "" : ": ", reason.c_str());
     }
   }

@@ -79,6 +79,29 @@ TEST(Convert, RobotStateRoundTripAndValidation) {
   EXPECT_THROW(FromRobotStateMsg(bad), InputError);
 }
 
+TEST(Convert, ControllerProgressRidesWithTheRobotState) {
+  RobotState state;
+  state.t = 2.0;
+  const auto walking = ToRobotStateMsg(state, ControllerProgress{4, 17, std::nullopt});
+  EXPECT_FALSE(walking.awaiting_plan);
+  ControllerProgress back = ProgressFromRobotStateMsg(walking);
+  EXPECT_EQ(back.plan_seq, 4);
+  EXPECT_EQ(back.steps_done, 17);
+  EXPECT_FALSE(back.awaiting_since.has_value());
+
+  auto waiting = ToRobotStateMsg(state, ControllerProgress{4, 18, 1990000});
+  EXPECT_TRUE(waiting.awaiting_plan);
+  back = ProgressFromRobotStateMsg(waiting);
+  ASSERT_TRUE(back.awaiting_since.has_value());
+  EXPECT_EQ(*back.awaiting_since, 1990000);
+
+  waiting.awaiting_since = waiting.utime + 1;  // a wait that begins after the state
+  EXPECT_THROW(ProgressFromRobotStateMsg(waiting), InputError);
+  waiting.awaiting_since = 0;
+  waiting.steps_done = -1;
+  EXPECT_THROW(ProgressFromRobotStateMsg(waiting), InputError);
+}
+
 TEST(Convert, AffordanceRoundTripAndValidation) {
   AffordanceSurface s;
   s.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
@@ -113,9 +136,14 @@ TEST(Convert, ContactPlanRoundTripAndValidation) {
     s.moving_leg = i - 1;
     plan.states.push_back(s);
   }
-  const auto msg = ToContactPlanMsg(plan, 11, 3);
+  plan.reaches_goal = false;
+  const auto msg = ToContactPlanMsg(plan, 11, 3, 42, 9000);
   EXPECT_EQ(msg.request_id, 3);
+  EXPECT_EQ(msg.plan_seq, 42);
+  EXPECT_EQ(msg.start_utime, 9000);
+  EXPECT_FALSE(msg.reaches_goal);
   const ContactPlan back = FromContactPlanMsg(msg);
+  EXPECT_FALSE(back.reaches_goal);
   ASSERT_EQ(back.states.size(), 3u);
   EXPECT_EQ(back.states[2].joints, plan.states[2].joints);
   EXPECT_EQ(back.states[1].feet[3].position, plan.states[1].feet[3].position);

@@ -2,12 +2,55 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
 namespace rbcp::transport {
 namespace {
+
+TEST(LatestMessage, AFilterKeepsOnlyTheMessagesItAccepts) {
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  LatestMessage<rbcp_msgs::process_status_t> failures(
+      lcm, "S", [](const rbcp_msgs::process_status_t& m) { return m.state == rbcp_msgs::process_status_t::FAILED; });
+  rbcp_msgs::process_status_t msg{};
+  msg.state = rbcp_msgs::process_status_t::FAILED;
+  msg.utime = 1;
+  lcm.publish("S", &msg);
+  msg.state = rbcp_msgs::process_status_t::ALIVE;  // a heartbeat right after the failure
+  msg.utime = 2;
+  lcm.publish("S", &msg);
+  while (lcm.handleTimeout(0) > 0) {
+  }
+  const auto taken = failures.Take();
+  ASSERT_TRUE(taken.has_value());
+  EXPECT_EQ(taken->utime, 1);
+  EXPECT_EQ(failures.received(), 1);
+}
+
+TEST(StatusReporter, TheBackgroundHeartbeatGoesOnWhileTheProcessIsBusy) {
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  LatestMessage<rbcp_msgs::process_status_t> status(lcm, "S");
+  {
+    StatusReporter reporter(lcm, "worker", "S");
+    reporter.set_verbose(false);
+    reporter.StartBackgroundHeartbeat(0.02);
+    reporter.Busy(5, 5);
+    // The main thread works (here: sleeps) without publishing; the heartbeat still goes out.
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  }
+  while (lcm.handleTimeout(0) > 0) {
+  }
+  EXPECT_GE(status.received(), 2) << "the BUSY state and at least one heartbeat of it";
+  ASSERT_TRUE(status.Latest().has_value());
+  EXPECT_EQ(status.Latest()->state, rbcp_msgs::process_status_t::BUSY);
+  EXPECT_EQ(status.Latest()->process, "worker");
+}
 
 TEST(LatestMessage, KeepsOnlyTheNewestAndTakesOnce) {
   lcm::LCM lcm("memq://");

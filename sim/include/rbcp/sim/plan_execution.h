@@ -88,6 +88,17 @@ class PlanExecution {
   void StandAt(const BaseGoal& pose);
   /// Hands a plan to the controller (replacing the rest of a running one at a step boundary).
   void GivePlan(const ContactPlan& plan);
+  /// Replanning: the controller waits at every step boundary for the next plan (GivePlan) or for
+  /// ContinuePlan (PlanController::SetAwaitPlans). Time spent waiting does not count towards the
+  /// run's timeout.
+  void SetAwaitPlans(bool await);
+  /// True while the controller waits for a plan: at a step boundary, or standing with none yet.
+  bool Awaiting() const;
+  /// At a step boundary: go on with the rest of the current plan.
+  void ContinuePlan() { controller_->ContinuePlan(); }
+  /// Whether ContinuePlan has something to walk: a step left, or the final pose of a plan that
+  /// reaches the goal.
+  bool CanContinue() const;
 
   /// One control period: the controller's torques from the measured state, then the physics
   /// steps of that period, then the judge. Returns false once the outcome is decided.
@@ -115,6 +126,7 @@ class PlanExecution {
   std::unique_ptr<PlanController> controller_;
   ContactPlan plan_;
   bool has_plan_ = false;
+  bool await_plans_ = false;
   bool decided_ = false;
   ExecutionOutcome outcome_;
   double timeout_s_ = 0.0;

@@ -6,10 +6,21 @@
 ///
 /// STATUS: ALIVE while standing without a plan, BUSY while walking one ("step 3/40"), then OK
 /// ("goal reached: ...") or FAILED with the simulator's verdict ("fall at 12.3 s, step 7: ...").
+///
+/// Replanning (SimNodeOptions::replan): the controller stops at every step boundary and
+/// ROBOT_STATE says so (awaiting_plan, awaiting_since). It takes only a CONTACT_PLAN that starts
+/// from a state of that wait (start_utime >= awaiting_since); older plans are stale and dropped.
+/// When the contact planner answers that wait with FAILED, or no plan comes within
+/// await_timeout_s of wall time, the robot goes on with the rest of its current plan; with none
+/// left it holds its stance for retry_hold_s of simulated time and asks again. With
+/// pause_while_awaiting (runs faster than real time) the world stands still during the wait, so a
+/// run does not depend on how fast the planners answer.
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "rbcp/scenario/scenario.h"
@@ -18,6 +29,7 @@
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/process_status_t.hpp"
 
 namespace rbcp::sim {
 
@@ -25,12 +37,21 @@ namespace rbcp::sim {
 /// or "fall at 12.30 s, step 7 (LF): LF_THIGH touches the terrain".
 std::string OutcomeSummary(const ExecutionOutcome& outcome);
 
+struct SimNodeOptions {
+  bool replan = false;               ///< wait at every step boundary for a plan from that stance
+  bool pause_while_awaiting = true;  ///< replan: the world stands still while the robot waits
+  double await_timeout_s = 15.0;     ///< [s, wall clock] replan: longest wait for an answer
+  double retry_hold_s = 0.5;         ///< [s, simulated] replan: hold before asking again, nothing left to walk
+  std::string contact_planner = "contact_planner";  ///< process whose FAILED status ends a wait
+};
+
 class SimNode {
  public:
   static constexpr const char* kProcessName = "anymal_sim";
 
   /// Stands the robot at the scenario's start. `execution` must outlive the node.
-  SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenario, const SimConfig& config);
+  SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenario, const SimConfig& config,
+          SimNodeOptions options = {});
 
   /// One control tick of simulated time: takes the newest CONTACT_PLAN, advances the world,
   /// publishes ROBOT_STATE and, when due, TERRAIN; reports a decided outcome once on STATUS.
@@ -39,6 +60,10 @@ class SimNode {
   void Heartbeat();
 
   double SimTime() const { return execution_.Time(); }
+  /// Replanning: the robot waits at a step boundary and the world stands still (no physics).
+  bool Paused() const { return options_.replan && options_.pause_while_awaiting && awaiting_since_.has_value(); }
+  int64_t PlanSeq() const { return plan_seq_; }
+  int StalePlans() const { return stale_plans_; }
   /// True once a plan was walked to its outcome (and no newer plan is running).
   bool Decided() const { return execution_.Decided() && plans_ > 0; }
   int Plans() const { return plans_; }
@@ -47,13 +72,26 @@ class SimNode {
  private:
   int64_t Utime() const;
   void PublishTerrain();
+  void TakePlan(const rbcp_msgs::contact_plan_t& msg);
+  void UpdateWait();
+  void PublishState();
 
   lcm::LCM& lcm_;
   PlanExecution& execution_;
   Scenario scenario_;
   SimConfig config_;
   transport::StatusReporter status_;
+  SimNodeOptions options_;
   transport::LatestMessage<rbcp_msgs::contact_plan_t> plans_in_;
+  transport::LatestMessage<rbcp_msgs::process_status_t> planner_failures_;
+  std::optional<int64_t> awaiting_since_;  // replan: utime the current wait began
+  std::chrono::steady_clock::time_point await_wall_start_;
+  double hold_until_s_ = 0.0;              // replan: no new wait before this simulated time
+  int64_t plan_seq_ = 0;
+  int stale_plans_ = 0;
+  std::chrono::steady_clock::time_point last_state_wall_;
+  std::chrono::steady_clock::time_point last_terrain_wall_;
+  int64_t answered_utime_ = -1;            // replan: utime of the last plan taken or wait given up
   double next_terrain_s_ = 0.0;
   int plans_ = 0;
   bool reported_ = false;

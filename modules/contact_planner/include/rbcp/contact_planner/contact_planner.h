@@ -154,6 +154,14 @@ class ContactPlanner {
   std::optional<WholeBodyState> StandingStance(const Eigen::Vector3d& base_position_W, double yaw,
                                                std::string* reason = nullptr);
 
+  /// The stance of a measured state, for PlanHorizon: the base pose as given and each foot's
+  /// contact point (world frame, e.g. by forward kinematics of the measured joints) moved to the
+  /// closest point of the nearest contact surface, with that surface's normal. nullopt with
+  /// *reason when a foot is farther than max_offset_m from every surface. Requires SetTerrain().
+  std::optional<WholeBodyState> MeasuredStance(const Eigen::Vector3d& base_position_W, const Eigen::Vector3d& base_rpy,
+                                               const std::array<Eigen::Vector3d, kNumLegs>& feet_W,
+                                               double max_offset_m, std::string* reason = nullptr) const;
+
   const ContactPlannerConfig& Config() const;
   const EquilibriumConfig& EquilibriumParameters() const;
 

@@ -20,6 +20,12 @@
 ///  5. load: L's share ramps back to one; the step is done.
 /// After the last state the base moves to the final base pose and holds it.
 ///
+/// Replanning (SetAwaitPlans): after each step the controller stands on its four feet, the base
+/// where the step left it, and waits (kAwait) for a plan that starts from that stance
+/// (ReplacePlan), or for ContinuePlan to go on with the rest of the current one. A plan that does
+/// not reach the goal (ContactPlan::reaches_goal false) ends in that wait too; the last step of one
+/// that does goes straight on to the final base pose.
+///
 /// Stance legs carry a wrench from a virtual model on the base pose (PD plus gravity), spread
 /// over the feet within friction cones (DistributeWrench); their torques are -J^T f plus the
 /// legs' gravity torques plus a joint PD towards the inverse kinematics of the measured feet at
@@ -52,6 +58,7 @@ enum class ControllerPhase {
   kSwing,       ///< the stepping foot follows its swing path
   kSearch,      ///< the stepping foot reaches down for ground it has not found yet
   kLoad,        ///< the stepping leg's load ramps up after touchdown
+  kAwait,       ///< at a step boundary, waits for the next plan (SetAwaitPlans)
   kFinalShift,  ///< after the last step: base to the final base pose
   kDone,        ///< the plan is executed; holds the final stance
   kFailed,      ///< a step cannot go on (see failure); holds the stance it has
@@ -99,6 +106,14 @@ class PlanController {
   /// executed next. Throws InputError as StartPlan.
   void ReplacePlan(const ContactPlan& plan);
 
+  /// With `await` the controller waits at every step boundary for ReplacePlan or ContinuePlan
+  /// (see the top of this file); without, it walks each plan through (the default).
+  void SetAwaitPlans(bool await) { await_plans_ = await; }
+  bool AwaitsPlans() const { return await_plans_; }
+  /// At a step boundary (kAwait): go on with the rest of the current plan at the next Update. A
+  /// plan that does not reach the goal and has no step left keeps waiting. No effect elsewhere.
+  void ContinuePlan();
+
   /// The terrain used for swing clearance (may be null); it must outlive the controller.
   void SetTerrain(const TriangleMesh* terrain);
 
@@ -126,6 +141,8 @@ class PlanController {
   void Advance(const Measured& m);
   void BeginStep(int index, const Measured& m);
   void FinishStep(const Measured& m);
+  void NextStepOrFinish(const Measured& m);  // the current plan's next step, else the final shift or the wait
+  void BeginFinalShift(const Measured& m);
   void Fail(const Measured& m, Leg leg, const std::string& why);
   void MoveBaseTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double min_duration);
   struct LiftOff;
@@ -149,6 +166,8 @@ class PlanController {
   std::optional<ContactPlan> pending_;
   bool started_ = false;      // the first Update has run
   bool plan_started_ = false; // StartPlan was called and the plan not begun yet
+  bool await_plans_ = false;
+  bool continue_requested_ = false;
   ControllerStatus status_;
   BaseSegment segment_;
   BaseReference reference_;

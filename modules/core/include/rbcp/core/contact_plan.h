@@ -26,6 +26,8 @@ struct WholeBodyState {
 
 struct ContactPlan {
   std::vector<WholeBodyState> states;  ///< from the start state to the goal state
+  /// The last state stands at the goal; false for a receding-horizon piece that stops short of it.
+  bool reaches_goal = true;
 };
 
 }  // namespace rbcp

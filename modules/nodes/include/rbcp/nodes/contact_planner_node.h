@@ -2,18 +2,24 @@
 /// The contact planner process: ROOT_PATH, ROBOT_STATE, TERRAIN and AFFORDANCES in; CONTACT_PLAN
 /// and STATUS out. Callbacks only keep the latest messages; Step() does the work.
 ///
-/// Every new ROOT_PATH is planned once, on the newest terrain and contact surfaces:
-///  * horizon_steps = 0: the whole path, from a standing stance at the path start;
-///  * horizon_steps = K > 0 (receding horizon): at most K steps from where the robot is. The
-///    current state is the planner's standing stance at the measured base x, y and yaw of the
-///    latest ROBOT_STATE, at the height of the path sample nearest to it (the standing height the
-///    root planner found over the terrain, so the body's bobbing during a swing does not move the
-///    stance); the remaining path starts at that sample. Without any ROBOT_STATE yet, the stance
-///    is taken at the path start. The loop is closed by the root planner: each replanned
-///    ROOT_PATH (PLAN_REQUEST with use_start = false) gives the next horizon.
+/// Two modes, on the newest terrain and contact surfaces:
+///  * horizon_steps = 0: every new ROOT_PATH is planned once, whole, from a standing stance at
+///    the path start;
+///  * horizon_steps = K > 0 (receding horizon, the onboard loop): the node keeps the newest
+///    ROOT_PATH and answers every wait of the robot's controller at a step boundary (a
+///    ROBOT_STATE with awaiting_plan; each awaiting_since once) with at most K steps from the
+///    measured stance: the measured base pose, and the feet where forward kinematics of the
+///    measured joints puts them, each moved onto the nearest contact surface (at most
+///    max_foot_offset_m away); a foot within foothold_match_m of a foothold of the same leg in the
+///    previous plan stands there (the plan's own numbers: consecutive plans then join exactly,
+///    and only a foot that really slid is moved). The remaining path starts at the path sample nearest to the
+///    measured base (position, and heading at 0.3 m/rad), never behind the previous one.
+///    CONTACT_PLAN carries plan_seq, start_utime (that state's utime) and reaches_goal; STATUS
+///    answers with input_utime = that state's utime.
 /// A path with no point, non-finite values, non-increasing times, points more than 0.5 m beyond
 /// the terrain's horizontal bounds or a start with no terrain below is rejected with FAILED and
-/// the reason (the trunk may pass over gaps); so is a measured state too far from the path.
+/// the reason (the trunk may pass over gaps); so is a measured state too far from the path, or
+/// with a foot off every surface.
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -46,6 +52,10 @@ struct ContactPlannerNodeOptions {
   int horizon_steps = 0;
   /// Horizon mode: largest horizontal distance from the measured base to the path [m].
   double max_path_offset_m = 0.5;
+  /// Horizon mode: largest distance from a measured foot to the contact surface it stands on [m].
+  double max_foot_offset_m = 0.05;
+  /// Horizon mode: a measured foot this close to a foothold of the previous plan stands there [m].
+  double foothold_match_m = 0.02;
 };
 
 class ContactPlannerNode {
@@ -74,12 +84,17 @@ class ContactPlannerNode {
   /// Takes new terrain / surfaces / path; returns a reason if an input was rejected.
   std::optional<std::string> TakeInputs();
   void Plan(const rbcp_msgs::root_path_t& msg);
+  /// Horizon mode: keeps a new path as the one to follow.
+  void TakePath(const rbcp_msgs::root_path_t& msg);
+  /// Horizon mode: plans from the measured stance of a waiting robot.
+  void Replan(const rbcp_msgs::robot_state_t& state);
   /// The path of a message, or the reason it is rejected.
   std::optional<std::string> ToSamples(const rbcp_msgs::root_path_t& msg, std::vector<RootPathSample>* samples) const;
   void LogWaiting();
   int64_t Now() const;
 
   lcm::LCM& lcm_;
+  const RobotModel& robot_;
   ContactPlannerNodeOptions options_;
   ContactPlanner planner_;
   transport::LatestMessage<rbcp_msgs::root_path_t> root_path_;
@@ -91,6 +106,13 @@ class ContactPlannerNode {
   Eigen::Vector2d terrain_max_xy_ = Eigen::Vector2d::Zero();
   bool world_set_ = false;      ///< the planner holds the current terrain and surfaces
   std::optional<rbcp_msgs::root_path_t> pending_;
+  // Horizon mode: the path followed, its request, how far along it the robot is, the wait answered last.
+  std::vector<RootPathSample> path_;
+  int64_t path_request_id_ = 0;
+  std::size_t path_progress_ = 0;
+  std::optional<int64_t> answered_since_;
+  std::optional<ContactPlan> last_plan_;
+  int64_t plan_seq_ = 0;
   std::optional<ContactPlanResult> last_result_;
   int64_t latest_utime_ = 0;
   bool verbose_ = true;

@@ -6,6 +6,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
+#include <optional>
 
 #include "rbcp/core/leg.h"
 #include "rbcp/robot/robot_model.h"
@@ -28,6 +30,15 @@ struct RobotState {
   /// Contact force the terrain exerts on each foot [N], world frame (zero without contact).
   std::array<Eigen::Vector3d, kNumLegs> foot_force_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                                                      Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+};
+
+/// What the onboard controller is doing, published with the measured state (ROBOT_STATE).
+struct ControllerProgress {
+  int64_t plan_seq = 0;  ///< sequence number of the plan being walked (0: none yet)
+  int steps_done = 0;    ///< steps executed since the start, over all plans
+  /// Set while the controller stands at a step boundary waiting for a plan that starts from this
+  /// stance: the time [us] the wait began (it identifies the boundary).
+  std::optional<int64_t> awaiting_since;
 };
 
 }  // namespace rbcp

@@ -37,16 +37,23 @@ rbcp_msgs::affordance_set_t ToAffordanceMsg(const std::vector<AffordanceSurface>
 /// Throws InputError if counts disagree, a value is not finite or a polygon has < 3 vertices.
 std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set_t& msg);
 
-rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utime, int64_t request_id);
+/// The plan's message; reaches_goal comes from plan.reaches_goal. plan_seq numbers the planner's
+/// plans; start_utime is the utime of the ROBOT_STATE the plan starts from (0: the path start).
+rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utime, int64_t request_id,
+                                           int64_t plan_seq = 0, int64_t start_utime = 0);
 
 /// Throws InputError if counts disagree, a value is not finite or a moving leg is out of range.
 ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg);
 
-/// The message of a measured state; utime = round(state.t * 1e6).
-rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state);
+/// The message of a measured state with the controller's progress; utime = round(state.t * 1e6).
+rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state, const ControllerProgress& progress = {});
 
 /// Throws InputError if a value is not finite or the orientation is not a unit quaternion
 /// (within 1e-3).
 RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg);
+
+/// The controller's progress in a ROBOT_STATE. Throws InputError for a negative step count or a
+/// wait that begins after the message's time.
+ControllerProgress ProgressFromRobotStateMsg(const rbcp_msgs::robot_state_t& msg);
 
 }  // namespace rbcp::transport

@@ -5,6 +5,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -14,7 +15,9 @@ namespace rbcp::transport {
 template <typename Msg>
 class LatestMessage {
  public:
-  LatestMessage(lcm::LCM& lcm, const std::string& channel) : channel_(channel) {
+  /// With `keep`, decoded messages it rejects are ignored (e.g. one process's on a shared channel).
+  LatestMessage(lcm::LCM& lcm, const std::string& channel, std::function<bool(const Msg&)> keep = {})
+      : channel_(channel), keep_(std::move(keep)) {
     subscription_ = lcm.subscribe(channel, &LatestMessage::OnMessage, this);
     lcm_ = &lcm;
   }
@@ -53,12 +56,14 @@ class LatestMessage {
                       " bytes): wrong type, truncated or malformed";
       return;
     }
+    if (keep_ && !keep_(msg)) return;
     latest_ = std::move(msg);
     fresh_ = true;
     ++received_;
   }
 
   std::string channel_;
+  std::function<bool(const Msg&)> keep_;
   lcm::LCM* lcm_ = nullptr;
   lcm::Subscription* subscription_ = nullptr;
   std::optional<Msg> latest_;

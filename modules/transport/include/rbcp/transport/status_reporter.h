@@ -4,8 +4,12 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <mutex>
 #include <string>
+#include <thread>
 
 #include "rbcp_msgs/process_status_t.hpp"
 
@@ -14,6 +18,14 @@ namespace rbcp::transport {
 class StatusReporter {
  public:
   StatusReporter(lcm::LCM& lcm, std::string process, std::string channel);
+  ~StatusReporter();
+  StatusReporter(const StatusReporter&) = delete;
+  StatusReporter& operator=(const StatusReporter&) = delete;
+
+  /// Republishes the current state from a background thread whenever nothing was published for
+  /// `period_s` [s, wall clock], also while the process is busy planning, so a supervisor can
+  /// tell a long computation from a hung process. Stops with the reporter.
+  void StartBackgroundHeartbeat(double period_s);
 
   /// `utime` is the simulated time of the latest input (message clock, never the wall clock).
   /// Heartbeat republishes the current state (ALIVE until the first input is handled).
@@ -23,17 +35,24 @@ class StatusReporter {
   void Ok(int64_t utime, int64_t input_utime, double compute_ms, const std::string& summary = "");
   void Failed(int64_t utime, int64_t input_utime, double compute_ms, const std::string& reason);
 
-  const rbcp_msgs::process_status_t& last() const { return last_; }
-  const std::string& process() const { return last_.process; }
+  rbcp_msgs::process_status_t last() const;
+  const std::string& process() const { return process_; }
   /// When false, nothing is printed to stderr (tests, --quiet).
   void set_verbose(bool verbose) { verbose_ = verbose; }
+  bool verbose() const { return verbose_; }
 
  private:
   void Publish(int8_t state, int64_t utime, int64_t input_utime, double compute_ms, const std::string& reason, bool log);
   lcm::LCM& lcm_;
   std::string channel_;
+  std::string process_;
+  mutable std::mutex mutex_;  // guards last_ and last_publish_ (the heartbeat thread reads them)
   rbcp_msgs::process_status_t last_{};
+  std::chrono::steady_clock::time_point last_publish_;
   bool verbose_ = true;
+  std::thread heartbeat_;
+  std::condition_variable stop_cv_;
+  bool stop_ = false;
 };
 
 /// Human name of a process_status_t state constant.

@@ -1,0 +1,70 @@
+#pragma once
+/// A run of the replanning loop as its LCM traffic shows it: the robot's states (ROBOT_STATE) and
+/// the plans (CONTACT_PLAN), in the order they were received and with their receive times. Fed
+/// live (scenario_publisher) or from a recorded log (run_log), it gives the plan the robot walked,
+/// the replans and their latency, and the robot's trace.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "rbcp/core/contact_plan.h"
+#include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/robot_state_t.hpp"
+
+namespace rbcp::nodes {
+
+class RunRecord {
+ public:
+  /// `trace_rate_hz`: ROBOT_STATE is kept for the trace at this rate of simulated time.
+  explicit RunRecord(double trace_rate_hz = 20.0);
+
+  /// `receive_us`: when the message was received [us] (any clock, the same for both kinds).
+  void OnRobotState(int64_t receive_us, const rbcp_msgs::robot_state_t& msg);
+  /// Throws InputError for a malformed plan.
+  void OnContactPlan(int64_t receive_us, const rbcp_msgs::contact_plan_t& msg);
+
+  int Plans() const { return plans_; }
+  int GoalPlans() const { return goal_plans_; }
+  /// The latency of each replan [ms]: from the first receipt of the ROBOT_STATE a plan starts from
+  /// (a state of the robot's wait at a step boundary) to the receipt of that plan. The first plan
+  /// (which also waits for the world and the root path) is not a replan.
+  const std::vector<double>& LatenciesMs() const { return latencies_ms_; }
+  /// Waits of the robot that got no plan (the planner failed or did not answer in time).
+  int UnansweredWaits() const { return unanswered_ + (wait_ && !wait_->answered ? 1 : 0); }
+  const std::optional<rbcp_msgs::robot_state_t>& Latest() const { return latest_; }
+  /// ROBOT_STATE every 1 / trace_rate_hz of simulated time.
+  const std::vector<rbcp_msgs::robot_state_t>& Trace() const { return trace_; }
+
+  /// The plan the robot walked: the first walked plan's first state, then the states of each plan
+  /// for the steps walked while it was the robot's plan (ROBOT_STATE's plan_seq and steps_done).
+  /// Throws InputError when a walked plan was not received.
+  ContactPlan ExecutedPlan() const;
+
+ private:
+  struct Wait {
+    int64_t since = 0;
+    std::map<int64_t, int64_t> first_receipt;  // state utime -> first receive time [us]
+    bool answered = false;
+  };
+  struct Segment {
+    int64_t plan_seq = 0;
+    int steps_at_start = 0;
+  };
+  double trace_period_us_;
+  int plans_ = 0;
+  int goal_plans_ = 0;
+  int unanswered_ = 0;
+  std::vector<double> latencies_ms_;
+  std::optional<Wait> wait_;
+  std::optional<rbcp_msgs::robot_state_t> latest_;
+  std::vector<rbcp_msgs::robot_state_t> trace_;
+  std::map<int64_t, ContactPlan> plans_by_seq_;
+  std::vector<Segment> segments_;
+};
+
+/// The p-quantile (0..1) of `values` with linear interpolation; 0 when empty.
+double Percentile(std::vector<double> values, double p);
+
+}  // namespace rbcp::nodes

@@ -1,0 +1,78 @@
+#include "rbcp/nodes/run_record.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "rbcp/core/error.h"
+#include "rbcp/transport/convert.h"
+
+namespace rbcp::nodes {
+namespace {
+
+/// Receive times kept per wait (a wait with the world standing still repeats one utime).
+constexpr std::size_t kMaxStatesPerWait = 4096;
+
+}  // namespace
+
+RunRecord::RunRecord(double trace_rate_hz) : trace_period_us_(trace_rate_hz > 0.0 ? 1e6 / trace_rate_hz : 0.0) {}
+
+void RunRecord::OnRobotState(int64_t receive_us, const rbcp_msgs::robot_state_t& msg) {
+  if (msg.awaiting_plan && (!wait_ || wait_->since != msg.awaiting_since)) {
+    if (wait_ && !wait_->answered) unanswered_ += 1;
+    wait_ = Wait{msg.awaiting_since, {}, false};
+  }
+  if (wait_ && msg.awaiting_plan && wait_->first_receipt.size() < kMaxStatesPerWait) {
+    wait_->first_receipt.emplace(msg.utime, receive_us);
+  }
+  if (msg.plan_seq > 0 && (segments_.empty() || segments_.back().plan_seq != msg.plan_seq)) {
+    segments_.push_back({msg.plan_seq, msg.steps_done});
+  }
+  if (trace_.empty() || static_cast<double>(msg.utime - trace_.back().utime) >= trace_period_us_ - 0.5) {
+    trace_.push_back(msg);
+  }
+  latest_ = msg;
+}
+
+void RunRecord::OnContactPlan(int64_t receive_us, const rbcp_msgs::contact_plan_t& msg) {
+  ContactPlan plan = transport::FromContactPlanMsg(msg);
+  plans_ += 1;
+  if (msg.reaches_goal) goal_plans_ += 1;
+  plans_by_seq_[msg.plan_seq] = std::move(plan);
+  if (!wait_ || wait_->answered) return;
+  const auto it = wait_->first_receipt.find(msg.start_utime);
+  if (it == wait_->first_receipt.end()) return;
+  wait_->answered = true;
+  if (plans_ == 1) return;  // the first plan waits for the world and the path: not a replan
+  latencies_ms_.push_back(1e-3 * static_cast<double>(receive_us - it->second));
+}
+
+ContactPlan RunRecord::ExecutedPlan() const {
+  ContactPlan executed;
+  executed.reaches_goal = false;
+  for (std::size_t k = 0; k < segments_.size(); ++k) {
+    const Segment& s = segments_[k];
+    const auto it = plans_by_seq_.find(s.plan_seq);
+    if (it == plans_by_seq_.end()) {
+      throw InputError("run record: plan " + std::to_string(s.plan_seq) + " was walked but never received");
+    }
+    const ContactPlan& plan = it->second;
+    const int end_steps = k + 1 < segments_.size() ? segments_[k + 1].steps_at_start : latest_->steps_done;
+    const int walked = std::clamp(end_steps - s.steps_at_start, 0, static_cast<int>(plan.states.size()) - 1);
+    if (executed.states.empty()) executed.states.push_back(plan.states.front());
+    for (int i = 1; i <= walked; ++i) executed.states.push_back(plan.states[static_cast<std::size_t>(i)]);
+    executed.reaches_goal = plan.reaches_goal && walked == static_cast<int>(plan.states.size()) - 1;
+  }
+  return executed;
+}
+
+double Percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double k = std::clamp(p, 0.0, 1.0) * static_cast<double>(values.size() - 1);
+  const std::size_t i = static_cast<std::size_t>(std::floor(k));
+  const std::size_t j = std::min(values.size() - 1, i + 1);
+  return values[i] + (k - static_cast<double>(i)) * (values[j] - values[i]);
+}
+
+}  // namespace rbcp::nodes

@@ -1,0 +1,87 @@
+// The run of a replanning loop rebuilt from its messages: the walked plan, the replans and their
+// latency, the trace.
+#include "rbcp/nodes/run_record.h"
+
+#include <gtest/gtest.h>
+
+#include "rbcp/core/error.h"
+#include "rbcp/transport/convert.h"
+
+namespace rbcp::nodes {
+namespace {
+
+/// A plan of `n` steps whose states are told apart by their base x: first_x, first_x + 0.1, ...
+ContactPlan Plan(int n, double first_x, bool reaches_goal) {
+  ContactPlan plan;
+  plan.reaches_goal = reaches_goal;
+  for (int i = 0; i <= n; ++i) {
+    WholeBodyState s;
+    s.base_position = {first_x + 0.1 * i, 0.0, 0.45};
+    s.moving_leg = i == 0 ? -1 : i % kNumLegs;
+    plan.states.push_back(s);
+  }
+  return plan;
+}
+
+rbcp_msgs::robot_state_t State(int64_t utime, int64_t plan_seq, int steps_done, bool waiting) {
+  RobotState s;
+  s.t = static_cast<double>(utime) * 1e-6;
+  ControllerProgress p{plan_seq, steps_done, std::nullopt};
+  if (waiting) p.awaiting_since = utime;
+  return transport::ToRobotStateMsg(s, p);
+}
+
+TEST(RunRecord, RebuildsTheWalkedPlanAndTheReplanLatency) {
+  RunRecord run(20.0);
+  // The robot waits at t = 0; plan 1 (3 steps) answers 50 ms later (the first plan: no replan).
+  run.OnRobotState(1000, State(0, 0, 0, true));
+  run.OnContactPlan(51000, transport::ToContactPlanMsg(Plan(3, 0.0, false), 0, 1, 1, 0));
+  // It walks one step of plan 1 and waits; plan 2 answers in 4 ms, from that wait.
+  run.OnRobotState(60000, State(100000, 1, 0, false));
+  run.OnRobotState(70000, State(2000000, 1, 1, true));
+  run.OnRobotState(72000, State(2000000, 1, 1, true));  // the same wait again (the world stands still)
+  run.OnContactPlan(74000, transport::ToContactPlanMsg(Plan(2, 0.1, true), 0, 1, 2, 2000000));
+  // A stale plan (from the first wait) is no answer and no replan.
+  run.OnContactPlan(75000, transport::ToContactPlanMsg(Plan(3, 0.0, false), 0, 1, 3, 0));
+  // Plan 2 is walked to the goal.
+  run.OnRobotState(80000, State(2002500, 2, 1, false));
+  run.OnRobotState(90000, State(6000000, 2, 3, false));
+
+  EXPECT_EQ(run.Plans(), 3);
+  EXPECT_EQ(run.GoalPlans(), 1);
+  ASSERT_EQ(run.LatenciesMs().size(), 1u);
+  EXPECT_DOUBLE_EQ(run.LatenciesMs()[0], 4.0);
+  EXPECT_EQ(run.UnansweredWaits(), 0);
+  EXPECT_EQ(run.Latest()->utime, 6000000);
+
+  const ContactPlan walked = run.ExecutedPlan();
+  ASSERT_EQ(walked.states.size(), 4u) << "plan 1's start and one step, then plan 2's two steps";
+  EXPECT_DOUBLE_EQ(walked.states[0].base_position.x(), 0.0);
+  EXPECT_DOUBLE_EQ(walked.states[1].base_position.x(), 0.1);
+  EXPECT_DOUBLE_EQ(walked.states[2].base_position.x(), 0.2);
+  EXPECT_DOUBLE_EQ(walked.states[3].base_position.x(), 0.3);
+  EXPECT_TRUE(walked.reaches_goal);
+
+  // The trace keeps one state per 50 ms of simulated time.
+  ASSERT_EQ(run.Trace().size(), 4u);
+  EXPECT_EQ(run.Trace()[1].utime, 100000);
+  EXPECT_EQ(run.Trace()[2].utime, 2000000);
+}
+
+TEST(RunRecord, AWaitWithNoAnswerIsCountedAndAWalkedPlanMustHaveBeenReceived) {
+  RunRecord run;
+  run.OnRobotState(0, State(0, 0, 0, true));
+  run.OnRobotState(10, State(500000, 0, 0, true));  // a second wait: the first got no plan
+  EXPECT_EQ(run.UnansweredWaits(), 2);
+  run.OnRobotState(20, State(600000, 4, 0, false));  // walking plan 4, never received
+  EXPECT_THROW(run.ExecutedPlan(), InputError);
+}
+
+TEST(RunRecord, Percentiles) {
+  EXPECT_DOUBLE_EQ(Percentile({}, 0.5), 0.0);
+  EXPECT_DOUBLE_EQ(Percentile({3.0, 1.0, 2.0}, 0.5), 2.0);
+  EXPECT_DOUBLE_EQ(Percentile({1.0, 2.0, 3.0, 4.0, 5.0}, 0.95), 4.8);
+}
+
+}  // namespace
+}  // namespace rbcp::nodes
