@@ -139,6 +139,18 @@ void PlanExecution::Sample(const RobotState& state) {
   outcome_.trace.push_back(s);
 }
 
+void PlanExecution::Abort(const std::string& what, const std::string& detail) {
+  if (decided_) return;
+  const ControllerStatus& status = controller_->Status();
+  ExecutionFailure f;
+  f.what = what;
+  f.t = world_->Time();
+  f.step = status.step;
+  f.phase = ToString(status.phase);
+  f.detail = detail;
+  Decide(std::move(f));
+}
+
 void PlanExecution::Decide(std::optional<ExecutionFailure> failure) {
   decided_ = true;
   outcome_.failure = std::move(failure);

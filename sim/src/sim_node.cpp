@@ -40,8 +40,8 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
       planner_failures_(lcm, channels::kStatus, [this](const rbcp_msgs::process_status_t& s) {
         return s.process == options_.contact_planner && s.state == rbcp_msgs::process_status_t::FAILED;
       }) {
-  if (!(options_.await_timeout_s > 0.0) || !(options_.retry_hold_s >= 0.0)) {
-    throw InputError("simulator: await_timeout_s expected > 0 and retry_hold_s >= 0");
+  if (!(options_.await_timeout_s > 0.0) || !(options_.retry_hold_s >= 0.0) || options_.max_failed_waits < 1) {
+    throw InputError("simulator: await_timeout_s expected > 0, retry_hold_s >= 0 and max_failed_waits >= 1");
   }
   execution_.SetAwaitPlans(options_.replan);
   execution_.StandAt(scenario_.start);
@@ -72,6 +72,7 @@ void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
     execution_.GivePlan(plan);
     plans_ += 1;
     plan_seq_ = msg.plan_seq;
+    failed_waits_ = 0;
     awaiting_since_.reset();
     answered_utime_ = Utime();
     reported_ = false;
@@ -88,7 +89,7 @@ void SimNode::UpdateWait() {
     const auto f = planner_failures_.Take();
     return f && awaiting_since_ && f->input_utime >= *awaiting_since_;
   }();
-  if (!options_.replan || !execution_.Awaiting()) {
+  if (!options_.replan || execution_.Decided() || !execution_.Awaiting()) {
     awaiting_since_.reset();
     return;
   }
@@ -110,6 +111,9 @@ void SimNode::UpdateWait() {
   }
   if (execution_.CanContinue()) {
     execution_.ContinuePlan();
+  } else if (++failed_waits_ >= options_.max_failed_waits) {
+    execution_.Abort("no_plan", "no plan from this stance after " + std::to_string(failed_waits_) +
+                                    " waits in a row" + (failed ? " (the contact planner failed)" : " (no answer)"));
   } else {
     hold_until_s_ = execution_.Time() + options_.retry_hold_s;
   }
@@ -149,7 +153,7 @@ void SimNode::Tick() {
   UpdateWait();
   PublishState();
 
-  if (plans_ > 0 && execution_.Decided() && !reported_) {
+  if ((plans_ > 0 || options_.replan) && execution_.Decided() && !reported_) {
     reported_ = true;
     const ExecutionOutcome& o = execution_.Outcome();
     if (o.ok()) {

@@ -116,6 +116,7 @@ class ReplanningSimNodeTest : public SimWorld {
     SimNodeOptions o;
     o.replan = true;
     o.retry_hold_s = 0.5;
+    o.max_failed_waits = 2;
     return o;
   }
   SimNode replanning_{lcm_, execution_, scenario_, config_, Options()};
@@ -201,6 +202,15 @@ TEST_F(ReplanningSimNodeTest, WaitsAtEveryStepBoundaryForAPlanFromThatStance) {
   EXPECT_EQ(state.steps_done, 2);
   const RobotState measured = transport::FromRobotStateMsg(state);
   for (bool c : measured.foot_contact) EXPECT_TRUE(c);
+
+  // max_failed_waits such waits in a row: the run fails, with the reason on STATUS.
+  PublishPlannerFailure(state.awaiting_since);
+  Tick();
+  ASSERT_TRUE(replanning_.Decided());
+  EXPECT_FALSE(execution_.Outcome().ok());
+  ASSERT_TRUE(status_.Latest().has_value());
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(status_.Latest()->reason.find("no_plan"), std::string::npos) << status_.Latest()->reason;
 }
 
 }  // namespace

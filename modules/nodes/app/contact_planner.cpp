@@ -18,6 +18,9 @@ int main(int argc, char** argv) {
   app.add_option("--horizon-steps", options.horizon_steps,
                  "0: plan the whole path; K > 0: at most K steps from the measured robot state")
       ->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--lookahead-steps", options.lookahead_steps,
+                 "with --horizon-steps K: steps searched beyond the K published, so they lead on")
+      ->capture_default_str()->check(CLI::Range(0, 1000));
   return nodes::GuardedMain(nodes::ContactPlannerNode::kProcessName, app, argc, argv, [&] {
     const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
     const auto eq = EquilibriumConfig::LoadFile(common.config_dir + "/equilibrium.yaml");

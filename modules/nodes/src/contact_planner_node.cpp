@@ -56,6 +56,10 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
     throw InputError("contact planner node: max_foot_offset_m expected > 0, got " +
                      std::to_string(options_.max_foot_offset_m));
   }
+  if (options_.lookahead_steps < 0) {
+    throw InputError("contact planner node: lookahead_steps expected >= 0, got " +
+                     std::to_string(options_.lookahead_steps));
+  }
   if (!(options_.foothold_match_m >= 0.0)) {
     throw InputError("contact planner node: foothold_match_m expected >= 0, got " +
                      std::to_string(options_.foothold_match_m));
@@ -226,7 +230,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
                  measured.base_position_W.y(), remaining.size());
   }
   try {
-    last_result_ = planner_.PlanHorizon(*stance, remaining, k);
+    last_result_ = planner_.PlanHorizon(*stance, remaining, k + options_.lookahead_steps);
   } catch (const std::exception& e) {
     return fail(std::string("internal error: ") + e.what());
   }
@@ -237,7 +241,14 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
     status_.Failed(Now(), msg.utime, ms, reason);
     return;
   }
-  r.plan.reaches_goal = r.reached_goal;
+  // Publish the first K steps; the look-ahead beyond them only showed they lead on.
+  const std::size_t keep = static_cast<std::size_t>(k) + 1;
+  r.plan.reaches_goal = r.reached_goal && r.plan.states.size() <= keep;
+  if (r.plan.states.size() > keep) {
+    r.plan.states.resize(keep);
+    r.steps = k;
+    r.reached_goal = false;
+  }
   last_plan_ = r.plan;
   plan_seq_ += 1;
   const auto out = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, plan_seq_, msg.utime);

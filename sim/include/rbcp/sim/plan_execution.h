@@ -12,7 +12,8 @@
 ///    outcome.max_saturation_s;
 ///  - "no_ground": the controller reached down for a foothold and the foot touches nothing;
 ///  - "controller": the controller stopped for another reason;
-///  - "timeout": the run outlasts timeout_base_s + timeout_per_step_s per step.
+///  - "timeout": the run outlasts timeout_base_s + timeout_per_step_s per step;
+///  - "no_plan": the planners gave up on the robot's stance (Abort).
 /// Other robot-terrain contacts (hips, shanks, foot adapters) are counted as collisions.
 
 #include <Eigen/Core>
@@ -96,6 +97,8 @@ class PlanExecution {
   bool Awaiting() const;
   /// At a step boundary: go on with the rest of the current plan.
   void ContinuePlan() { controller_->ContinuePlan(); }
+  /// Ends the run undecided so far with the failure `what` ("no_plan") and `detail`.
+  void Abort(const std::string& what, const std::string& detail);
   /// Whether ContinuePlan has something to walk: a step left, or the final pose of a plan that
   /// reaches the goal.
   bool CanContinue() const;

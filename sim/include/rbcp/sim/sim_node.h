@@ -12,7 +12,8 @@
 /// from a state of that wait (start_utime >= awaiting_since); older plans are stale and dropped.
 /// When the contact planner answers that wait with FAILED, or no plan comes within
 /// await_timeout_s of wall time, the robot goes on with the rest of its current plan; with none
-/// left it holds its stance for retry_hold_s of simulated time and asks again. With
+/// left it holds its stance for retry_hold_s of simulated time and asks again; after
+/// max_failed_waits such waits in a row the run fails ("no_plan"). With
 /// pause_while_awaiting (runs faster than real time) the world stands still during the wait, so a
 /// run does not depend on how fast the planners answer.
 
@@ -42,6 +43,7 @@ struct SimNodeOptions {
   bool pause_while_awaiting = true;  ///< replan: the world stands still while the robot waits
   double await_timeout_s = 15.0;     ///< [s, wall clock] replan: longest wait for an answer
   double retry_hold_s = 0.5;         ///< [s, simulated] replan: hold before asking again, nothing left to walk
+  int max_failed_waits = 20;         ///< replan: waits in a row with no plan and nothing left to walk before the run fails
   std::string contact_planner = "contact_planner";  ///< process whose FAILED status ends a wait
 };
 
@@ -65,7 +67,7 @@ class SimNode {
   int64_t PlanSeq() const { return plan_seq_; }
   int StalePlans() const { return stale_plans_; }
   /// True once a plan was walked to its outcome (and no newer plan is running).
-  bool Decided() const { return execution_.Decided() && plans_ > 0; }
+  bool Decided() const { return execution_.Decided() && (plans_ > 0 || options_.replan); }
   int Plans() const { return plans_; }
   transport::StatusReporter& status() { return status_; }
 
@@ -89,6 +91,7 @@ class SimNode {
   double hold_until_s_ = 0.0;              // replan: no new wait before this simulated time
   int64_t plan_seq_ = 0;
   int stale_plans_ = 0;
+  int failed_waits_ = 0;  // replan: waits in a row that ended with no plan and nothing to walk
   std::chrono::steady_clock::time_point last_state_wall_;
   std::chrono::steady_clock::time_point last_terrain_wall_;
   int64_t answered_utime_ = -1;            // replan: utime of the last plan taken or wait given up
