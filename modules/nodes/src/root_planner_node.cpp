@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 #include "rbcp/transport/convert.h"
 
 namespace rbcp::nodes {
@@ -55,7 +57,16 @@ bool RootPlannerNode::Step() {
     status_.Failed(Now(), Now(), 0.0, *rejected);
     return true;
   }
-  if (!pending_ || !world_.Ready()) return false;
+  const bool world_changed = world_.TakeChanged();
+  if (!world_.Ready()) return false;
+  if (!pending_) {
+    const std::string why = ReplanReason(world_changed);
+    if (why.empty()) return false;
+    rbcp_msgs::plan_request_t again = *active_;
+    again.use_start = false;
+    Plan(again, why);
+    return true;
+  }
   if (!pending_->use_start && !robot_state_.Latest()) return false;  // waiting for the robot's state
   const rbcp_msgs::plan_request_t request = *pending_;
   pending_.reset();
@@ -63,7 +74,21 @@ bool RootPlannerNode::Step() {
   return true;
 }
 
-void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request) {
+std::string RootPlannerNode::ReplanReason(bool world_changed) {
+  if (!active_ || !last_result_ || !last_result_->ok() || !robot_state_.Latest()) return "";
+  if (world_changed) return "the terrain changed";
+  const auto& state = *robot_state_.Latest();
+  if (!state.awaiting_plan || checked_wait_ == state.awaiting_since) return "";
+  checked_wait_ = state.awaiting_since;
+  const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
+  if (!base.allFinite()) return "";
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& s : last_result_->samples) nearest = std::min(nearest, (s.p.head<2>() - base).norm());
+  if (nearest <= options_.replan_path_offset_m) return "";
+  return "the robot stands " + FixedNumber(nearest, 2) + " m from the path";
+}
+
+void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::string& why) {
   status_.Busy(Now(), request.utime);
   Eigen::Vector2d start_xy(request.start_position[0], request.start_position[1]);
   double start_yaw = request.start_yaw;
@@ -92,7 +117,8 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request) {
   }
   const auto msg = ToRootPathMsg(*last_result_, Now(), request.request_id);
   lcm_.publish(options_.root_path_channel, &msg);
-  status_.Ok(Now(), request.utime, ms);
+  active_ = request;
+  status_.Ok(Now(), request.utime, ms, why.empty() ? "" : "replanned from the measured base: " + why);
 }
 
 void RootPlannerNode::Heartbeat() { status_.Heartbeat(Now()); }

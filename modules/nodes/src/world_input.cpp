@@ -16,21 +16,34 @@ std::optional<std::string> WorldInput::Take(int64_t* latest_utime) {
   if (auto e = affordances_msg_.TakeDecodeError()) return e;
   if (auto msg = terrain_msg_.Take()) {
     *latest_utime = std::max(*latest_utime, msg->utime);
-    changed_ = true;
     try {
-      terrain_ = transport::FromTerrainMsg(*msg);
+      TriangleMesh mesh = transport::FromTerrainMsg(*msg);
+      // The simulator republishes the same terrain for late processes: only new content counts.
+      if (!terrain_ || mesh.vertices != terrain_->vertices || mesh.triangles != terrain_->triangles) {
+        terrain_ = std::move(mesh);
+        changed_ = true;
+      }
     } catch (const InputError& e) {
       terrain_.reset();
+      changed_ = true;
       return std::string(e.what());
     }
   }
   if (auto msg = affordances_msg_.Take()) {
     *latest_utime = std::max(*latest_utime, msg->utime);
-    changed_ = true;
     try {
-      surfaces_ = transport::FromAffordanceMsg(*msg);
+      std::vector<AffordanceSurface> surfaces = transport::FromAffordanceMsg(*msg);
+      const auto same = [](const AffordanceSurface& a, const AffordanceSurface& b) {
+        return a.vertices == b.vertices && a.normal == b.normal;
+      };
+      if (!surfaces_ || surfaces.size() != surfaces_->size() ||
+          !std::equal(surfaces.begin(), surfaces.end(), surfaces_->begin(), same)) {
+        surfaces_ = std::move(surfaces);
+        changed_ = true;
+      }
     } catch (const InputError& e) {
       surfaces_.reset();
+      changed_ = true;
       return std::string(e.what());
     }
   }

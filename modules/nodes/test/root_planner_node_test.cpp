@@ -88,6 +88,58 @@ TEST_F(RootPlannerNodeTest, ReplansFromTheMeasuredRobotState) {
   EXPECT_EQ(path->utime, 300);
 }
 
+TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges) {
+  PublishWorld("flat_ground");
+  const auto request = Request(0.0, 1.5, 9);
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  ASSERT_TRUE(path_.Take().has_value()) << status_.Latest()->reason;
+
+  const auto waiting = [](int64_t utime, double x, double y) {
+    rbcp_msgs::robot_state_t state{};
+    state.utime = utime;
+    state.base_position[0] = x;
+    state.base_position[1] = y;
+    state.base_position[2] = 0.45;
+    state.base_orientation[0] = 1.0;
+    state.awaiting_plan = true;
+    state.awaiting_since = utime;
+    return state;
+  };
+  // Waiting on the path: no new path; the same world again is no change either.
+  auto state = waiting(1000000, 0.4, 0.05);
+  lcm_.publish(channels::kRobotState, &state);
+  PublishWorld("flat_ground");
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  EXPECT_FALSE(path_.Take().has_value());
+
+  // Waiting 0.4 m beside it (pushed): a new path from there, for the same request.
+  state = waiting(2000000, 0.5, 0.4);
+  lcm_.publish(channels::kRobotState, &state);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  auto path = path_.Take();
+  ASSERT_TRUE(path.has_value()) << status_.Latest()->reason;
+  EXPECT_EQ(path->request_id, 9);
+  EXPECT_NEAR(path->points.front().position[0], 0.5, 1e-9);
+  EXPECT_NEAR(path->points.front().position[1], 0.4, 1e-9);
+  EXPECT_NE(status_.Latest()->reason.find("0.40 m from the path"), std::string::npos) << status_.Latest()->reason;
+  EXPECT_FALSE(node_.Step()) << "one wait, one check";
+
+  // A changed terrain (a shorter floor): planned again from the measured base.
+  test::PublishWorld(lcm_, LoadScenario(std::string(RBCP_SOURCE_DIR) + "/tests/data/flat_short.yaml"), kConfig);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  path = path_.Take();
+  ASSERT_TRUE(path.has_value()) << status_.Latest()->reason;
+  EXPECT_NE(status_.Latest()->reason.find("the terrain changed"), std::string::npos) << status_.Latest()->reason;
+}
+
 TEST_F(RootPlannerNodeTest, BadRequestsFailWithAReason) {
   PublishWorld("flat_ground");
   auto request = Request(0.0, 1.5, 9);

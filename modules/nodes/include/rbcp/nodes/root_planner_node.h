@@ -29,6 +29,10 @@ struct RootPlannerNodeOptions {
   std::string root_path_channel = channels::kRootPath;
   std::string status_channel = channels::kStatus;
   double default_time_budget_s = 2.0;  ///< used when a request gives none [s]
+  /// Replan the current request from the measured base when the robot, waiting at a step
+  /// boundary, stands farther than this from the path (horizontally) [m]; the body's own shifts
+  /// for its swings stay within the contact planner's 0.16 m.
+  double replan_path_offset_m = 0.3;
 };
 
 class RootPlannerNode {
@@ -39,8 +43,10 @@ class RootPlannerNode {
 
   /// Takes the newest inputs; when a plan request is pending and the terrain and its surfaces
   /// are known, plans and publishes ROOT_PATH (or FAILED with the reason on STATUS). A request
-  /// with use_start = false starts from the latest ROBOT_STATE. Returns true if it planned or
-  /// rejected an input.
+  /// with use_start = false starts from the latest ROBOT_STATE. Once a path is out, the request
+  /// is planned again from the measured base (same request_id and seed) when the terrain or its
+  /// surfaces change, and when the robot waits at a step boundary more than
+  /// replan_path_offset_m from the path. Returns true if it planned or rejected an input.
   bool Step();
   void Heartbeat();
 
@@ -51,7 +57,9 @@ class RootPlannerNode {
  private:
   /// Takes new terrain / surfaces / request; returns a reason if an input was rejected.
   std::optional<std::string> TakeInputs();
-  void Plan(const rbcp_msgs::plan_request_t& request);
+  void Plan(const rbcp_msgs::plan_request_t& request, const std::string& why = "");
+  /// Why the current request needs a new path, or "" when it does not.
+  std::string ReplanReason(bool world_changed);
   int64_t Now() const;
 
   lcm::LCM& lcm_;
@@ -63,6 +71,8 @@ class RootPlannerNode {
   transport::StatusReporter status_;
 
   std::optional<rbcp_msgs::plan_request_t> pending_;
+  std::optional<rbcp_msgs::plan_request_t> active_;  ///< the request of the current path
+  std::optional<int64_t> checked_wait_;              ///< awaiting_since of the last wait checked
   std::optional<RootPlanResult> last_result_;
   int64_t latest_utime_ = 0;
 };

@@ -29,7 +29,8 @@ class WorldInput {
   const std::optional<TriangleMesh>& terrain() const { return terrain_; }
   const std::optional<std::vector<AffordanceSurface>>& surfaces() const { return surfaces_; }
   bool Ready() const { return terrain_.has_value() && surfaces_.has_value(); }
-  /// True once after the terrain or the surfaces changed (the call clears it).
+  /// True once after the terrain or the surfaces changed (the call clears it): a message that
+  /// repeats the current content is no change.
   bool TakeChanged();
 
   const std::string& terrain_channel() const { return terrain_msg_.channel(); }
