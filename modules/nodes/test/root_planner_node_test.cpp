@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <optional>
 
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/robot/robot_model.h"
@@ -36,6 +37,17 @@ class RootPlannerNodeTest : public ::testing::Test {
     r.time_budget = 5.0;
     r.seed = 3;
     return r;
+  }
+
+  /// Publishes `state`, steps the node (expecting it to plan) and returns the ROOT_PATH, if any.
+  std::optional<rbcp_msgs::root_path_t> PathAfter(const rbcp_msgs::robot_state_t& state) {
+    lcm_.publish(channels::kRobotState, &state);
+    Pump();
+    EXPECT_TRUE(node_.Step());
+    Pump();
+    auto path = path_.Take();
+    if (!path && status_.Latest()) ADD_FAILURE() << status_.Latest()->reason;
+    return path;
   }
 
   lcm::LCM lcm_{"memq://"};
@@ -78,12 +90,8 @@ TEST_F(RootPlannerNodeTest, ReplansFromTheMeasuredRobotState) {
   state.base_position[0] = 0.5;
   state.base_position[2] = 0.45;
   state.base_orientation[0] = 1.0;
-  lcm_.publish(channels::kRobotState, &state);
-  Pump();
-  ASSERT_TRUE(node_.Step());
-  Pump();
-  auto path = path_.Take();
-  ASSERT_TRUE(path.has_value()) << status_.Latest()->reason;
+  const auto path = PathAfter(state);
+  ASSERT_TRUE(path.has_value());
   EXPECT_NEAR(path->points.front().position[0], 0.5, 1e-9);
   EXPECT_EQ(path->utime, 300);
 }
@@ -117,13 +125,8 @@ TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges)
   EXPECT_FALSE(path_.Take().has_value());
 
   // Waiting 0.4 m beside it (pushed): a new path from there, for the same request.
-  state = waiting(2000000, 0.5, 0.4);
-  lcm_.publish(channels::kRobotState, &state);
-  Pump();
-  ASSERT_TRUE(node_.Step());
-  Pump();
-  auto path = path_.Take();
-  ASSERT_TRUE(path.has_value()) << status_.Latest()->reason;
+  auto path = PathAfter(waiting(2000000, 0.5, 0.4));
+  ASSERT_TRUE(path.has_value());
   EXPECT_EQ(path->request_id, 9);
   EXPECT_NEAR(path->points.front().position[0], 0.5, 1e-9);
   EXPECT_NEAR(path->points.front().position[1], 0.4, 1e-9);
