@@ -139,16 +139,21 @@ void PlanExecution::Sample(const RobotState& state) {
   outcome_.trace.push_back(s);
 }
 
-void PlanExecution::Abort(const std::string& what, const std::string& detail) {
-  if (decided_) return;
+ExecutionFailure PlanExecution::Failure(const std::string& what, const std::string& leg,
+                                        const std::string& detail) const {
   const ControllerStatus& status = controller_->Status();
   ExecutionFailure f;
   f.what = what;
   f.t = world_->Time();
   f.step = status.step;
+  f.leg = leg;
   f.phase = ToString(status.phase);
   f.detail = detail;
-  Decide(std::move(f));
+  return f;
+}
+
+void PlanExecution::Abort(const std::string& what, const std::string& detail) {
+  if (!decided_) Decide(Failure(what, "", detail));
 }
 
 void PlanExecution::Decide(std::optional<ExecutionFailure> failure) {
@@ -168,16 +173,6 @@ void PlanExecution::Decide(std::optional<ExecutionFailure> failure) {
 void PlanExecution::Judge(const RobotState& state, const JointVector& commanded) {
   const double t = state.t;
   const ControllerStatus& status = controller_->Status();
-  auto failure = [&](const std::string& what, const std::string& leg, const std::string& detail) {
-    ExecutionFailure f;
-    f.what = what;
-    f.t = t;
-    f.step = status.step;
-    f.leg = leg;
-    f.phase = ToString(status.phase);
-    f.detail = detail;
-    return f;
-  };
   const double limit = config_.physics.torque_limit_Nm;
   outcome_.max_torque_ratio = std::max(outcome_.max_torque_ratio, state.tau.cwiseAbs().maxCoeff() / limit);
   if (status.phase == ControllerPhase::kSwing) {
@@ -190,7 +185,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
   for (const TerrainContact& c : contacts) {
     if (c.is_foot) continue;
     if (c.link == "base" || EndsWith(c.link, "_THIGH")) {
-      Decide(failure("fall", c.leg ? std::string(LegName(*c.leg)) : "",
+      Decide(Failure("fall", c.leg ? std::string(LegName(*c.leg)) : "",
                      c.link + " touches the terrain at (" + FixedNumber(c.position_W.x()) + ", " + FixedNumber(c.position_W.y()) +
                          ", " + FixedNumber(c.position_W.z()) + ")"));
       return;
@@ -215,7 +210,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
       tilt = std::min(tilt, std::max(AngleDiff(rpy.x(), planned.x()), AngleDiff(rpy.y(), planned.y())));
     }
     if (std::isfinite(tilt) && tilt > config_.outcome.max_tilt_rad) {
-      Decide(failure("fall", "", "roll or pitch " + FixedNumber(tilt) + " rad from the plan's"));
+      Decide(Failure("fall", "", "roll or pitch " + FixedNumber(tilt) + " rad from the plan's"));
       return;
     }
   }
@@ -253,7 +248,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
         const double slip = slide_W_[i].norm();
         outcome_.max_slip_m = std::max(outcome_.max_slip_m, slip);
         if (slip > config_.outcome.max_slip_m) {
-          Decide(failure("foot_slip", std::string(LegName(leg)),
+          Decide(Failure("foot_slip", std::string(LegName(leg)),
                          std::string(LegName(leg)) + " slid " + FixedNumber(slip) + " m from where it touched down"));
           return;
         }
@@ -270,7 +265,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
     if (std::abs(commanded[j]) >= limit - 1e-9) {
       if (saturated_since_[k] < 0.0) saturated_since_[k] = t;
       if (t - saturated_since_[k] > config_.outcome.max_saturation_s) {
-        Decide(failure("torque_saturation", JointName(j),
+        Decide(Failure("torque_saturation", JointName(j),
                        JointName(j) + " held at the " + FixedNumber(limit, 0) + " N m limit for " +
                            FixedNumber(t - saturated_since_[k], 2) + " s"));
         return;
@@ -283,7 +278,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
   if (status.phase == ControllerPhase::kFailed) {
     const bool no_ground = status.failure_leg && !state.foot_contact[static_cast<std::size_t>(Index(*status.failure_leg))] &&
                            status.failure.find("no ground") != std::string::npos;
-    Decide(failure(no_ground ? "no_ground" : "controller",
+    Decide(Failure(no_ground ? "no_ground" : "controller",
                    status.failure_leg ? std::string(LegName(*status.failure_leg)) : "", status.failure));
     return;
   }
@@ -293,14 +288,14 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
     if (error <= config_.outcome.goal_tolerance_m && four) {
       Decide(std::nullopt);
     } else {
-      Decide(failure("goal_missed", "",
+      Decide(Failure("goal_missed", "",
                      "plan executed, but the base is " + FixedNumber(error) + " m from the final base" +
                          (four ? "" : " and not every foot is on the ground")));
     }
     return;
   }
   if (t > timeout_s_) {
-    Decide(failure("timeout", "", "the run outlasted " + FixedNumber(timeout_s_, 1) + " s"));
+    Decide(Failure("timeout", "", "the run outlasted " + FixedNumber(timeout_s_, 1) + " s"));
   }
 }
 

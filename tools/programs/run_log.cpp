@@ -33,10 +33,11 @@ nlohmann::json TraceSample(const RobotModel& robot, const rbcp_msgs::robot_state
   const RobotState s = transport::FromRobotStateMsg(msg);
   const Eigen::Isometry3d base = Eigen::Translation3d(s.base_position_W) * s.base_orientation_W;
   const Eigen::Vector3d rpy = RpyFromRotation(s.base_orientation_W.toRotationMatrix());
+  const std::array<Eigen::Vector3d, kNumLegs> feet_B = robot.FootPositions(s.q);
   nlohmann::json feet = nlohmann::json::array();
   for (Leg leg : kAllLegs) {
     const int i = Index(leg);
-    const Eigen::Vector3d p = base * robot.FootPosition(leg, s.q.segment<3>(3 * i));
+    const Eigen::Vector3d p = base * feet_B[static_cast<std::size_t>(i)];
     feet.push_back({{"leg", std::string(LegName(leg))},
                     {"position", {p.x(), p.y(), p.z()}},
                     {"contact", s.foot_contact[static_cast<std::size_t>(i)]}});

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include "rbcp/core/angle.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/pose.h"
 #include "rbcp/scenario/scenario.h"
@@ -155,8 +156,8 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   path_ = std::move(samples);
   path_request_id_ = msg.request_id;
   path_progress_ = 0;
-  answered_since_.reset();
-  last_plan_.reset();  // a wait already answered on the old path gets a plan on the new one
+  answered_since_.reset();  // a wait already answered on the old path gets a plan on the new one
+  last_plan_.reset();
   if (verbose_) {
     std::fprintf(stderr, "[%s] following the root path of request %lld: %zu points, %.2f s\n", kProcessName,
                  static_cast<long long>(msg.request_id), path_.size(), path_.back().t - path_.front().t);
@@ -177,11 +178,8 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   }
   const Eigen::Isometry3d base_W = Eigen::Translation3d(measured.base_position_W) * measured.base_orientation_W;
   const Eigen::Vector3d rpy = RpyFromRotation(measured.base_orientation_W.toRotationMatrix());
-  std::array<Eigen::Vector3d, kNumLegs> feet_W;
-  for (Leg leg : kAllLegs) {
-    const int i = Index(leg);
-    feet_W[static_cast<std::size_t>(i)] = base_W * robot_.FootPosition(leg, measured.q.segment<3>(3 * i));
-  }
+  std::array<Eigen::Vector3d, kNumLegs> feet_W = robot_.FootPositions(measured.q);
+  for (Eigen::Vector3d& p : feet_W) p = base_W * p;
   std::string why;
   std::optional<WholeBodyState> stance =
       planner_.MeasuredStance(measured.base_position_W, rpy, feet_W, options_.max_foot_offset_m, &why);
@@ -207,7 +205,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   double best_xy = best;
   for (std::size_t i = path_progress_; i < path_.size(); ++i) {
     const double xy = (path_[i].p.head<2>() - measured.base_position_W.head<2>()).norm();
-    const double d = xy + 0.3 * std::abs(std::remainder(path_[i].yaw - rpy.z(), 2.0 * M_PI));
+    const double d = xy + 0.3 * std::abs(WrapAngle(path_[i].yaw - rpy.z()));
     if (d < best) {
       best = d;
       best_xy = xy;

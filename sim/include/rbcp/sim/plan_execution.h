@@ -120,6 +120,8 @@ class PlanExecution {
   void Reset(const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W, const JointVector& q);
   void Judge(const RobotState& state, const JointVector& commanded);
   void Decide(std::optional<ExecutionFailure> failure);
+  /// A failure at the current time, step and phase.
+  ExecutionFailure Failure(const std::string& what, const std::string& leg, const std::string& detail) const;
   void Sample(const RobotState& state);
 
   const RobotModel& robot_;
