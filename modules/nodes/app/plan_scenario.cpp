@@ -9,9 +9,10 @@ int main(int argc, char** argv) {
   CLI::App app{"Runs affordance extraction, root planning and contact planning on a scenario file in one process.\n"
                "With --stage contact --json the plan is under 'states', in the form check_plan reads; --stage sim\n"
                "then walks the plan in the simulator and adds its outcome (sim_ok, failure, sim_trace, ...).\n"
+               "The JSON is described in docs/json_schema.md. Talks no LCM.\n"
                "Exit status: 0 planned, 1 a stage failed (reason in 'failure'), 2 bad input."};
   nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  nodes::AddOfflineOptions(app, common);
   std::string scenario_path, stage = "root";
   unsigned seed = 1;
   double budget = 5.0;

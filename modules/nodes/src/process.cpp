@@ -1,22 +1,22 @@
 #include "rbcp/nodes/process.h"
 
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 
 namespace rbcp::nodes {
 
-std::string DefaultConfigDir() {
-  if (const char* env = std::getenv("RBCP_CONFIG_DIR"); env && *env) return env;
-  return RBCP_DEFAULT_CONFIG_DIR;
+void AddOfflineOptions(CLI::App& app, CommonOptions& options) {
+  options.config_dir = DefaultConfigDir();
+  app.add_option("--config-dir", options.config_dir,
+                 "folder with robots/, scenarios/ and process yaml (default: $RBCP_CONFIG_DIR, else the installed "
+                 "PREFIX/share/rbcp/config, else the checkout's config/)")
+      ->capture_default_str();
+  app.add_flag("--quiet", options.quiet, "do not log every handled input on stderr");
 }
 
 void AddCommonOptions(CLI::App& app, CommonOptions& options) {
-  options.config_dir = DefaultConfigDir();
   app.add_option("--lcm-url", options.lcm_url, "LCM URL (default: $LCM_DEFAULT_URL or LCM's default udpm)");
-  app.add_option("--config-dir", options.config_dir, "folder with robots/, scenarios/ and process yaml")
-      ->capture_default_str();
-  app.add_flag("--quiet", options.quiet, "do not log every handled input on stderr");
+  AddOfflineOptions(app, options);
   app.add_option("--max-runtime", options.max_runtime_s, "stop after this many seconds (0: run until SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
 }

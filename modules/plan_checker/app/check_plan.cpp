@@ -1,31 +1,26 @@
 // check_plan: verifies a contact plan (JSON) against its scenario and prints every violation.
 #include <CLI/CLI.hpp>
 
-#include <cstdlib>
 #include <iostream>
 
+#include "rbcp/core/config_dir.h"
 #include "rbcp/core/error.h"
 #include "rbcp/plan_checker/plan_checker.h"
 #include "rbcp/plan_checker/plan_json.h"
 
-namespace {
-std::string DefaultConfigDir() {
-  if (const char* env = std::getenv("RBCP_CONFIG_DIR"); env && *env) return env;
-  return RBCP_DEFAULT_CONFIG_DIR;
-}
-}  // namespace
-
 int main(int argc, char** argv) {
   CLI::App app{"Checks a contact plan against its scenario: feet on contact surfaces, one leg per step, joints\n"
                "consistent with the feet, no collision, static stability, joint torques, support margin.\n"
-               "Exit status: 0 the plan passes, 1 it violates a check, 2 bad input, 3 internal error."};
-  std::string scenario_path, plan_path, config_dir = DefaultConfigDir();
+               "Reads files; talks no LCM. Exit status: 0 the plan passes, 1 it violates a check, 2 bad input, 3 internal\n"
+               "error."};
+  std::string scenario_path, plan_path, config_dir = rbcp::DefaultConfigDir();
   bool json = false;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required();
   app.add_option("--plan", plan_path, "plan JSON: an array of states or an object with 'states' ('-' = stdin)")
       ->required();
   app.add_option("--config-dir", config_dir, "folder with robots/, equilibrium.yaml and affordance.yaml "
-                                             "(default: $RBCP_CONFIG_DIR, else the checkout's config/)")
+                                             "(default: $RBCP_CONFIG_DIR, else the installed PREFIX/share/rbcp/config, "
+                                             "else the checkout's config/)")
       ->capture_default_str();
   app.add_flag("--json", json, "print the report as one JSON object");
   try {

@@ -7,6 +7,8 @@
 #include <functional>
 #include <string>
 
+#include "rbcp/core/config_dir.h"
+
 namespace rbcp::nodes {
 
 struct CommonOptions {
@@ -16,11 +18,12 @@ struct CommonOptions {
   double max_runtime_s = 0.0;   ///< stop after this long [s]; 0 = until SIGINT/SIGTERM
 };
 
-/// The config folder: $RBCP_CONFIG_DIR if set, else the checkout's config/ this build came from.
-std::string DefaultConfigDir();
+using rbcp::DefaultConfigDir;
 
-/// Adds --lcm-url, --config-dir, --quiet and --max-runtime.
+/// Adds --lcm-url, --config-dir, --quiet and --max-runtime: the options of a process on LCM.
 void AddCommonOptions(CLI::App& app, CommonOptions& options);
+/// Adds --config-dir and --quiet: the options of a program that talks no LCM.
+void AddOfflineOptions(CLI::App& app, CommonOptions& options);
 
 /// Runs `body` and returns its exit code; a CLI parse error exits as CLI11 prescribes (0 for
 /// --help), any other exception prints "<process>: error: <what>" and returns 2.
