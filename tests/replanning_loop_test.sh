@@ -11,7 +11,7 @@ RBCP_LOG_DIR="$dir" "$root/tools/netns-run" "$root/tools/launch" --scenario "$sc
 grep -Eq "the robot reached the goal: goal reached.*[1-9][0-9]* plans \(0 failed replans\), replanning latency median" "$dir/launch.txt" \
   || { echo "replanning_loop_test: no successful loop summary" >&2; exit 1; }
 "$bin/run_log" --log "$dir/run.lcmlog" > "$dir/run.json"
-for key in '"sim_ok":true' '"scenario":"flat_short"' '"unanswered_waits":0' '"sim_trace":\[\{'; do
+for key in '"sim_ok":true' '"scenario":"flat_short"' '"unanswered_waits":0' '"sim_trace":\[\{' '"schema_version":1' '"replans":\[\{' '"torques":\[' '"contact_surfaces":\[\{'; do
   grep -Eq "$key" "$dir/run.json" || { echo "replanning_loop_test: run_log JSON lacks $key" >&2; exit 1; }
 done
 grep -Eq '"plans":[1-9]' "$dir/run.json" || { echo "replanning_loop_test: no plan in the log" >&2; exit 1; }

@@ -79,6 +79,9 @@ int main(int argc, char** argv) {
       const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
       if (json) {
         nlohmann::json j = sim::OutcomeToJson(outcome);
+        AddSchemaKeys(j);
+        j["scenario"] = scenario.name;
+        j["sim_failure"] = j["failure"];  // as plan_scenario names it
         j["sim_wall_s"] = wall_s;
         std::cout << j.dump() << std::endl;
       } else {

@@ -6,6 +6,7 @@
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
 #include "rbcp/core/pose.h"
+#include "rbcp/equilibrium/support_polygon.h"
 
 namespace rbcp::sim {
 namespace {
@@ -128,14 +129,61 @@ const ExecutionOutcome& PlanExecution::Run() {
   return outcome_;
 }
 
-void PlanExecution::Sample(const RobotState& state) {
+TraceSample MeasuredTraceSample(const RobotModel& robot, const RobotState& state) {
   TraceSample s;
   s.t = state.t;
   s.base_position = state.base_position_W;
-  s.base_rpy = RpyFromRotation(state.base_orientation_W.toRotationMatrix());
+  const Eigen::Matrix3d R = state.base_orientation_W.normalized().toRotationMatrix();
+  s.base_rpy = RpyFromRotation(R);
+  const Eigen::Isometry3d base = Eigen::Translation3d(state.base_position_W) * Eigen::Isometry3d(R);
+  const std::array<Eigen::Vector3d, kNumLegs> feet_B = robot.FootPositions(state.q);
+  std::vector<Eigen::Vector3d> support;
+  for (std::size_t i = 0; i < kNumLegs; ++i) {
+    s.feet[i] = base * feet_B[i];
+    if (state.foot_contact[i]) support.push_back(s.feet[i]);
+  }
+  s.contact = state.foot_contact;
+  s.joints = state.q;
+  s.torques = state.tau;
+  if (support.size() >= 3) s.support_margin_m = SupportPolygonMargin(support, base * robot.CenterOfMass(state.q));
+  return s;
+}
+
+nlohmann::json TraceSampleToJson(const TraceSample& s) {
+  const auto rounded = [](const JointVector& v, double unit) {
+    nlohmann::json a = nlohmann::json::array();
+    for (int j = 0; j < kNumJoints; ++j) a.push_back(std::round(v[j] / unit) * unit);
+    return a;
+  };
+  nlohmann::json feet = nlohmann::json::array();
+  for (Leg leg : kAllLegs) {
+    const std::size_t i = static_cast<std::size_t>(Index(leg));
+    feet.push_back({{"leg", std::string(LegName(leg))},
+                    {"position", {s.feet[i].x(), s.feet[i].y(), s.feet[i].z()}},
+                    {"contact", s.contact[i]}});
+  }
+  nlohmann::json j = {{"t", s.t},
+                      {"base",
+                       {{"position", {s.base_position.x(), s.base_position.y(), s.base_position.z()}},
+                        {"rpy", {s.base_rpy.x(), s.base_rpy.y(), s.base_rpy.z()}}}},
+                      {"feet", feet},
+                      {"joints", rounded(s.joints, 1e-5)},
+                      {"torques", rounded(s.torques, 1e-3)},
+                      {"support_margin_m", std::isfinite(s.support_margin_m) ? nlohmann::json(s.support_margin_m)
+                                                                             : nlohmann::json()}};
+  if (s.step >= 0) j["step"] = s.step;
+  if (!s.phase.empty()) j["phase"] = s.phase;
+  return j;
+}
+
+void PlanExecution::Sample(const RobotState& state) {
+  TraceSample s = MeasuredTraceSample(robot_, state);
+  // The true world's feet: the lowest point of each foot sphere.
   const auto centres = world_->FootCentersW();
   for (std::size_t i = 0; i < centres.size(); ++i) s.feet[i] = centres[i] - Eigen::Vector3d(0, 0, robot_.FootRadius());
-  s.contact = state.foot_contact;
+  const ControllerStatus& status = controller_->Status();
+  s.step = status.step;
+  s.phase = ToString(status.phase);
   outcome_.trace.push_back(s);
 }
 
@@ -325,20 +373,7 @@ nlohmann::json OutcomeToJson(const ExecutionOutcome& o) {
   j["min_support_margin_m"] =
       std::isfinite(o.min_support_margin_m) ? nlohmann::json(o.min_support_margin_m) : nlohmann::json();
   nlohmann::json trace = nlohmann::json::array();
-  for (const TraceSample& s : o.trace) {
-    nlohmann::json feet = nlohmann::json::array();
-    for (Leg leg : kAllLegs) {
-      const std::size_t i = static_cast<std::size_t>(Index(leg));
-      feet.push_back({{"leg", std::string(LegName(leg))},
-                      {"position", {s.feet[i].x(), s.feet[i].y(), s.feet[i].z()}},
-                      {"contact", s.contact[i]}});
-    }
-    trace.push_back({{"t", s.t},
-                     {"base",
-                      {{"position", {s.base_position.x(), s.base_position.y(), s.base_position.z()}},
-                       {"rpy", {s.base_rpy.x(), s.base_rpy.y(), s.base_rpy.z()}}}},
-                     {"feet", feet}});
-  }
+  for (const TraceSample& s : o.trace) trace.push_back(TraceSampleToJson(s));
   j["sim_trace"] = trace;
   return j;
 }

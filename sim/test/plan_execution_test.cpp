@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "flat_ground_plan.h"
 #include "rbcp/controller/controller_config.h"
 
@@ -142,6 +145,43 @@ TEST(PlanExecution, FeetOnIceSlideAndTheJudgeSaysFootSlip) {
   EXPECT_EQ(o.failure->what, "foot_slip") << o.failure->detail;
   EXPECT_NE(o.failure->detail.find("slid"), std::string::npos) << o.failure->detail;
   EXPECT_GT(o.max_slip_m, g.sim.outcome.max_slip_m);
+}
+
+TEST(PlanExecution, TheTraceCarriesJointsTorquesAndTheSupportMargin) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  const ContactPlan plan = BuildFlatGroundPlan(g.robot, 2, 0.08);
+  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller);
+  run.Start(plan);
+  const ExecutionOutcome& o = run.Run();
+  ASSERT_TRUE(o.ok()) << Why(o);
+  int three_feet = 0, four_feet = 0;
+  for (const TraceSample& s : o.trace) {
+    const int in_contact = static_cast<int>(std::count(s.contact.begin(), s.contact.end(), true));
+    EXPECT_EQ(std::isnan(s.support_margin_m), in_contact < 3) << "t " << s.t;
+    // The crawl keeps the CoM inside the feet in contact (a drop and touchdowns aside).
+    if (in_contact == 3 && s.phase == "swing") {
+      ++three_feet;
+      EXPECT_GT(s.support_margin_m, 0.0) << "t " << s.t;
+    }
+    if (in_contact == 4) ++four_feet;
+    EXPECT_LE(s.torques.cwiseAbs().maxCoeff(), g.sim.physics.torque_limit_Nm + 1e-9);
+  }
+  EXPECT_GT(three_feet, 0);
+  EXPECT_GT(four_feet, 0);
+  // Standing at the end: the measured joints near the plan's last, torques holding the weight.
+  const TraceSample& last = o.trace.back();
+  EXPECT_LT((last.joints - plan.states.back().joints).cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_GT(last.torques.cwiseAbs().maxCoeff(), 1.0);
+
+  const nlohmann::json j = TraceSampleToJson(last);
+  ASSERT_EQ(j.at("joints").size(), 12u);
+  ASSERT_EQ(j.at("torques").size(), 12u);
+  EXPECT_NEAR(j.at("joints")[5].get<double>(), last.joints[5], 1e-5);
+  EXPECT_NEAR(j.at("torques")[5].get<double>(), last.torques[5], 1e-3);
+  EXPECT_NEAR(j.at("support_margin_m").get<double>(), last.support_margin_m, 1e-12);
+  EXPECT_EQ(j.at("phase"), last.phase);
+  EXPECT_EQ(j.at("feet").size(), 4u);
 }
 
 TEST(PlanExecution, TwoRunsGiveTheSameTrace) {

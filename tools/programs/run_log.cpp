@@ -1,7 +1,8 @@
 // run_log: turns the LCM log of a run (tools/launch records build/logs/RUN/run.lcmlog) into one
 // JSON object that check_plan and the other tools read: the plan the robot walked ("states"), the
-// simulator's verdict, the replans and their latency (from the logger's receive times), and the
-// robot's trace at 20 Hz of simulated time.
+// simulator's verdict, the replans and their latency (from the logger's receive times), the
+// robot's trace at 20 Hz of simulated time, and the world the run saw (terrain, contact surfaces,
+// root path) for tools/view.
 #include <iostream>
 #include <optional>
 #include <string>
@@ -18,7 +19,9 @@
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/convert.h"
 #include "rbcp_msgs/process_status_t.hpp"
+#include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
+#include "view_json.h"
 
 namespace {
 
@@ -29,25 +32,6 @@ bool Decode(const lcm::LogEvent& e, Msg* msg) {
   return msg->decode(e.data, 0, static_cast<int>(e.datalen)) >= 0;
 }
 
-nlohmann::json TraceSample(const RobotModel& robot, const rbcp_msgs::robot_state_t& msg) {
-  const RobotState s = transport::FromRobotStateMsg(msg);
-  const Eigen::Isometry3d base = Eigen::Translation3d(s.base_position_W) * s.base_orientation_W;
-  const Eigen::Vector3d rpy = RpyFromRotation(s.base_orientation_W.toRotationMatrix());
-  const std::array<Eigen::Vector3d, kNumLegs> feet_B = robot.FootPositions(s.q);
-  nlohmann::json feet = nlohmann::json::array();
-  for (Leg leg : kAllLegs) {
-    const int i = Index(leg);
-    const Eigen::Vector3d p = base * feet_B[static_cast<std::size_t>(i)];
-    feet.push_back({{"leg", std::string(LegName(leg))},
-                    {"position", {p.x(), p.y(), p.z()}},
-                    {"contact", s.foot_contact[static_cast<std::size_t>(i)]}});
-  }
-  return {{"t", s.t},
-          {"base", {{"position", {s.base_position_W.x(), s.base_position_W.y(), s.base_position_W.z()}},
-                    {"rpy", {rpy.x(), rpy.y(), rpy.z()}}}},
-          {"feet", feet}};
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -55,9 +39,11 @@ int main(int argc, char** argv) {
                "robot walked (\"states\", as check_plan reads it), the simulator's verdict (sim_ok, outcome, sim_time_s),\n"
                "the plans and replans with their latency (median and 95th percentile, from the log's receive times:\n"
                "the first ROBOT_STATE a plan starts from to that CONTACT_PLAN) and the robot's trace (sim_trace, 20 Hz).\n"
+               "With the trace: joints and torques, the CoM's margin in the polygon of the feet in contact, and\n"
+               "each replan's time and latency (replans). The JSON is described in docs/json_schema.md.\n"
                "Reads a file; talks no LCM. Exit status: 0 written, 2 bad input."};
   nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  nodes::AddOfflineOptions(app, common);
   std::string log_path;
   app.add_option("--log", log_path, "the LCM log of a run")->required()->check(CLI::ExistingFile);
   return nodes::GuardedMain("run_log", app, argc, argv, [&]() -> int {
@@ -67,6 +53,11 @@ int main(int argc, char** argv) {
     nodes::RunRecord record;
     std::string scenario;
     std::optional<rbcp_msgs::process_status_t> verdict;
+    std::optional<rbcp_msgs::terrain_mesh_t> terrain;
+    std::optional<rbcp_msgs::affordance_set_t> surfaces;
+    std::optional<rbcp_msgs::root_path_t> root_path;
+    std::optional<rbcp_msgs::plan_request_t> request;
+    int root_paths = 0;
     long events = 0, malformed = 0;
     while (const lcm::LogEvent* e = log.readNextEvent()) {
       ++events;
@@ -87,14 +78,28 @@ int main(int argc, char** argv) {
         if (!Decode(*e, &msg)) { ++malformed; continue; }
         const bool decided = msg.state == rbcp_msgs::process_status_t::OK || msg.state == rbcp_msgs::process_status_t::FAILED;
         if (msg.process == "anymal_sim" && decided) verdict = msg;
-      } else if (channel == channels::kTerrain && scenario.empty()) {
+      } else if (channel == channels::kTerrain) {
         rbcp_msgs::terrain_mesh_t msg;
-        if (Decode(*e, &msg)) scenario = msg.scenario_name; else ++malformed;
+        if (!Decode(*e, &msg)) { ++malformed; continue; }
+        if (scenario.empty()) scenario = msg.scenario_name;
+        terrain = std::move(msg);  // the newest terrain
+      } else if (channel == channels::kAffordances) {
+        rbcp_msgs::affordance_set_t msg;
+        if (Decode(*e, &msg)) surfaces = std::move(msg); else ++malformed;
+      } else if (channel == channels::kRootPath) {
+        rbcp_msgs::root_path_t msg;
+        if (!Decode(*e, &msg)) { ++malformed; continue; }
+        if (!root_path) root_path = std::move(msg);  // the first: the path from the start to the goal
+        ++root_paths;
+      } else if (channel == channels::kPlanRequest && !request) {
+        rbcp_msgs::plan_request_t msg;
+        if (Decode(*e, &msg)) request = msg; else ++malformed;
       }
     }
     if (!record.Latest()) throw InputError(log_path + ": no ROBOT_STATE in " + std::to_string(events) + " events");
     const ContactPlan walked = record.ExecutedPlan();
     nlohmann::json j;
+    AddSchemaKeys(j);
     j["scenario"] = scenario;
     j["states"] = ContactPlanToJson(walked);
     j["steps"] = walked.states.empty() ? 0 : static_cast<int>(walked.states.size()) - 1;
@@ -110,10 +115,44 @@ int main(int argc, char** argv) {
     j["replan_latency_ms"] = {{"count", lat.size()},
                               {"median", nodes::Percentile(lat, 0.5)},
                               {"p95", nodes::Percentile(lat, 0.95)}};
-    j["malformed_messages"] = malformed;
+    nlohmann::json replans = nlohmann::json::array();
+    for (std::size_t i = 0; i < lat.size(); ++i) {
+      replans.push_back({{"t", record.LatencyTimesS()[i]}, {"latency_ms", lat[i]}});
+    }
+    j["replans"] = replans;
+    // The world as the run saw it, for a viewer: terrain, contact surfaces, root path, start, goal.
+    const auto or_null = [&](const auto& msg, auto convert) -> nlohmann::json {
+      if (!msg) return nullptr;
+      try {
+        return convert(*msg);
+      } catch (const InputError&) {
+        ++malformed;
+        return nullptr;
+      }
+    };
+    j["terrain"] = or_null(terrain, [](const auto& m) { return view::TerrainJson(m); });
+    j["contact_surfaces"] = or_null(surfaces, [](const auto& m) { return view::SurfacesJson(m); });
+    j["surfaces"] = j["contact_surfaces"].is_array() ? j["contact_surfaces"].size() : 0;
+    j["root_path"] = root_path ? view::RootPathJson(*root_path) : nlohmann::json::array();
+    j["root_paths"] = root_paths;
+    const rbcp_msgs::robot_state_t& first = record.Trace().front();
+    const Eigen::Quaterniond q0(first.base_orientation[0], first.base_orientation[1], first.base_orientation[2],
+                                first.base_orientation[3]);
+    j["start"] = {{"position", {first.base_position[0], first.base_position[1]}},
+                  {"yaw", RpyFromRotation(q0.normalized().toRotationMatrix()).z()}};
+    j["goal"] = request ? nlohmann::json({{"position", {request->goal_position[0], request->goal_position[1]}},
+                                          {"yaw", request->goal_yaw}})
+                        : nlohmann::json();
     nlohmann::json trace = nlohmann::json::array();
-    for (const auto& s : record.Trace()) trace.push_back(TraceSample(robot, s));
+    for (const auto& s : record.Trace()) {
+      try {
+        trace.push_back(view::RobotStateJson(robot, s));
+      } catch (const InputError&) {
+        ++malformed;
+      }
+    }
     j["sim_trace"] = trace;
+    j["malformed_messages"] = malformed;
     std::cout << j.dump() << std::endl;
     return 0;
   });

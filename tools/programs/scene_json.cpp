@@ -1,7 +1,8 @@
 // scene_json: what a viewer needs besides a plan, as one JSON object on stdout: the scenario's
 // terrain mesh, its contact surfaces (affordance extraction with the given parameters) and the
-// robot (joint tree from the URDF, collision primitives, planning parameters, and the link poses
-// of the reference stance from rbcp::RobotModel so a viewer can check its own kinematics).
+// robot (joint tree from the URDF, collision primitives, planning parameters, torque limits, and
+// the link poses of the reference stance from rbcp::RobotModel so a viewer can check its own
+// kinematics). Without a scenario, the robot alone.
 //
 // Rotations are quaternions [x, y, z, w]; every pose is {"xyz", "quaternion"}.
 #include <CLI/CLI.hpp>
@@ -19,9 +20,14 @@
 
 #include "rbcp/affordance/affordance_config.h"
 #include "rbcp/affordance/affordance_extractor.h"
+#include "rbcp/controller/controller_config.h"
+#include "rbcp/core/config_dir.h"
 #include "rbcp/core/error.h"
+#include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/scenario/scenario.h"
+#include "rbcp/sim/sim_config.h"
+#include "view_json.h"
 
 namespace {
 
@@ -49,23 +55,6 @@ std::string JointType(int type) {
     case urdf::Joint::FIXED: return "fixed";
     default: return "other";
   }
-}
-
-json Terrain(const rbcp::TriangleMesh& mesh) {
-  json vertices = json::array(), triangles = json::array();
-  for (const auto& v : mesh.vertices) vertices.push_back(Vec(v));
-  for (const auto& t : mesh.triangles) triangles.push_back(json::array({t[0], t[1], t[2]}));
-  return {{"vertices", vertices}, {"triangles", triangles}};
-}
-
-json Surfaces(const std::vector<rbcp::AffordanceSurface>& surfaces) {
-  json out = json::array();
-  for (const auto& s : surfaces) {
-    json vertices = json::array();
-    for (const auto& v : s.vertices) vertices.push_back(Vec(v));
-    out.push_back({{"vertices", vertices}, {"normal", Vec(s.normal)}, {"area", s.area}});
-  }
-  return out;
 }
 
 /// The URDF's joints, breadth first from the root link: a joint never precedes the joint that
@@ -97,6 +86,8 @@ json Joints(const std::string& urdf_path) {
 json Robot(const std::string& config_dir) {
   const std::string urdf_path = config_dir + "/robots/anymal_b.urdf";
   const rbcp::RobotModel robot = rbcp::RobotModel::Load(urdf_path, config_dir + "/robots/anymal_b.yaml");
+  const rbcp::sim::SimConfig sim_config = rbcp::sim::SimConfig::LoadFile(config_dir + "/sim.yaml");
+  const rbcp::ControllerConfig controller_config = rbcp::ControllerConfig::LoadFile(config_dir + "/controller.yaml");
 
   json links = json::array();
   for (const rbcp::RobotLink& link : robot.Links()) {
@@ -142,6 +133,9 @@ json Robot(const std::string& config_dir) {
           {"reference_configuration", q_reference},
           {"reference_link_poses", reference_poses},
           {"nominal_base_height", robot.NominalBaseHeight()},
+          {"torque_limit_Nm", sim_config.physics.torque_limit_Nm},
+          {"urdf_effort_limit_Nm", robot.TorqueLimit()},
+          {"support_margin_m", controller_config.base.support_margin_m},
           {"foot_radius", robot.FootRadius()},
           {"foot_contact_offset", Vec(robot.FootContactOffset())}};
 }
@@ -150,10 +144,14 @@ json Robot(const std::string& config_dir) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Prints a scenario's terrain mesh, its contact surfaces and the robot description as one JSON\n"
-               "object (for tools/view). Exit status: 0 printed, 2 bad input."};
-  std::string scenario_path, config_dir = "config";
-  app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
-  app.add_option("--config-dir", config_dir, "folder with affordance.yaml and robots/")
+               "object (for tools/view); without --scenario, the robot description alone (for a live page).\n"
+               "The JSON is described in docs/json_schema.md. Reads files; talks no LCM.\n"
+               "Exit status: 0 printed, 2 bad input."};
+  std::string scenario_path, config_dir = rbcp::DefaultConfigDir();
+  app.add_option("--scenario", scenario_path, "scenario YAML")->check(CLI::ExistingFile);
+  app.add_option("--config-dir", config_dir,
+                 "folder with affordance.yaml, sim.yaml, controller.yaml and robots/ (default: $RBCP_CONFIG_DIR, "
+                 "else the installed PREFIX/share/rbcp/config, else the checkout's config/)")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);
   try {
@@ -163,15 +161,18 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   try {
-    const rbcp::Scenario scenario = rbcp::LoadScenario(scenario_path);
-    rbcp::AffordanceExtractor extractor(rbcp::AffordanceConfig::LoadFile(config_dir + "/affordance.yaml"));
-    const json out = {{"scenario", scenario.name},
-                      {"scenario_file", scenario_path},
-                      {"start", {{"position", Vec2(scenario.start.position)}, {"yaw", scenario.start.yaw}}},
-                      {"goal", {{"position", Vec2(scenario.goal.position)}, {"yaw", scenario.goal.yaw}}},
-                      {"terrain", Terrain(scenario.terrain_mesh)},
-                      {"surfaces", Surfaces(extractor.Extract(scenario.terrain_mesh))},
-                      {"robot", Robot(config_dir)}};
+    json out = {{"robot", Robot(config_dir)}};
+    rbcp::AddSchemaKeys(out);
+    if (!scenario_path.empty()) {
+      const rbcp::Scenario scenario = rbcp::LoadScenario(scenario_path);
+      rbcp::AffordanceExtractor extractor(rbcp::AffordanceConfig::LoadFile(config_dir + "/affordance.yaml"));
+      out["scenario"] = scenario.name;
+      out["scenario_file"] = scenario_path;
+      out["start"] = {{"position", Vec2(scenario.start.position)}, {"yaw", scenario.start.yaw}};
+      out["goal"] = {{"position", Vec2(scenario.goal.position)}, {"yaw", scenario.goal.yaw}};
+      out["terrain"] = rbcp::view::TerrainJson(scenario.terrain_mesh);
+      out["contact_surfaces"] = rbcp::view::SurfacesJson(extractor.Extract(scenario.terrain_mesh));
+    }
     std::cout << out.dump() << std::endl;
     return 0;
   } catch (const std::exception& e) {

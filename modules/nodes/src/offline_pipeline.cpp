@@ -104,6 +104,7 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
 
 nlohmann::json ToJson(const PipelineResult& result) {
   nlohmann::json j;
+  AddSchemaKeys(j);
   j["scenario"] = result.scenario;
   j["seed"] = result.seed;
   j["affordance_ms"] = result.affordance_ms;
@@ -141,6 +142,7 @@ nlohmann::json ToJson(const PipelineResult& result) {
   }
   if (result.sim) {
     j.update(sim::OutcomeToJson(*result.sim));
+    j["sim_failure"] = j["failure"];  // the simulator's failure object; "failure" below is the run's text
     j["sim_wall_s"] = result.sim_wall_s;
   } else if (result.stage == PipelineStage::kSim) {
     j["sim_ok"] = false;
@@ -148,6 +150,7 @@ nlohmann::json ToJson(const PipelineResult& result) {
     j["fell"] = false;
     j["sim_time_s"] = 0.0;
     j["sim_wall_s"] = 0.0;
+    j["sim_failure"] = nullptr;
     j["sim_trace"] = nlohmann::json::array();
   }
   j["failure"] = result.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(result.failure);

@@ -45,6 +45,7 @@ void RunRecord::OnContactPlan(int64_t receive_us, const rbcp_msgs::contact_plan_
   wait_->answered = true;
   if (plans_ == 1) return;  // the first plan waits for the world and the path: not a replan
   latencies_ms_.push_back(1e-3 * static_cast<double>(receive_us - it->second));
+  latency_times_s_.push_back(1e-6 * static_cast<double>(msg.start_utime));
 }
 
 ContactPlan RunRecord::ExecutedPlan() const {

@@ -51,6 +51,8 @@ TEST(RunRecord, RebuildsTheWalkedPlanAndTheReplanLatency) {
   EXPECT_EQ(run.GoalPlans(), 1);
   ASSERT_EQ(run.LatenciesMs().size(), 1u);
   EXPECT_DOUBLE_EQ(run.LatenciesMs()[0], 4.0);
+  ASSERT_EQ(run.LatencyTimesS().size(), 1u);
+  EXPECT_DOUBLE_EQ(run.LatencyTimesS()[0], 2.0) << "the replan started from the state at 2 s";
   EXPECT_EQ(run.UnansweredWaits(), 0);
   EXPECT_EQ(run.Latest()->utime, 6000000);
 

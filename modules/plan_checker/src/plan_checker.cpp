@@ -10,6 +10,7 @@
 
 #include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/collision/robot_terrain_collision.h"
+#include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/stance_torques.h"
@@ -509,13 +510,16 @@ nlohmann::json PlanCheckReportToJson(const PlanCheckReport& report) {
   for (const auto& v : report.violations) {
     violations.push_back({{"state", v.state}, {"check", v.check}, {"detail", v.detail}});
   }
-  return {{"ok", report.ok},
-          {"states", report.states},
-          {"violation_count", report.violation_count},
-          {"violations", std::move(violations)},
-          {"min_robustness_N", FiniteOrNull(report.min_robustness_N)},
-          {"max_torque_Nm", FiniteOrNull(report.max_torque_Nm)},
-          {"min_support_margin_m", FiniteOrNull(report.min_support_margin_m)}};
+  nlohmann::json j = {{"ok", report.ok},
+      {"states", report.states},  // the count (kept for compatibility), as state_count
+      {"state_count", report.states},
+      {"violation_count", report.violation_count},
+      {"violations", std::move(violations)},
+      {"min_robustness_N", FiniteOrNull(report.min_robustness_N)},
+      {"max_torque_Nm", FiniteOrNull(report.max_torque_Nm)},
+      {"min_support_margin_m", FiniteOrNull(report.min_support_margin_m)}};
+  AddSchemaKeys(j);
+  return j;
 }
 
 }  // namespace rbcp

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/robot/robot_model.h"
 
 namespace rbcp {
 namespace {
@@ -221,6 +222,13 @@ ContactPlan LoadContactPlanFile(const std::string& path) {
   } catch (const InputError& e) {
     throw InputError(name + ": " + e.what());
   }
+}
+
+void AddSchemaKeys(nlohmann::json& document) {
+  document["schema_version"] = kJsonSchemaVersion;
+  json names = json::array();
+  for (int j = 0; j < kNumJoints; ++j) names.push_back(JointName(j));
+  document["joint_names"] = std::move(names);
 }
 
 }  // namespace rbcp

@@ -56,6 +56,19 @@ void ExpectBitwiseEqual(const ContactPlan& a, const ContactPlan& b) {
   }
 }
 
+TEST(PlanJsonTest, SchemaKeysNameTheJointsInTheirOrder) {
+  json document = {{"states", json::array()}};
+  AddSchemaKeys(document);
+  EXPECT_EQ(document.at("schema_version"), kJsonSchemaVersion);
+  const json& names = document.at("joint_names");
+  ASSERT_EQ(names.size(), 12u);
+  EXPECT_EQ(names[0], "LF_HAA");
+  EXPECT_EQ(names[5], "RF_KFE");
+  EXPECT_EQ(names[11], "RH_KFE");
+  // A document with the keys still reads as a plan.
+  EXPECT_TRUE(ContactPlanFromJsonDocument(document).states.empty());
+}
+
 TEST(PlanJsonTest, RoundTripIsExactThroughText) {
   const ContactPlan plan = AwkwardPlan();
   const std::string text = ContactPlanToJson(plan).dump();

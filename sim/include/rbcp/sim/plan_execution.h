@@ -46,13 +46,29 @@ struct ExecutionFailure {
   std::string detail;  ///< what was seen, with numbers
 };
 
+/// The robot at one instant of a run (the 20 Hz trace of a simulated run or of a run's log).
 struct TraceSample {
   double t = 0.0;
   Eigen::Vector3d base_position = Eigen::Vector3d::Zero();  ///< [m], world
   Eigen::Vector3d base_rpy = Eigen::Vector3d::Zero();       ///< [rad]
-  std::array<Eigen::Vector3d, kNumLegs> feet;               ///< lowest point of each foot sphere [m], world
+  std::array<Eigen::Vector3d, kNumLegs> feet;               ///< each foot's contact point [m], world
   std::array<bool, kNumLegs> contact{};
+  JointVector joints = JointVector::Zero();   ///< measured joint positions [rad]
+  JointVector torques = JointVector::Zero();  ///< applied joint torques [N m]
+  /// Signed distance [m] from the CoM's ground projection to the edge of the polygon of the feet
+  /// in contact (positive inside); NaN with fewer than three feet in contact.
+  double support_margin_m = std::numeric_limits<double>::quiet_NaN();
+  int step = -1;      ///< plan state the controller walks to (-1: unknown)
+  std::string phase;  ///< the controller's phase ("" unknown; see ControllerPhase)
 };
+
+/// A trace sample of a measured state: the feet at the forward kinematics of the measured joints,
+/// the support margin of the whole-body CoM over the feet in contact.
+TraceSample MeasuredTraceSample(const RobotModel& robot, const RobotState& state);
+
+/// {t, base: {position, rpy}, feet: [{leg, position, contact}], joints, torques, support_margin_m
+/// (null when NaN), step and phase (when known)}; joints rounded to 1e-5 rad, torques to 1e-3 N m.
+nlohmann::json TraceSampleToJson(const TraceSample& sample);
 
 struct ExecutionOutcome {
   bool reached_goal = false;
@@ -148,7 +164,7 @@ class PlanExecution {
 /// The outcome as JSON: sim_ok, reached_goal, fell, sim_time_s, failure (null or {what, t, step,
 /// leg, phase, detail}), max_torque_ratio, collisions, collision_links, steps_total, steps_executed,
 /// early_touchdowns, late_touchdowns, final_base_error_m, min_support_margin_m, max_slip_m and sim_trace
-/// [{t, base: {position, rpy}, feet: [{leg, position, contact}]}].
+/// (TraceSampleToJson; docs/json_schema.md).
 nlohmann::json OutcomeToJson(const ExecutionOutcome& outcome);
 
 /// A control-rate record of a run for diagnosis, one CSV row per tick: t, the controller's phase,

@@ -31,6 +31,8 @@ class RunRecord {
   /// (a state of the robot's wait at a step boundary) to the receipt of that plan. The first plan
   /// (which also waits for the world and the root path) is not a replan.
   const std::vector<double>& LatenciesMs() const { return latencies_ms_; }
+  /// For each latency of LatenciesMs(), the simulated time [s] of the state that replan started from.
+  const std::vector<double>& LatencyTimesS() const { return latency_times_s_; }
   /// Waits of the robot that got no plan (the planner failed or did not answer in time).
   int UnansweredWaits() const { return unanswered_ + (wait_ && !wait_->answered ? 1 : 0); }
   const std::optional<rbcp_msgs::robot_state_t>& Latest() const { return latest_; }
@@ -57,6 +59,7 @@ class RunRecord {
   int goal_plans_ = 0;
   int unanswered_ = 0;
   std::vector<double> latencies_ms_;
+  std::vector<double> latency_times_s_;
   std::optional<Wait> wait_;
   std::optional<rbcp_msgs::robot_state_t> latest_;
   std::vector<rbcp_msgs::robot_state_t> trace_;

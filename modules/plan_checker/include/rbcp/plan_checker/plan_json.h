@@ -21,6 +21,15 @@
 
 namespace rbcp {
 
+/// Version of the JSON documents the programs print (plan_scenario, check_plan, anymal_sim --plan,
+/// run_log, scene_json; see docs/json_schema.md). Raised when a key changes meaning or goes away;
+/// new keys keep it.
+inline constexpr int kJsonSchemaVersion = 1;
+
+/// Adds "schema_version" (kJsonSchemaVersion) and "joint_names" (the URDF names of the 12 joints,
+/// in the order of every joint array: LF, RF, LH, RH x HAA, HFE, KFE) to a document.
+void AddSchemaKeys(nlohmann::json& document);
+
 /// The plan as a JSON array of states; feet are written in the order LF, RF, LH, RH.
 /// Throws InputError when a state's moving_leg is neither -1 nor a leg index.
 nlohmann::json ContactPlanToJson(const ContactPlan& plan);
