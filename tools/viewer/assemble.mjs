@@ -1,9 +1,11 @@
 // Assembles the viewer page: the template, three.js and the viewer's modules inlined as text,
-// and the data (a plan_scenario JSON and a scene_json JSON) in one self-contained HTML file.
-// Checks the page's forward kinematics against rbcp::RobotModel (scene_json's reference link
-// poses) and against the plan's foot positions before writing anything.
+// and the data (a plan_scenario or run_log JSON and a scene_json JSON) in one self-contained HTML
+// file. Checks the page's forward kinematics against rbcp::RobotModel (scene_json's reference link
+// poses) and against the plan's foot positions before writing anything. A live page (--live-port)
+// has no run: it connects to live_bridge's websocket and fills as the run goes.
 //
-//   node assemble.mjs --plan PLAN.json --scene SCENE.json -o OUT.html
+//   node assemble.mjs --plan PLAN.json --scene SCENE.json -o OUT.html [--name SHOWN_NAME]
+//   node assemble.mjs --live-port PORT --scene ROBOT.json -o OUT.html
 import { readFileSync, writeFileSync } from 'node:fs';
 import { basename, dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -76,21 +78,34 @@ function main() {
   let args;
   try {
     args = parseArgs({
-      options: { plan: { type: 'string' }, scene: { type: 'string' }, output: { type: 'string', short: 'o' } },
+      options: {
+        plan: { type: 'string' }, scene: { type: 'string' }, output: { type: 'string', short: 'o' },
+        'live-port': { type: 'string' }, name: { type: 'string' },
+      },
     }).values;
   } catch (error) {
     console.error(`view: ${error.message}`);
     process.exit(2);
   }
-  if (!args.plan || !args.scene || !args.output) {
-    console.error('usage: node assemble.mjs --plan PLAN.json --scene SCENE.json -o OUT.html');
+  const live = args['live-port'] !== undefined;
+  if ((!args.plan && !live) || (args.plan && live) || !args.scene || !args.output) {
+    console.error('usage: node assemble.mjs --plan PLAN.json --scene SCENE.json -o OUT.html\n' +
+                  '       node assemble.mjs --live-port PORT --scene ROBOT.json -o OUT.html');
     process.exit(2);
   }
-  const run = readJson(args.plan, 'plan');
+  const port = Number(args['live-port']);
+  if (live && !(Number.isInteger(port) && port > 0 && port < 65536)) fail(`--live-port: expected a port number, got '${args['live-port']}'`);
+  const run = live ? {} : readJson(args.plan, 'plan');
   const scene = readJson(args.scene, 'scene');
   if (typeof run !== 'object' || run === null || Array.isArray(run)) fail(`${args.plan}: expected a JSON object`);
-  for (const key of ['terrain', 'surfaces', 'robot']) if (!(key in scene)) fail(`${args.scene}: no '${key}'`);
-  if (run.scenario && run.scenario !== scene.scenario) {
+  if (!('robot' in scene)) fail(`${args.scene}: no 'robot'`);
+  // A run's log (run_log) brings its own world: the terrain, surfaces, start and goal it saw.
+  for (const key of ['terrain', 'contact_surfaces', 'start', 'goal']) {
+    if (!(key in scene) && run[key]) scene[key] = run[key];
+    delete run[key];
+  }
+  if (!live) for (const key of ['terrain', 'contact_surfaces']) if (!(key in scene)) fail(`${args.scene}: no '${key}' (and the run has none)`);
+  if (run.scenario && scene.scenario && run.scenario !== scene.scenario) {
     console.error(`view: warning: the plan is for scenario '${run.scenario}', the scene is '${scene.scenario}'`);
   }
   const states = Array.isArray(run.states) ? run.states : [];
@@ -113,26 +128,32 @@ function main() {
     inlineModule('three/addons/controls/OrbitControls.js', moduleSource(join(three, 'examples', 'jsm', 'controls', 'OrbitControls.js'))),
     inlineModule('viewer/kinematics.js', moduleSource(join(here, 'src', 'kinematics.js'))),
     inlineModule('viewer/plots.js', moduleSource(join(here, 'src', 'plots.js'))),
+    inlineModule('viewer/live.js', moduleSource(join(here, 'src', 'live.js'))),
     inlineModule('viewer/main.js', moduleSource(join(here, 'src', 'main.js'))),
   ];
 
   const data = {
     run,
     scene,
-    source: { plan: basename(args.plan), scene: basename(args.scene) },
+    source: { plan: live ? null : args.name ?? basename(args.plan), scene: basename(args.scene) },
     checks: { reference_error: referenceErr, feet_error_m: feetErr },
   };
+  if (live) data.live = { port };
   // '<' escaped so no string in the data can close the script element.
   const dataScript = `<script type="application/json" id="rbcp-data">${JSON.stringify(data).replace(/</g, '\\u003c')}</script>`;
-  const title = String(run.scenario ?? scene.scenario ?? 'plan').replace(/[<&]/g, '');
+  const title = String(run.scenario || scene.scenario || (live ? 'live' : 'plan')).replace(/[<&]/g, '');
+  const network = live
+    ? `the page connects only to live_bridge's websocket (port ${port}, or the host that serves it)`
+    : 'the page makes no network request';
   const html = readFileSync(join(here, 'src', 'template.html'), 'utf8')
     .replace('@TITLE@', () => title)
     .replace('@THREE_REVISION@', () => REVISION)
+    .replace('@NETWORK@', () => network)
     .replace('<!-- @MODULES@ -->', () => modules.join('\n'))
     .replace('<!-- @DATA@ -->', () => dataScript);
   writeFileSync(args.output, html);
   const kb = (Buffer.byteLength(html) / 1024).toFixed(0);
-  const feet = feetErr === null ? 'no plan states' : `plan feet within ${feetErr.toExponential(1)} m of FK`;
+  const feet = live ? `live from port ${port}` : feetErr === null ? 'no plan states' : `plan feet within ${feetErr.toExponential(1)} m of FK`;
   console.error(`view: wrote ${args.output} (${kb} KiB; ${states.length} states, ${(run.sim_trace || []).length} trace samples; ${feet})`);
 }
 

@@ -1,8 +1,11 @@
 // Headless check of a viewer page in Debian's Chromium (driven by playwright-core): the page
-// loads from disk, makes no network request, logs no console error, draws with WebGL, and its
-// screenshot shows the terrain and the footholds in the four leg colours.
+// loads (from disk, or from live_bridge), makes no network request (a live page: none but to its
+// bridge), logs no console error, draws with WebGL, and its screenshot shows the terrain and the
+// footholds in the four leg colours. A live page must first have received the terrain, the walked
+// steps and the robot's states, and the robot's time must move on.
 //
-//   node check_page.mjs --page PAGE.html --screenshot OUT.png [--expect-status TEXT] [--no-footholds]
+//   node check_page.mjs (--page PAGE.html | --url URL) --screenshot OUT.png [--expect-status TEXT]
+//                       [--expect-plot TEXT]... [--no-footholds] [--live] [--allow-host HOST:PORT]
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -16,18 +19,30 @@ const CHROMIUM_FLAGS = [
   '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
   '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
 ];
+const USAGE = 'usage: node check_page.mjs (--page PAGE.html | --url URL) --screenshot OUT.png [--expect-status TEXT]\n' +
+  '                           [--expect-plot TEXT]... [--no-footholds] [--live] [--allow-host HOST:PORT]';
 
-const { values: args } = parseArgs({
-  options: {
-    page: { type: 'string' },
-    screenshot: { type: 'string' },
-    'expect-status': { type: 'string' },
-    'no-footholds': { type: 'boolean', default: false },
-    chromium: { type: 'string', default: '/usr/bin/chromium' },
-  },
-});
-if (!args.page || !args.screenshot) {
-  console.error('usage: node check_page.mjs --page PAGE.html --screenshot OUT.png [--expect-status TEXT] [--no-footholds]');
+let args;
+try {
+  ({ values: args } = parseArgs({
+    options: {
+      page: { type: 'string' },
+      url: { type: 'string' },
+      screenshot: { type: 'string' },
+      'expect-status': { type: 'string' },
+      'expect-plot': { type: 'string', multiple: true, default: [] },
+      'no-footholds': { type: 'boolean', default: false },
+      live: { type: 'boolean', default: false },
+      'allow-host': { type: 'string' },
+      chromium: { type: 'string', default: '/usr/bin/chromium' },
+    },
+  }));
+} catch (error) {
+  console.error(`check_page: ${error.message}\n${USAGE}`);
+  process.exit(2);
+}
+if (!(args.page || args.url) || (args.page && args.url) || !args.screenshot) {
+  console.error(USAGE);
   process.exit(2);
 }
 
@@ -114,7 +129,7 @@ const context = await chromium.launchPersistentContext(profile, {
 });
 try {
   const page = context.pages()[0] ?? (await context.newPage());
-  const pageUrl = pathToFileURL(args.page).href;
+  const pageUrl = args.url ?? pathToFileURL(args.page).href;
   const requests = [];
   const consoleErrors = [];
   // Chrome's own network events: playwright's 'request' event misses some failed loads.
@@ -132,11 +147,37 @@ try {
   const nextFrames = () => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
   await nextFrames();
 
+  if (args.live) {
+    // The run so far reaches the page: terrain, surfaces, steps walked, the plan ahead, states.
+    const enough = () => {
+      const live = window.rbcpViewer.live;
+      const m = live.messages;
+      return live.connected && m.terrain >= 1 && m.surfaces >= 1 && m.walked >= 1 && m.plan >= 1 && m.state >= 40 &&
+        window.rbcpViewer.tracks.includes('sim');
+    };
+    let got = true;
+    await page.waitForFunction(enough, null, { timeout: 120000, polling: 250 }).catch(() => (got = false));
+    const live = await page.evaluate(() => ({ ...window.rbcpViewer.live }));
+    console.log(`     live messages: ${JSON.stringify(live.messages)}; robot at t ${live.lastT}`);
+    check(got, 'the live page received the terrain, surfaces, a plan, the walked steps and 40 robot states');
+    // The robot's time moves on while the run goes (or the run has ended with a verdict).
+    const t0 = live.lastT;
+    let moved = true;
+    await page.waitForFunction((t) => window.rbcpViewer.live.lastT > t || window.rbcpViewer.live.verdict, t0,
+      { timeout: 60000, polling: 250 }).catch(() => (moved = false));
+    const after = await page.evaluate(() => ({ t: window.rbcpViewer.live.lastT, verdict: window.rbcpViewer.live.verdict }));
+    check(moved, `the live robot moves on (t ${t0} -> ${after.t}${after.verdict ? `, verdict: ${after.verdict.text}` : ''})`);
+    await page.evaluate(() => window.rbcpViewer.home());
+    await page.waitForTimeout(600);  // the page rebuilds its layers every 200 ms
+    await nextFrames();
+  }
+
   const info = await page.evaluate(() => ({
     webgl: window.rbcpViewer.webgl,
     tracks: window.rbcpViewer.tracks,
     status: document.getElementById('status').textContent,
     plots: document.querySelectorAll('#plots svg').length,
+    plotTitles: [...document.querySelectorAll('#plots .plot-title')].map((t) => t.textContent),
     legend: document.getElementById('legend').textContent,
   }));
   check(info.webgl, 'the page draws with WebGL');
@@ -154,6 +195,9 @@ try {
   console.log(`     leg-colour pixels in the 3D view: ${JSON.stringify(legPixels)}`);
 
   if (info.tracks.length) check(info.plots >= 3, 'the plots are drawn');
+  for (const title of args['expect-plot']) {
+    check(info.plotTitles.some((t) => t.includes(title)), `a plot of '${title}' (plots: ${info.plotTitles.join('; ')})`);
+  }
   if (!args['no-footholds']) {
     for (const [leg, n] of Object.entries(legPixels)) check(n >= 25, `${leg} footholds are drawn in their colour (${n} px)`);
     // Hiding the footholds must take those colours away: they come from the footholds.
@@ -175,7 +219,7 @@ try {
     Math.abs(r - noTerrain.pixels[i]) + Math.abs(g - noTerrain.pixels[i + 1]) + Math.abs(b - noTerrain.pixels[i + 2]) > 40);
   check(changed > area * 0.1, `the terrain is drawn (${((100 * changed) / area).toFixed(0)}% of the 3D view)`);
 
-  if (info.tracks.length) {
+  if (info.tracks.length && !args.live) {
     // Play for a moment: the timeline moves, and the robot with it.
     await page.click('#play');
     await page.waitForTimeout(1500);
@@ -184,17 +228,27 @@ try {
     check(t > 0, `play advances the timeline (to ${t.toFixed(2)})`);
   }
 
-  const network = requests.filter((url) => url !== pageUrl && !url.startsWith('data:') && !url.startsWith('blob:'));
+  const allowed = (url) => {
+    if (url === pageUrl || url.startsWith('data:') || url.startsWith('blob:')) return true;
+    if (!args['allow-host']) return false;
+    try {
+      return new URL(url).host === args['allow-host'];
+    } catch {
+      return false;
+    }
+  };
+  const network = requests.filter((url) => !allowed(url));
+  const what = args['allow-host'] ? `no network request but to ${args['allow-host']}` : 'no network request';
   check(network.length === 0, network.length
-    ? `no network request, but the page requested ${network.slice(0, 5).join(', ')}`
-    : `no network request (${requests.length} loads: the file and its inlined modules as blob: URLs)`);
+    ? `${what}, but the page requested ${network.slice(0, 5).join(', ')}`
+    : `${what} (${requests.length} loads: the page, its inlined modules as blob: URLs${args['allow-host'] ? ', the bridge' : ''})`);
   check(consoleErrors.length === 0, 'no console error' + (consoleErrors.length ? `: ${consoleErrors.slice(0, 5).join(' | ')}` : ''));
 } finally {
   await context.close();
   rmSync(profile, { recursive: true, force: true });
 }
 if (problems.length) {
-  console.log(`check_page: ${problems.length} problem(s) on ${args.page}`);
+  console.log(`check_page: ${problems.length} problem(s) on ${args.page ?? args.url}`);
   process.exit(1);
 }
-console.log(`check_page: ${args.page} ok, screenshot ${args.screenshot}`);
+console.log(`check_page: ${args.page ?? args.url} ok, screenshot ${args.screenshot}`);

@@ -1,31 +1,29 @@
 #!/usr/bin/env bash
-# End-to-end check of tools/view in headless Chromium: plans flat_ground (contact stage and sim
-# stage), writes the viewer pages, loads each from disk and checks that it made no network
-# request, logged no console error, drew with WebGL, and that its screenshot shows the terrain
-# and the footholds in the leg colours; a page of a failed plan must show the failure text.
+# End-to-end check of tools/view in headless Chromium: plans a short walk on flat ground
+# (tests/data/flat_short.yaml: contact stage, and sim stage: a few seconds simulated), writes
+# the viewer pages, loads each from disk and checks that it made no network request, logged no
+# console error, drew with WebGL, and that its screenshot shows the terrain and the footholds in
+# the leg colours; the run's page has its plots (torques, CoM margin, step timeline); a page of a
+# failed plan must show the failure text.
 # Installs Debian's chromium when it is missing (as root, or with sudo).
 # Outputs (pages, screenshots) go to $RBCP_BUILD_DIR/view_test (default build/view_test).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build_dir="${RBCP_BUILD_DIR:-$root/build}"
 out="$build_dir/view_test"
+
+case "${1:-}" in
+  -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; echo "Usage: tools/viewer/test_view.sh (no arguments; exit status 0 passed, 1 failed, 2 bad arguments)"; exit 0 ;;
+  "") ;;
+  *) echo "test_view: takes no arguments, got '$1'" >&2; exit 2 ;;
+esac
+
+"$root/tools/viewer/install_chromium"
 mkdir -p "$out"
-
-if ! command -v chromium >/dev/null; then
-  sudo=""
-  if [ "$(id -u)" -ne 0 ]; then
-    command -v sudo >/dev/null || { echo "test_view: chromium is missing and installing it needs root or sudo" >&2; exit 1; }
-    sudo="sudo"
-  fi
-  echo "test_view: installing chromium"
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq chromium >/dev/null
-fi
-
 "$root/tools/setup"
 "$root/tools/build" plan_scenario scene_json >"$out/build.log" 2>&1 || { cat "$out/build.log"; exit 1; }
 
-scenario="$root/config/scenarios/flat_ground.yaml"
+scenario="$root/tests/data/flat_short.yaml"
 "$build_dir/bin/plan_scenario" --scenario "$scenario" --stage contact --json >"$out/flat_contact.json"
 # The sim stage exits 1 when the simulated run fails; its page must show that run all the same.
 rc=0
@@ -44,7 +42,7 @@ check() {  # check NAME [check_page options...]
   local name="$1"
   shift
   echo "== $name"
-  if "$root/tools/view" "$out/$name.json" -o "$out/$name.html" &&
+  if "$root/tools/view" "$out/$name.json" --scenario "$scenario" -o "$out/$name.html" &&
      node "$root/tools/viewer/check_page.mjs" --page "$out/$name.html" --screenshot "$out/$name.png" "$@" \
        2> >(grep -v 'unexpected operator' >&2); then
     passed=$((passed + 1))
@@ -53,7 +51,7 @@ check() {  # check NAME [check_page options...]
   fi
 }
 check flat_contact --expect-status "contact plan"
-check flat_sim
+check flat_sim --expect-plot "joint torques" --expect-plot "CoM margin" --expect-plot "step timeline"
 check flat_failed --no-footholds --expect-status "failure: contact: test failure <no foothold>"
 
 echo "screenshots: $out/flat_contact.png $out/flat_sim.png $out/flat_failed.png"

@@ -1,12 +1,16 @@
 // The viewer page: terrain, contact surfaces, root path, footholds and the robot walking through
-// the plan's states or the simulated run's trace, with a timeline and plots.
+// the plan's states or the run's trace, with a timeline and plots. From a file (a plan, a
+// simulated run, a run's log) everything is in the page; live, the run grows as live_bridge
+// forwards the processes' messages (viewer/live.js).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { baseMatrix, hipPositions, linkPoses } from 'viewer/kinematics.js';
+import { connectLive } from 'viewer/live.js';
 import { ganttPlot, linePlot } from 'viewer/plots.js';
 
 const LEGS = ['LF', 'RF', 'LH', 'RH'];
 const LEG_COLORS = { LF: '#e41a1c', RF: '#33a02c', LH: '#1f78b4', RH: '#ffcc00' };
+const JOINT_KINDS = ['HAA', 'HFE', 'KFE'];
 const COLORS = {
   terrain: '#cdbf9f',
   terrainEdges: '#8c7f64',
@@ -17,14 +21,25 @@ const COLORS = {
   actuator: '#7d838c',
   leg: '#555b63',
   background: '#eef1f5',
+  limit: '#c62828',
 };
 
 const data = JSON.parse(document.getElementById('rbcp-data').textContent);
 const run = data.run;
 const sceneData = data.scene;
 const robot = sceneData.robot;
+const liveUrl = data.live ? liveSocketUrl(data.live) : null;
 const $ = (id) => document.getElementById(id);
 const v3 = (a) => new THREE.Vector3(a[0], a[1], a[2]);
+
+/** The bridge's websocket: ?ws=URL, else the page's own host when served by the bridge, else the
+ *  port the page was made for. */
+function liveSocketUrl(live) {
+  const asked = new URLSearchParams(location.search).get('ws');
+  if (asked) return asked;
+  if (location.protocol === 'http:') return `ws://${location.host}/ws`;
+  return `ws://127.0.0.1:${live.port}/ws`;
+}
 
 // ---- Tracks: what the timeline plays -------------------------------------------------------------
 
@@ -37,8 +52,8 @@ function lerpAngle(a, b, f) {
 function lerpFrame(a, b, f) {
   const lerp = (x, y) => x.map((v, i) => v + (y[i] - v) * f);
   return {
+    ...a,
     t: a.t + (b.t - a.t) * f,
-    index: a.index,
     position: lerp(a.position, b.position),
     rpy: a.rpy.map((v, i) => lerpAngle(v, b.rpy[i], f)),
     joints: a.joints && b.joints ? lerp(a.joints, b.joints) : null,
@@ -71,63 +86,75 @@ function makeTrack(kind, frames) {
   };
 }
 
-const states = run.states || [];
-const trace = run.sim_trace || [];
-const rootSamples = run.root_path || [];
-const tracks = {};
-if (states.length) {
-  tracks.plan = makeTrack(
-    'plan',
-    states.map((s, i) => ({
-      t: i,
-      index: i,
-      position: s.base.position,
-      rpy: s.base.rpy,
-      joints: s.joints,
-      feet: Object.fromEntries(s.feet.map((f) => [f.leg, { position: f.position, contact: true }])),
-      moving_leg: s.moving_leg,
-    })),
-  );
+/** One frame of a simulated trace or a run's log (TraceSample JSON). */
+function traceFrame(s, i) {
+  return {
+    t: s.t,
+    index: i,
+    position: s.base.position,
+    rpy: s.base.rpy,
+    joints: Array.isArray(s.joints) && s.joints.length === 12 ? s.joints : null,
+    torques: Array.isArray(s.torques) ? s.torques : null,
+    margin: s.support_margin_m ?? null,
+    feet: Object.fromEntries(s.feet.map((f) => [f.leg, { position: f.position, contact: f.contact }])),
+  };
 }
-if (trace.length) {
-  tracks.sim = makeTrack(
-    'sim',
-    trace.map((s, i) => ({
-      t: s.t,
-      index: i,
-      position: s.base.position,
-      rpy: s.base.rpy,
-      joints: null,
-      feet: Object.fromEntries(s.feet.map((f) => [f.leg, { position: f.position, contact: f.contact }])),
-    })),
-  );
-}
-if (rootSamples.length > 1) {
-  // The planned trunk path alone: position and heading, no legs.
-  tracks.root = makeTrack(
-    'root',
-    rootSamples.map((p, i) => ({ t: p.t, index: i, position: p.position, rpy: [0, 0, p.yaw], joints: null, feet: null })),
-  );
+
+let tracks = {};
+function buildTracks() {
+  const states = run.states || [];
+  const trace = run.sim_trace || [];
+  const rootSamples = run.root_path || [];
+  tracks = {};
+  if (states.length && !data.live) {
+    tracks.plan = makeTrack(
+      'plan',
+      states.map((s, i) => ({
+        t: i,
+        index: i,
+        position: s.base.position,
+        rpy: s.base.rpy,
+        joints: s.joints,
+        feet: Object.fromEntries(s.feet.map((f) => [f.leg, { position: f.position, contact: true }])),
+        moving_leg: s.moving_leg,
+      })),
+    );
+  }
+  if (trace.length) tracks.sim = makeTrack('sim', trace.map(traceFrame));
+  if (rootSamples.length > 1) {
+    // The planned trunk path alone: position and heading, no legs.
+    tracks.root = makeTrack(
+      'root',
+      rootSamples.map((p, i) => ({ t: p.t, index: i, position: p.position, rpy: [0, 0, p.yaw], joints: null, feet: null })),
+    );
+  }
 }
 
 // ---- Header, legend, summary ---------------------------------------------------------------------
 
-function renderHeader() {
-  $('title').textContent = `${run.scenario ?? sceneData.scenario}${run.seed !== undefined ? ` · seed ${run.seed}` : ''}`;
-  $('source').textContent = data.source.plan;
+function setStatus(kind, text) {
   const status = $('status');
+  status.className = `status ${kind}`;
+  status.textContent = text;
+}
+
+function renderHeader() {
+  const name = run.scenario || sceneData.scenario || (data.live ? 'live' : 'plan');
+  $('title').textContent = `${name}${run.seed !== undefined ? ` · seed ${run.seed}` : ''}`;
+  $('source').textContent = data.live ? `live from ${liveUrl}` : data.source.plan;
+  if (data.live) return;  // the live status line follows the connection (live.js)
+  const trace = run.sim_trace || [];
   if (run.failure) {
-    status.className = 'status failed';
-    status.textContent = `failure: ${run.failure}`;
+    setStatus('failed', `failure: ${typeof run.failure === 'string' ? run.failure : JSON.stringify(run.failure)}`);
+  } else if (run.outcome !== undefined) {
+    // A run's log: the simulator's verdict.
+    setStatus(run.sim_ok ? 'ok' : 'failed', run.sim_ok ? `run reached the goal: ${run.steps} steps walked` : `run: ${run.outcome}`);
   } else if (trace.length || run.sim_ok !== undefined) {
-    status.className = run.sim_ok ? 'status ok' : 'status failed';
-    status.textContent = run.sim_ok ? 'simulated run reached the goal' : 'simulated run did not succeed';
+    setStatus(run.sim_ok ? 'ok' : 'failed', run.sim_ok ? 'simulated run reached the goal' : 'simulated run did not succeed');
   } else if (run.contact_ok) {
-    status.className = 'status ok';
-    status.textContent = `contact plan: ${run.steps} steps${run.reached_goal ? ' to the goal' : ''}`;
+    setStatus('ok', `contact plan: ${run.steps} steps${run.reached_goal ? ' to the goal' : ''}`);
   } else {
-    status.className = 'status neutral';
-    status.textContent = run.root_ok ? 'root path only' : 'no plan';
+    setStatus('neutral', run.root_ok ? 'root path only' : 'no plan');
   }
 }
 
@@ -139,23 +166,27 @@ function formatValue(v) {
 }
 
 function renderSummary() {
-  const first = ['scenario', 'seed', 'root_status', 'root_s', 'root_duration_s', 'contact_status', 'contact_s', 'steps',
-    'reached_goal', 'sim_ok', 'fell', 'sim_time_s', 'steps_executed', 'steps_total', 'collisions', 'collision_links',
-    'max_torque_ratio', 'min_support_margin_m', 'final_base_error_m', 'early_touchdowns', 'late_touchdowns'];
-  const skip = new Set(['states', 'root_path', 'sim_trace', 'failure']);
+  const first = ['scenario', 'seed', 'outcome', 'root_status', 'root_s', 'root_duration_s', 'contact_status', 'contact_s', 'steps',
+    'reached_goal', 'sim_ok', 'fell', 'sim_time_s', 'steps_executed', 'steps_total', 'plans', 'unanswered_waits',
+    'replan_latency_ms', 'collisions', 'collision_links', 'max_torque_ratio', 'min_support_margin_m', 'final_base_error_m',
+    'early_touchdowns', 'late_touchdowns'];
+  const skip = new Set(['states', 'root_path', 'sim_trace', 'failure', 'joint_names', 'replans', 'terrain',
+    'contact_surfaces', 'start', 'goal', 'sim_failure', 'schema_version']);
   const keys = [...first.filter((k) => k in run), ...Object.keys(run).filter((k) => !first.includes(k) && !skip.has(k))];
   const rows = keys
     .filter((k) => !Array.isArray(run[k]) && !(k === 'collision_links' && !Object.keys(run[k] ?? {}).length))
-    .map((k) => `<tr><th>${k}</th><td>${escapeHtml(formatValue(run[k]))}</td></tr>`);
-  rows.push(`<tr><th>terrain</th><td>${sceneData.terrain.triangles.length} triangles, ${sceneData.surfaces.length} surfaces</td></tr>`);
-  if (data.checks.feet_error_m !== null) {
+    .map((k) => `<tr><th>${escapeHtml(k)}</th><td>${escapeHtml(formatValue(run[k]))}</td></tr>`);
+  if (sceneData.terrain) {
+    rows.push(`<tr><th>terrain</th><td>${sceneData.terrain.triangles.length} triangles, ${(sceneData.contact_surfaces || []).length} surfaces</td></tr>`);
+  }
+  if (data.checks && data.checks.feet_error_m !== null && data.checks.feet_error_m !== undefined) {
     rows.push(`<tr><th>FK check</th><td>plan feet within ${data.checks.feet_error_m.toExponential(1)} m of the viewer's kinematics</td></tr>`);
   }
   $('summary').innerHTML = rows.join('');
 }
 
 function escapeHtml(s) {
-  return s.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
+  return String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
 }
 
 function renderLegend() {
@@ -166,7 +197,7 @@ function renderLegend() {
     [COLORS.rootPath, 'root path (dots: plan states)', 'line'],
     ['#333333', 'start and goal (arrows)', 'line'],
   ];
-  if (trace.length) items.push([COLORS.simPath, 'simulated base path', 'line']);
+  if ((run.sim_trace || []).length || data.live) items.push([COLORS.simPath, 'base path walked', 'line']);
   $('legend').innerHTML = items
     .map(([color, label, shape]) => `<li><span class="swatch ${shape}" style="background:${color}"></span>${label}</li>`)
     .join('');
@@ -175,19 +206,34 @@ function renderLegend() {
 // ---- 3D scene ------------------------------------------------------------------------------------
 
 const layers = {};
-function layer(name, object) {
+const hidden = new Set();  // layers the user switched off
+
+/** Puts `object` in the scene as layer `name`, replacing (and freeing) the one before. */
+function setLayerObject(name, object) {
+  const old = layers[name];
+  if (old && view) {
+    view.scene.remove(old);
+    old.traverse((o) => {
+      if (o.geometry && !o.userData.sharedGeometry) o.geometry.dispose();
+    });
+  }
   layers[name] = object;
+  object.visible = !hidden.has(name);
+  if (view) view.scene.add(object);
+  const box = document.querySelector(`#layers [data-layer=${name}]`);
+  if (box) box.closest('label').hidden = false;
   return object;
 }
 
 function terrainMesh() {
+  const group = new THREE.Group();
+  if (!sceneData.terrain) return group;
   const { vertices, triangles } = sceneData.terrain;
   const indexed = new THREE.BufferGeometry();
   indexed.setAttribute('position', new THREE.Float32BufferAttribute(vertices.flat(), 3));
   indexed.setIndex(triangles.flat());
   const geometry = indexed.toNonIndexed();
   geometry.computeVertexNormals();
-  const group = new THREE.Group();
   const mesh = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: COLORS.terrain, roughness: 0.95 }));
   mesh.receiveShadow = true;
   group.add(mesh);
@@ -201,7 +247,7 @@ function surfaceMeshes() {
     color: COLORS.surface, transparent: true, opacity: 0.4, side: THREE.DoubleSide, depthWrite: false,
   });
   const edge = new THREE.LineBasicMaterial({ color: '#2b7a99' });
-  for (const s of sceneData.surfaces) {
+  for (const s of sceneData.contact_surfaces || []) {
     const lift = v3(s.normal).multiplyScalar(0.004);
     const points = s.vertices.map((p) => v3(p).add(lift));
     const positions = [];
@@ -225,13 +271,19 @@ function polylineTube(points, color, radius) {
   return new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color, roughness: 0.6 }));
 }
 
+/** The states whose footholds and base positions are drawn: the plan, or live the walked steps
+ *  and the current plan ahead. */
+function drawnStates() {
+  return [...(run.states || []), ...(run.plan_ahead || [])];
+}
+
 function rootPath() {
   const group = new THREE.Group();
   const points = (run.root_path || []).map((p) => v3(p.position));
   if (points.length > 1) group.add(polylineTube(points, COLORS.rootPath, 0.007));
   const dot = new THREE.SphereGeometry(0.014, 12, 8);
   const material = new THREE.MeshStandardMaterial({ color: COLORS.rootPath });
-  for (const s of states) {
+  for (const s of drawnStates()) {
     const mesh = new THREE.Mesh(dot, material);
     mesh.position.fromArray(s.base.position);
     group.add(mesh);
@@ -240,23 +292,24 @@ function rootPath() {
 }
 
 function simPath() {
-  const points = trace.map((s) => v3(s.base.position));
+  const points = (run.sim_trace || []).map((s) => v3(s.base.position));
   return points.length > 1 ? polylineTube(points, COLORS.simPath, 0.005) : new THREE.Group();
 }
 
-/** The plan's footholds: one disc per new contact, on its surface, in the leg's colour (unlit). */
+/** The footholds: one disc per new contact, on its surface, in the leg's colour (unlit). */
 function footholds() {
   const group = new THREE.Group();
   const geometry = new THREE.CylinderGeometry(0.032, 0.032, 0.004, 28);
+  const materials = Object.fromEntries(LEGS.map((leg) => [leg, new THREE.MeshBasicMaterial({ color: LEG_COLORS[leg] })]));
   const up = new THREE.Vector3(0, 1, 0);
-  const last = {};
-  for (const s of states) {
+  const seen = new Set();
+  for (const s of drawnStates()) {
     for (const f of s.feet) {
-      const key = f.position.map((x) => x.toFixed(4)).join(',');
-      if (last[f.leg] === key) continue;
-      last[f.leg] = key;
+      const key = `${f.leg}:${f.position.map((x) => x.toFixed(3)).join(',')}`;
+      if (seen.has(key)) continue;
+      seen.add(key);
       const normal = v3(f.normal).normalize();
-      const disc = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({ color: LEG_COLORS[f.leg] }));
+      const disc = new THREE.Mesh(geometry, materials[f.leg]);
       disc.quaternion.setFromUnitVectors(up, normal);
       // Legs at different heights, so discs of two legs on one spot do not z-fight.
       disc.position.copy(v3(f.position).addScaledVector(normal, 0.007 + 0.0015 * LEGS.indexOf(f.leg)));
@@ -294,14 +347,15 @@ function buildRobot() {
     links.set(link.name, group);
     root.add(group);
   }
+  const footMaterials = {};
   for (const shape of robot.shapes) {
     const leg = legOf.get(shape.link);
     let m = legMaterial;
-    if (shape.kind === 'sphere' && leg) m = material(LEG_COLORS[leg]);
+    if (shape.kind === 'sphere' && leg) m = footMaterials[leg] ??= material(LEG_COLORS[leg]);
     else if (!leg) m = shape.kind === 'box' ? trunk : actuator;
     links.get(shape.link).add(shapeMesh(shape, m));
   }
-  // Without joint angles (the simulated trace) the legs are drawn as hip-to-foot rods.
+  // Without joint angles (a trace without joints) the legs are drawn as hip-to-foot rods.
   const rods = new THREE.Group();
   const rodGeometry = new THREE.CylinderGeometry(0.016, 0.016, 1, 12);
   const footGeometry = new THREE.SphereGeometry(robot.foot_radius, 20, 14);
@@ -316,6 +370,11 @@ function buildRobot() {
     rodParts[leg] = { rod, foot, footMaterial };
   }
   const up = new THREE.Vector3(0, 1, 0);
+  const showContact = (m, contact) => {
+    m.emissive.set(contact ? '#000000' : '#555555');
+    m.opacity = contact ? 1 : 0.55;
+    m.transparent = !contact;
+  };
 
   return {
     root,
@@ -330,6 +389,7 @@ function buildRobot() {
         group.visible = Boolean(poses) || !legOf.get(name);
         if (poses) group.matrix.copy(poses.get(name));
       }
+      if (poses && frame.feet) for (const leg of LEGS) if (footMaterials[leg]) showContact(footMaterials[leg], frame.feet[leg].contact);
       rods.visible = !poses && Boolean(frame.feet);
       if (!poses && frame.feet) {
         for (const leg of LEGS) {
@@ -343,9 +403,7 @@ function buildRobot() {
           rod.scale.set(1, axis.length(), 1);
           rod.quaternion.setFromUnitVectors(up, axis.clone().normalize());
           foot.position.copy(centre);
-          footMaterial.emissive.set(frame.feet[leg].contact ? '#000000' : '#555555');
-          footMaterial.opacity = frame.feet[leg].contact ? 1 : 0.55;
-          footMaterial.transparent = !frame.feet[leg].contact;
+          showContact(footMaterial, frame.feet[leg].contact);
         }
       }
     },
@@ -355,6 +413,7 @@ function buildRobot() {
 function startGoalMarkers() {
   const group = new THREE.Group();
   for (const [pose, color] of [[sceneData.start, '#444444'], [sceneData.goal, '#111111']]) {
+    if (!pose) continue;
     const [x, y] = pose.position;
     const z = groundBelow(x, y);
     const dir = new THREE.Vector3(Math.cos(pose.yaw), Math.sin(pose.yaw), 0);
@@ -364,12 +423,26 @@ function startGoalMarkers() {
 }
 
 /** Highest terrain point below (x, y), by a downward ray. */
-let terrainForRays = null;
 function groundBelow(x, y) {
-  if (!terrainForRays) return 0;
+  const terrain = layers.terrain && layers.terrain.children[0];
+  if (!terrain) return 0;
   const ray = new THREE.Raycaster(new THREE.Vector3(x, y, 100), new THREE.Vector3(0, 0, -1));
-  const hit = ray.intersectObject(terrainForRays, true)[0];
+  const hit = ray.intersectObject(terrain, true)[0];
   return hit ? hit.point.z : 0;
+}
+
+/** The layers made from the world (terrain, surfaces, start and goal). */
+function buildWorldLayers() {
+  setLayerObject('terrain', terrainMesh());
+  setLayerObject('surfaces', surfaceMeshes());
+  setLayerObject('markers', startGoalMarkers());
+}
+
+/** The layers made from the run (root path, footholds, walked path). */
+function buildRunLayers() {
+  setLayerObject('footholds', footholds());
+  setLayerObject('path', rootPath());
+  setLayerObject('simpath', simPath());
 }
 
 function setupScene() {
@@ -387,58 +460,47 @@ function setupScene() {
   renderer.shadowMap.type = THREE.PCFShadowMap;
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(COLORS.background);
-
-  const terrain = layer('terrain', terrainMesh());
-  terrainForRays = terrain.children[0];
-  scene.add(terrain);
-  scene.add(layer('surfaces', surfaceMeshes()));
-  scene.add(layer('footholds', footholds()));
-  scene.add(layer('path', rootPath()));
-  if (trace.length) scene.add(layer('simpath', simPath()));
-  scene.add(layer('markers', startGoalMarkers()));
   const robotView = buildRobot();
-  const robotGroup = layer('robot', new THREE.Group());
-  robotGroup.add(robotView.root, robotView.rods);
-  scene.add(robotGroup);
-
-  // What the camera frames: the path, the footholds and the trace with a margin for the
-  // robot, within the terrain's extent (the whole terrain when there is no path).
-  const terrainBox = new THREE.Box3().setFromObject(terrain);
-  const focus = new THREE.Box3();
-  for (const p of run.root_path || []) focus.expandByPoint(v3(p.position));
-  for (const s of states) for (const f of s.feet) focus.expandByPoint(v3(f.position));
-  for (const s of trace) focus.expandByPoint(v3(s.base.position));
-  if (focus.isEmpty()) focus.copy(terrainBox);
-  else {
-    focus.expandByVector(new THREE.Vector3(0.7, 0.7, 0.3));
-    focus.min.z = Math.max(focus.min.z, terrainBox.min.z);
-    focus.intersect(terrainBox.clone().expandByVector(new THREE.Vector3(0, 0, 1)));
-    if (focus.isEmpty()) focus.copy(terrainBox);
-  }
-  const sphere = focus.getBoundingSphere(new THREE.Sphere());
-
   const camera = new THREE.PerspectiveCamera(40, 1, 0.01, 200);
   camera.up.set(0, 0, 1);
   const controls = new OrbitControls(camera, canvas);
   controls.enableDamping = true;
+  scene.add(new THREE.HemisphereLight('#ffffff', '#8a7f6a', 1.6));
+  const sun = new THREE.DirectionalLight('#ffffff', 2.2);
+  sun.castShadow = true;
+  sun.shadow.mapSize.set(2048, 2048);
+  scene.add(sun, sun.target);
+
+  // What the camera frames: the path, the footholds and the trace with a margin for the robot,
+  // within the terrain's extent (the whole terrain when there is no path).
   const home = () => {
+    const terrainBox = layers.terrain ? new THREE.Box3().setFromObject(layers.terrain) : new THREE.Box3();
+    const focus = new THREE.Box3();
+    for (const p of run.root_path || []) focus.expandByPoint(v3(p.position));
+    for (const s of drawnStates()) for (const f of s.feet) focus.expandByPoint(v3(f.position));
+    for (const s of run.sim_trace || []) focus.expandByPoint(v3(s.base.position));
+    if (focus.isEmpty()) focus.copy(terrainBox);
+    else if (!terrainBox.isEmpty()) {
+      focus.expandByVector(new THREE.Vector3(0.7, 0.7, 0.3));
+      focus.min.z = Math.max(focus.min.z, terrainBox.min.z);
+      focus.intersect(terrainBox.clone().expandByVector(new THREE.Vector3(0, 0, 1)));
+      if (focus.isEmpty()) focus.copy(terrainBox);
+    } else {
+      focus.expandByVector(new THREE.Vector3(0.7, 0.7, 0.3));
+    }
+    if (focus.isEmpty()) focus.set(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 0.5));
+    const sphere = focus.getBoundingSphere(new THREE.Sphere());
     const direction = new THREE.Vector3(-0.55, -1.0, 0.72).normalize();
     const distance = (sphere.radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2))) * 0.72;
     controls.target.copy(sphere.center);
     camera.position.copy(sphere.center).addScaledVector(direction, distance);
     controls.update();
+    sun.position.copy(sphere.center).add(new THREE.Vector3(-2, -3, 6));
+    sun.target.position.copy(sphere.center);
+    const r = sphere.radius * 1.3;
+    Object.assign(sun.shadow.camera, { left: -r, right: r, top: r, bottom: -r, near: 0.1, far: 30 });
+    sun.shadow.camera.updateProjectionMatrix();
   };
-  home();
-
-  scene.add(new THREE.HemisphereLight('#ffffff', '#8a7f6a', 1.6));
-  const sun = new THREE.DirectionalLight('#ffffff', 2.2);
-  sun.position.copy(sphere.center).add(new THREE.Vector3(-2, -3, 6));
-  sun.target.position.copy(sphere.center);
-  sun.castShadow = true;
-  sun.shadow.mapSize.set(2048, 2048);
-  const r = sphere.radius * 1.3;
-  Object.assign(sun.shadow.camera, { left: -r, right: r, top: r, bottom: -r, near: 0.1, far: 30 });
-  scene.add(sun, sun.target);
 
   const resize = () => {
     const { clientWidth: w, clientHeight: h } = canvas.parentElement;
@@ -476,17 +538,16 @@ function buildPlots(track) {
     const div = document.createElement('div');
     box.appendChild(div);
     const plot = make(div, options);
-    plot.onSeek((t) => setTime(t));
+    plot.onSeek((t) => {
+      liveFollow = false;
+      setTime(t);
+    });
     plots.push(plot);
   };
   const frames = track.frames;
   const xRange = [frames[0].t, Math.max(track.duration, frames[0].t + 1e-6)];
   const xLabel = track.kind === 'plan' ? 'plan state' : 'time [s]';
   const deg = (r) => (r * 180) / Math.PI;
-  add(linePlot, {
-    title: 'base height', yLabel: 'z [m]', xLabel, xRange,
-    series: [{ name: 'z', color: '#333', points: frames.map((f) => [f.t, f.position[2]]) }],
-  });
   const progress = () => add(linePlot, {
     title: 'base position', yLabel: 'x, y [m]', xLabel, xRange,
     series: [
@@ -496,19 +557,18 @@ function buildPlots(track) {
   });
   if (track.kind === 'root') {
     add(linePlot, {
+      title: 'base height', yLabel: 'z [m]', xLabel, xRange,
+      series: [{ name: 'z', color: '#333', points: frames.map((f) => [f.t, f.position[2]]) }],
+    });
+    add(linePlot, {
       title: 'heading', yLabel: 'yaw [deg]', xLabel, xRange,
       series: [{ name: 'yaw', color: '#333', points: frames.map((f) => [f.t, deg(f.rpy[2])]) }],
     });
     progress();
     return plots;
   }
-  add(linePlot, {
-    title: 'base roll and pitch', yLabel: '[deg]', xLabel, xRange,
-    series: [
-      { name: 'roll', color: '#d62728', points: frames.map((f) => [f.t, deg(f.rpy[0])]) },
-      { name: 'pitch', color: '#1f77b4', points: frames.map((f) => [f.t, deg(f.rpy[1])]) },
-    ],
-  });
+
+  // The step timeline: per leg, filled while the foot stands.
   let rows;
   if (track.kind === 'plan') {
     // Between states i-1 and i the moving leg of state i swings; the others stand.
@@ -520,7 +580,44 @@ function buildPlots(track) {
     const ts = frames.map((f) => f.t);
     rows = LEGS.map((leg) => ({ name: leg, color: LEG_COLORS[leg], intervals: intervals(ts, frames.map((f) => f.feet[leg].contact)) }));
   }
-  add(ganttPlot, { title: 'foot contact (filled: in contact)', xLabel, xRange, rows });
+  add(ganttPlot, { title: 'step timeline per leg (filled: foot in contact)', xLabel, xRange, rows });
+
+  if (track.kind === 'sim' && frames.some((f) => f.torques)) {
+    const limit = robot.torque_limit_Nm;
+    const hlines = limit ? [{ y: limit, color: COLORS.limit, label: `limit ${limit} N m` }, { y: -limit, color: COLORS.limit }] : [];
+    JOINT_KINDS.forEach((kind, j) => add(linePlot, {
+      title: `${kind} joint torques`, yLabel: 'τ [N m]', xLabel, xRange, hlines, height: 130,
+      series: LEGS.map((leg, l) => ({
+        name: `${leg}_${kind}`, color: LEG_COLORS[leg], points: frames.map((f) => [f.t, f.torques ? f.torques[3 * l + j] : NaN]),
+      })),
+    }));
+  }
+  if (track.kind === 'sim' && frames.some((f) => f.margin !== null)) {
+    const required = robot.support_margin_m;
+    add(linePlot, {
+      title: 'CoM margin in the polygon of the feet in contact', yLabel: '[m]', xLabel, xRange,
+      hlines: [{ y: 0, color: COLORS.limit, label: 'edge' },
+        ...(required ? [{ y: required, color: '#888', label: `controller's ${required} m` }] : [])],
+      series: [{ name: 'margin', color: '#2e7d32', points: frames.map((f) => [f.t, f.margin ?? NaN]) }],
+    });
+  }
+  if (track.kind === 'sim' && (run.replans || []).length) {
+    add(linePlot, {
+      title: `replanning latency (${run.replans.length} replans)`, yLabel: '[ms]', xLabel, xRange,
+      series: [{ name: 'latency', color: '#6a3d9a', markers: true, points: run.replans.map((r) => [r.t, r.latency_ms]) }],
+    });
+  }
+  add(linePlot, {
+    title: 'base height', yLabel: 'z [m]', xLabel, xRange,
+    series: [{ name: 'z', color: '#333', points: frames.map((f) => [f.t, f.position[2]]) }],
+  });
+  add(linePlot, {
+    title: 'base roll and pitch', yLabel: '[deg]', xLabel, xRange,
+    series: [
+      { name: 'roll', color: '#d62728', points: frames.map((f) => [f.t, deg(f.rpy[0])]) },
+      { name: 'pitch', color: '#1f77b4', points: frames.map((f) => [f.t, deg(f.rpy[1])]) },
+    ],
+  });
   if (track.kind === 'sim') {
     // Steps walked: touchdowns that end a swing (contact lost, then regained), all legs.
     let count = 0;
@@ -550,11 +647,12 @@ function buildPlots(track) {
 // ---- Playback ------------------------------------------------------------------------------------
 
 const view = setupScene();
-let track = tracks.sim || tracks.plan || tracks.root || null;
+let track = null;
 let plots = [];
 let time = 0;
 let playing = false;
 let follow = null;  // base position last followed, when following
+let liveFollow = Boolean(data.live);  // live: the robot shown is the newest state
 
 function setTime(t) {
   if (!track) return;
@@ -573,6 +671,7 @@ function setTime(t) {
   $('slider').value = time;
   for (const plot of plots) plot.setCursor(time);
   if (track.kind === 'plan') {
+    const states = run.states;
     const i = Math.floor(time + 1e-9);
     const text = time - i > 1e-9
       ? `${states[i + 1].moving_leg} steps from state ${i} to ${i + 1}`
@@ -589,6 +688,7 @@ function setTime(t) {
 function setPlaying(on) {
   playing = on && Boolean(track);
   if (playing && time >= track.duration) time = 0;
+  if (playing) liveFollow = false;
   $('play').textContent = playing ? '❚❚ Pause' : '▶ Play';
 }
 
@@ -597,21 +697,46 @@ function selectTrack(kind) {
   $('slider').max = track.duration;
   $('slider').step = track.kind === 'plan' ? 0.01 : 0.05;
   plots = buildPlots(track);
-  setTime(0);
+  setTime(liveFollow ? track.duration : Math.min(time, track.duration));
+}
+
+function fillTrackSelect() {
+  const select = $('track');
+  const current = select.value;
+  select.replaceChildren();
+  for (const [kind, label] of [['sim', data.live ? 'live run' : 'simulated run'], ['plan', 'contact plan'], ['root', 'root path']]) {
+    if (tracks[kind]) select.add(new Option(`${label} (${tracks[kind].frames.length} ${kind === 'plan' ? 'states' : 'samples'})`, kind));
+  }
+  if (tracks[current]) select.value = current;
+}
+
+function setControlsEnabled(on) {
+  $('controls').classList.toggle('disabled', !on);
+  for (const el of $('controls').querySelectorAll('button:not(#home), input, select')) el.disabled = !on;
+  if (layers.robot) layers.robot.visible = on && !hidden.has('robot');
 }
 
 function setupControls() {
   const select = $('track');
-  for (const [kind, label] of [['sim', 'simulated run'], ['plan', 'contact plan'], ['root', 'root path']]) {
-    if (tracks[kind]) select.add(new Option(`${label} (${tracks[kind].frames.length} ${kind === 'plan' ? 'states' : 'samples'})`, kind));
-  }
   select.addEventListener('change', () => selectTrack(select.value));
   $('play').addEventListener('click', () => setPlaying(!playing));
-  $('slider').addEventListener('input', (e) => setTime(Number(e.target.value)));
+  $('slider').addEventListener('input', (e) => {
+    liveFollow = false;
+    setTime(Number(e.target.value));
+  });
   $('home').addEventListener('click', () => view && view.home());
   $('follow').addEventListener('change', (e) => {
     follow = e.target.checked && track ? v3(track.at(time).position) : null;
   });
+  if (data.live) {
+    const latest = $('latest');
+    latest.hidden = false;
+    latest.addEventListener('click', () => {
+      setPlaying(false);
+      liveFollow = true;
+      if (track) setTime(track.duration);
+    });
+  }
   for (const box of document.querySelectorAll('#layers input')) {
     box.addEventListener('change', () => setLayer(box.dataset.layer, box.checked));
     if (!layers[box.dataset.layer] && view) box.closest('label').hidden = true;
@@ -623,28 +748,153 @@ function setupControls() {
     else if (e.key === 'ArrowRight') setTime(time + step);
     else if (e.key === 'ArrowLeft') setTime(time - step);
     else return;
+    liveFollow = false;
     e.preventDefault();
   });
-  if (!track) {
-    $('controls').classList.add('disabled');
-    $('clock').textContent = 'nothing to play: the input has no plan states, simulated trace or root path';
-    $('plots').textContent = 'The input has no time series to plot.';
-    for (const el of $('controls').querySelectorAll('button:not(#home), input, select')) el.disabled = true;
-    if (layers.robot) layers.robot.visible = false;
-    document.querySelector('#layers [data-layer=robot]').closest('label').hidden = true;
-  } else {
-    selectTrack(track.kind);
+}
+
+/** (Re)builds the tracks and, when the track shown changes or grows, the timeline and plots. */
+function refreshTracks() {
+  buildTracks();
+  fillTrackSelect();
+  const kind = track && tracks[track.kind] ? track.kind : ['sim', 'plan', 'root'].find((k) => tracks[k]);
+  if (!kind) {
+    track = null;
+    setControlsEnabled(false);
+    $('clock').textContent = data.live
+      ? 'waiting for the robot (ROBOT_STATE)'
+      : 'nothing to play: the input has no plan states, simulated trace or root path';
+    $('plots').textContent = data.live ? 'The plots fill as the run goes.' : 'The input has no time series to plot.';
+    return;
   }
+  setControlsEnabled(true);
+  $('track').value = kind;
+  selectTrack(kind);
 }
 
 function setLayer(name, visible) {
+  if (visible) hidden.delete(name);
+  else hidden.add(name);
   if (layers[name]) layers[name].visible = visible;
 }
 
+if (view) {
+  buildWorldLayers();
+  buildRunLayers();
+  const robotGroup = setLayerObject('robot', new THREE.Group());
+  robotGroup.add(view.robotView.root, view.robotView.rods);
+  view.home();
+}
 renderHeader();
 renderLegend();
 renderSummary();
 setupControls();
+refreshTracks();
+
+// ---- Live: the run grows as messages come --------------------------------------------------------
+
+const liveState = { connected: false, messages: {}, processes: {}, lastT: null, verdict: null };
+if (data.live) {
+  let dirtyWorld = false;
+  let dirtyRun = false;
+  let dirtyTrack = false;
+  let homed = false;
+  const trace = (run.sim_trace = []);
+  run.states = [];
+  run.plan_ahead = [];
+  run.replans = [];
+  const renderLiveStatus = () => {
+    const procs = Object.values(liveState.processes)
+      .map((p) => `${p.process} ${p.state}${p.state === 'failed' && p.reason ? ` (${p.reason})` : ''}`).join(' · ');
+    const t = liveState.lastT === null ? '' : ` · t ${liveState.lastT.toFixed(1)} s`;
+    if (liveState.verdict) {
+      setStatus(liveState.verdict.ok ? 'ok' : 'failed', `live: ${liveState.verdict.text}${t}`);
+    } else {
+      setStatus(liveState.connected ? 'ok' : 'neutral', `${liveState.connected ? 'live' : `connecting to ${liveUrl}`}${t}`);
+    }
+    $('source').textContent = `live from ${liveUrl}${procs ? ` · ${procs}` : ''}`;
+  };
+  connectLive(liveUrl, {
+    open() {
+      liveState.connected = true;
+      renderLiveStatus();
+    },
+    close() {
+      liveState.connected = false;
+      renderLiveStatus();
+    },
+    message(m) {
+      liveState.messages[m.type] = (liveState.messages[m.type] || 0) + 1;
+      if (m.type === 'terrain') {
+        sceneData.terrain = { vertices: m.vertices, triangles: m.triangles };
+        if (m.scenario) run.scenario = m.scenario;
+        dirtyWorld = true;
+      } else if (m.type === 'surfaces') {
+        sceneData.contact_surfaces = m.contact_surfaces;
+        dirtyWorld = true;
+      } else if (m.type === 'request') {
+        sceneData.goal = m.goal;
+        dirtyWorld = true;
+      } else if (m.type === 'root_path') {
+        run.root_path = m.root_path;
+        dirtyRun = true;
+      } else if (m.type === 'plan') {
+        run.plan_ahead = m.states;
+        dirtyRun = true;
+      } else if (m.type === 'walked') {
+        run.states = m.states;
+        dirtyRun = true;
+      } else if (m.type === 'state') {
+        if (trace.length && m.t < trace[trace.length - 1].t) trace.length = 0;  // a new run
+        trace.push(m);
+        if (!sceneData.start) sceneData.start = { position: m.base.position.slice(0, 2), yaw: m.base.rpy[2] };
+        liveState.lastT = m.t;
+        run.steps = m.steps_done;
+        dirtyTrack = true;
+      } else if (m.type === 'replan') {
+        run.replans.push({ t: m.t, latency_ms: m.latency_ms });
+      } else if (m.type === 'status') {
+        liveState.processes[m.process] = m;
+        if (m.process === 'anymal_sim' && (m.state === 'ok' || m.state === 'failed') && m.reason) {
+          liveState.verdict = { ok: m.state === 'ok', text: m.reason };
+        }
+      }
+      renderLiveStatus();
+    },
+  });
+  // Rebuild what changed a few times a second; plots once a second.
+  let lastPlots = 0;
+  setInterval(() => {
+    if (!view) return;
+    if (dirtyWorld) {
+      buildWorldLayers();
+      renderSummary();
+      dirtyWorld = false;
+    }
+    if (dirtyRun) {
+      setLayerObject('footholds', footholds());
+      setLayerObject('path', rootPath());
+      dirtyRun = false;
+    }
+    const now = performance.now();
+    if (dirtyTrack && now - lastPlots > 1000) {
+      setLayerObject('simpath', simPath());
+      refreshTracks();
+      lastPlots = now;
+      dirtyTrack = false;
+    } else if (dirtyTrack && track && track.kind === 'sim') {
+      // Between plot updates the robot still follows the newest state.
+      const newest = traceFrame(trace[trace.length - 1], trace.length - 1);
+      if (liveFollow) view.robotView.show(newest);
+    }
+    if (!homed && sceneData.terrain && trace.length) {
+      view.home();
+      homed = true;
+    }
+  }, 200);
+}
+
+// ---- Render loop ---------------------------------------------------------------------------------
 
 let last = performance.now();
 let frames = 0;
@@ -670,9 +920,14 @@ window.rbcpViewer = {
   ready: false,
   webgl: Boolean(view),
   checks: data.checks,
-  tracks: Object.keys(tracks),
+  get tracks() {
+    return Object.keys(tracks);
+  },
+  live: data.live ? liveState : null,
+  /** Shows the newest live state, or time t of the current track. */
   setTime,
   setLayer,
   selectTrack,
+  home: () => view && view.home(),
 };
 requestAnimationFrame(tick);

@@ -81,29 +81,56 @@ function frame(container, { title, xLabel, yLabel, xRange, yRange, width, height
 }
 
 /**
- * Time series. series: [{name, color, points: [[x, y], ...], step}] (step: hold each value
- * until the next point). Returns {setCursor(x), onSeek(callback)}.
+ * Time series. series: [{name, color, points: [[x, y], ...], step, dash, markers}] (step: hold
+ * each value until the next point; a y that is not finite breaks the line; markers: dots, no
+ * line). hlines: [{y, color, label}] reference lines (limits), always in range; yRange: [lo, hi]
+ * to fix the range. Returns {setCursor(x), onSeek(callback)}.
  */
-export function linePlot(container, { title, xLabel, yLabel, xRange, series, width = 420, height = 150 }) {
+export function linePlot(container, { title, xLabel, yLabel, xRange, series, hlines = [], yRange, width = 420, height = 150 }) {
   const ys = series.flatMap((s) => s.points.map((p) => p[1])).filter(Number.isFinite);
+  ys.push(...hlines.map((h) => h.y));
   let lo = ys.length ? Math.min(...ys) : 0;
   let hi = ys.length ? Math.max(...ys) : 1;
   const pad = Math.max((hi - lo) * 0.08, 1e-3);
   lo -= pad;
   hi += pad;
+  if (yRange) [lo, hi] = yRange;
   const f = frame(container, { title, xLabel, yLabel, xRange, yRange: [lo, hi], width, height });
-  series.forEach((s, k) => {
-    const d = [];
-    s.points.forEach(([x, y], i) => {
-      if (s.step && i > 0) d.push(`H${f.px(x).toFixed(1)}`);
-      d.push(`${i ? 'L' : 'M'}${f.px(x).toFixed(1)},${f.py(y).toFixed(1)}`);
-    });
-    el('path', { d: d.join(''), class: 'series', stroke: s.color }, f.svg);
+  for (const h of hlines) {
+    el('line', { x1: MARGIN.left, x2: MARGIN.left + f.plotW, y1: f.py(h.y), y2: f.py(h.y), stroke: h.color,
+      'stroke-width': 1.2, 'stroke-dasharray': '5 3', class: 'hline' }, f.svg);
+    if (h.label) {
+      el('text', { x: MARGIN.left + 4, y: f.py(h.y) - 3, class: 'tick', 'text-anchor': 'start', fill: h.color },
+        f.svg).textContent = h.label;
+    }
+  }
+  let legendX = MARGIN.left;
+  series.forEach((s) => {
+    if (s.markers) {
+      for (const [x, y] of s.points) {
+        if (Number.isFinite(y)) el('circle', { cx: f.px(x), cy: f.py(Math.min(Math.max(y, lo), hi)), r: 2.6, fill: s.color }, f.svg);
+      }
+    } else {
+      const d = [];
+      let open = false;
+      s.points.forEach(([x, y]) => {
+        if (!Number.isFinite(y)) {
+          open = false;
+          return;
+        }
+        if (s.step && open) d.push(`H${f.px(x).toFixed(1)}`);
+        d.push(`${open ? 'L' : 'M'}${f.px(x).toFixed(1)},${f.py(y).toFixed(1)}`);
+        open = true;
+      });
+      const attributes = { d: d.join(''), class: 'series', stroke: s.color };
+      if (s.dash) attributes['stroke-dasharray'] = s.dash;
+      el('path', attributes, f.svg);
+    }
     if (series.length > 1) {
       // Legend on the x-axis label's line, from the left.
-      const lx = MARGIN.left + k * 62;
-      el('line', { x1: lx, x2: lx + 16, y1: height - 7, y2: height - 7, stroke: s.color, 'stroke-width': 2.5 }, f.svg);
-      el('text', { x: lx + 20, y: height - 3, class: 'tick' }, f.svg).textContent = s.name;
+      el('line', { x1: legendX, x2: legendX + 16, y1: height - 7, y2: height - 7, stroke: s.color, 'stroke-width': 2.5 }, f.svg);
+      el('text', { x: legendX + 20, y: height - 3, class: 'tick' }, f.svg).textContent = s.name;
+      legendX += 26 + 6.5 * s.name.length;
     }
   });
   return f;

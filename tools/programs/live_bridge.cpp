@@ -1,0 +1,492 @@
+// live_bridge: follows a running pipeline and forwards what it does to web pages over a local
+// websocket (Boost.Beast), for the live viewer page (tools/view --live). It reads the processes'
+// LCM messages (subscribing on --lcm-url, or reading a growing LCM log with --follow-log, such as
+// the run.lcmlog tools/launch records) and sends each as one compact JSON object (see "Live
+// messages" in docs/json_schema.md): the terrain, contact surfaces, plan request, root path, each
+// contact plan, the steps walked so far, the robot's state every 50 ms of simulated time (with
+// joints, torques and the CoM's support margin), the replans' latency and every process's status.
+// A page that connects late first gets what came before. It listens on 127.0.0.1 only; GET / returns
+// the page given by --page.
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include <lcm/lcm-cpp.hpp>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "rbcp/core/error.h"
+#include "rbcp/nodes/process.h"
+#include "rbcp/nodes/run_record.h"
+#include "rbcp/plan_checker/plan_json.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/transport/channels.h"
+#include "rbcp/transport/run_loop.h"
+#include "rbcp_msgs/plan_request_t.hpp"
+#include "view_json.h"
+
+namespace {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+using nlohmann::json;
+using Text = std::shared_ptr<const std::string>;
+
+/// Messages a slow page may have queued before robot states are dropped for it.
+constexpr std::size_t kMaxQueuedStates = 256;
+/// Robot states kept for a page that connects late (20 Hz: a quarter of an hour of simulated time).
+constexpr std::size_t kMaxKeptStates = 18000;
+
+class Hub;
+
+/// One page's websocket: a write queue, and a read loop that notices when the page goes.
+class Session : public std::enable_shared_from_this<Session> {
+ public:
+  Session(tcp::socket socket, Hub& hub) : ws_(std::move(socket)), hub_(hub) {}
+  void Start(http::request<http::string_body> request);
+  /// Queues a message; a robot state is dropped while the page is behind.
+  void Send(const Text& text, bool droppable) {
+    if (droppable && queue_.size() > kMaxQueuedStates) return;
+    queue_.push_back(text);
+    if (queue_.size() == 1) Write();
+  }
+
+ private:
+  void Write() {
+    ws_.async_write(net::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code error, std::size_t) {
+      if (error) return self->Close();
+      self->queue_.pop_front();
+      if (!self->queue_.empty()) self->Write();
+    });
+  }
+  void Read() {
+    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code error, std::size_t) {
+      if (error) return self->Close();
+      self->buffer_.consume(self->buffer_.size());  // the page has nothing to say
+      self->Read();
+    });
+  }
+  void Close();
+
+  websocket::stream<beast::tcp_stream> ws_;
+  Hub& hub_;
+  beast::flat_buffer buffer_;
+  std::deque<Text> queue_;
+  bool closed_ = false;
+};
+
+/// The run so far, and the pages to tell.
+class Hub {
+ public:
+  Hub(const rbcp::RobotModel& robot, bool quiet) : robot_(robot), quiet_(quiet) {}
+
+  void Join(const std::shared_ptr<Session>& session) {
+    sessions_.insert(session);
+    Log("a page connected (" + std::to_string(sessions_.size()) + " now)");
+    session->Send(Make({{"type", "hello"}, {"schema_version", rbcp::kJsonSchemaVersion}, {"joint_names", JointNames()}}),
+                  false);
+    for (const Text* cached : {&terrain_, &surfaces_, &request_, &root_path_, &walked_, &plan_}) {
+      if (*cached) session->Send(*cached, false);
+    }
+    for (const Text& s : states_) session->Send(s, false);
+    for (const Text& r : replans_) session->Send(r, false);
+    for (const auto& [process, status] : statuses_) session->Send(status, false);
+  }
+  void Leave(const std::shared_ptr<Session>& session) {
+    if (sessions_.erase(session)) Log("a page left (" + std::to_string(sessions_.size()) + " now)");
+  }
+
+  /// One LCM message, received at `receive_us` (any clock, the same for every message).
+  void OnMessage(const std::string& channel, int64_t receive_us, const void* data, unsigned size) {
+    namespace ch = rbcp::channels;
+    try {
+      if (channel == ch::kRobotState) {
+        rbcp_msgs::robot_state_t msg;
+        if (!Decode(msg, data, size)) return;
+        const std::size_t before = record_.Trace().size();
+        record_.OnRobotState(receive_us, msg);
+        if (record_.Trace().size() > before) {
+          json j = rbcp::view::RobotStateJson(robot_, msg);
+          j["type"] = "state";
+          const Text text = Make(j);
+          if (states_.size() >= kMaxKeptStates) states_.pop_front();
+          states_.push_back(text);
+          Broadcast(text, true);
+        }
+        if (msg.plan_seq != walked_seq_ || msg.steps_done != walked_steps_) {
+          walked_seq_ = msg.plan_seq;
+          walked_steps_ = msg.steps_done;
+          SendWalked();
+        }
+      } else if (channel == ch::kContactPlan) {
+        rbcp_msgs::contact_plan_t msg;
+        if (!Decode(msg, data, size)) return;
+        const std::size_t before = record_.LatenciesMs().size();
+        record_.OnContactPlan(receive_us, msg);
+        json j = rbcp::view::ContactPlanJson(msg);
+        j["type"] = "plan";
+        Cache(plan_, Make(j));
+        if (record_.LatenciesMs().size() > before) {
+          const Text text = Make({{"type", "replan"}, {"t", record_.LatencyTimesS().back()},
+                                  {"latency_ms", record_.LatenciesMs().back()}});
+          replans_.push_back(text);
+          Broadcast(text, false);
+        }
+        SendWalked();
+      } else if (channel == ch::kTerrain) {
+        rbcp_msgs::terrain_mesh_t msg;
+        if (!Decode(msg, data, size)) return;
+        json j = rbcp::view::TerrainJson(msg);
+        j["type"] = "terrain";
+        Cache(terrain_, Make(j));
+      } else if (channel == ch::kAffordances) {
+        rbcp_msgs::affordance_set_t msg;
+        if (!Decode(msg, data, size)) return;
+        Cache(surfaces_, Make({{"type", "surfaces"}, {"contact_surfaces", rbcp::view::SurfacesJson(msg)}}));
+      } else if (channel == ch::kRootPath) {
+        rbcp_msgs::root_path_t msg;
+        if (!Decode(msg, data, size)) return;
+        Cache(root_path_, Make({{"type", "root_path"}, {"root_path", rbcp::view::RootPathJson(msg)}}));
+      } else if (channel == ch::kPlanRequest) {
+        rbcp_msgs::plan_request_t msg{};
+        if (!Decode(msg, data, size)) return;
+        Cache(request_, Make({{"type", "request"},
+                              {"goal", {{"position", {msg.goal_position[0], msg.goal_position[1]}}, {"yaw", msg.goal_yaw}}}}));
+      } else if (channel == ch::kStatus) {
+        rbcp_msgs::process_status_t msg;
+        if (!Decode(msg, data, size)) return;
+        json j = rbcp::view::StatusJson(msg);
+        // Heartbeats repeat the same state: a page hears a process again when something changes.
+        const std::string key = j["state"].get<std::string>() + '\n' + msg.reason;
+        if (status_keys_[msg.process] == key) return;
+        status_keys_[msg.process] = key;
+        j["type"] = "status";
+        const Text text = Make(j);
+        statuses_[msg.process] = text;
+        Broadcast(text, false);
+      }
+    } catch (const rbcp::InputError& e) {
+      ++malformed_;
+      Log("dropped a malformed " + channel + ": " + e.what());
+    }
+  }
+
+  long Malformed() const { return malformed_; }
+  void Log(const std::string& line) const {
+    if (!quiet_) std::cerr << "[live_bridge] " << line << std::endl;
+  }
+
+ private:
+  template <typename Msg>
+  bool Decode(Msg& msg, const void* data, unsigned size) {
+    if (msg.decode(data, 0, static_cast<int>(size)) >= 0) return true;
+    ++malformed_;
+    return false;
+  }
+  static Text Make(const json& j) { return std::make_shared<const std::string>(j.dump()); }
+  static json JointNames() {
+    json j;
+    rbcp::AddSchemaKeys(j);
+    return j["joint_names"];
+  }
+  /// Keeps `text` as the newest of its kind and sends it when it differs from the one before.
+  void Cache(Text& slot, const Text& text) {
+    if (slot && *slot == *text) return;
+    slot = text;
+    Broadcast(text, false);
+  }
+  /// The steps walked so far (the walked plan), when a plan or the robot's progress changes.
+  void SendWalked() {
+    if (!record_.Latest()) return;
+    try {
+      const rbcp::ContactPlan walked = record_.ExecutedPlan();
+      Cache(walked_, Make({{"type", "walked"}, {"states", rbcp::ContactPlanToJson(walked)}}));
+    } catch (const rbcp::InputError&) {
+      // The plan being walked has not come yet (a page connecting mid-run).
+    }
+  }
+  void Broadcast(const Text& text, bool droppable) {
+    for (const auto& s : sessions_) s->Send(text, droppable);
+  }
+
+  const rbcp::RobotModel& robot_;
+  bool quiet_;
+  rbcp::nodes::RunRecord record_;
+  std::set<std::shared_ptr<Session>> sessions_;
+  Text terrain_, surfaces_, request_, root_path_, plan_, walked_;
+  std::deque<Text> states_;
+  std::vector<Text> replans_;
+  std::map<std::string, Text> statuses_;
+  std::map<std::string, std::string> status_keys_;
+  int64_t walked_seq_ = -1;
+  int walked_steps_ = -1;
+  long malformed_ = 0;
+};
+
+void Session::Start(http::request<http::string_body> request) {
+  ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+  ws_.text(true);
+  ws_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
+    if (error) return;
+    self->hub_.Join(self);
+    self->Read();
+  });
+}
+
+void Session::Close() {
+  if (closed_) return;
+  closed_ = true;
+  queue_.clear();
+  hub_.Leave(shared_from_this());
+}
+
+/// Origins allowed to open the websocket: a page from disk, or one the bridge served.
+bool AllowedOrigin(const std::string& origin, unsigned short port) {
+  const std::string p = ":" + std::to_string(port);
+  return origin.empty() || origin == "null" || origin.rfind("file://", 0) == 0 || origin == "http://127.0.0.1" + p ||
+         origin == "http://localhost" + p;
+}
+
+/// One HTTP connection: the page (GET /) or the upgrade to a websocket (GET /ws).
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(tcp::socket socket, Hub& hub, const std::string& page, unsigned short port)
+      : stream_(std::move(socket)), hub_(hub), page_(page), port_(port) {}
+
+  void Start() {
+    stream_.expires_after(std::chrono::seconds(30));
+    http::async_read(stream_, buffer_, request_, [self = shared_from_this()](beast::error_code error, std::size_t) {
+      if (!error) self->Handle();
+    });
+  }
+
+ private:
+  void Handle() {
+    const std::string target(request_.target());
+    const std::string origin(request_[http::field::origin]);
+    if (websocket::is_upgrade(request_)) {
+      if (target != "/ws" || !AllowedOrigin(origin, port_)) {
+        hub_.Log("refused a websocket for " + target + " from origin '" + origin + "'");
+        return Respond(http::status::forbidden, "text/plain", "live_bridge: websocket at /ws, from a page on disk or this host\n");
+      }
+      stream_.expires_never();
+      std::make_shared<Session>(stream_.release_socket(), hub_)->Start(std::move(request_));
+      return;
+    }
+    if (request_.method() != http::verb::get) {
+      return Respond(http::status::method_not_allowed, "text/plain", "live_bridge: GET only\n");
+    }
+    if (target == "/" || target == "/index.html") {
+      if (page_.empty()) {
+        return Respond(http::status::not_found, "text/plain",
+                       "live_bridge: no page (start it with --page FILE.html, written by tools/view --live)\n");
+      }
+      return Respond(http::status::ok, "text/html; charset=utf-8", page_);
+    }
+    Respond(http::status::not_found, "text/plain", "live_bridge: not found\n");
+  }
+
+  void Respond(http::status status, const char* type, const std::string& body) {
+    auto response = std::make_shared<http::response<http::string_body>>(status, request_.version());
+    response->set(http::field::content_type, type);
+    response->set(http::field::cache_control, "no-store");
+    response->keep_alive(false);
+    response->body() = body;
+    response->prepare_payload();
+    http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code, std::size_t) {
+      beast::error_code ignored;
+      self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+    });
+  }
+
+  beast::tcp_stream stream_;
+  Hub& hub_;
+  const std::string& page_;
+  unsigned short port_;
+  beast::flat_buffer buffer_;
+  http::request<http::string_body> request_;
+};
+
+class Listener : public std::enable_shared_from_this<Listener> {
+ public:
+  Listener(net::io_context& io, const tcp::endpoint& endpoint, Hub& hub, const std::string& page)
+      : acceptor_(io, endpoint), hub_(hub), page_(page) {}
+  unsigned short Port() const { return acceptor_.local_endpoint().port(); }
+  void Accept() {
+    acceptor_.async_accept([self = shared_from_this()](beast::error_code error, tcp::socket socket) {
+      if (!error) std::make_shared<HttpSession>(std::move(socket), self->hub_, self->page_, self->Port())->Start();
+      if (self->acceptor_.is_open()) self->Accept();
+    });
+  }
+
+ private:
+  tcp::acceptor acceptor_;
+  Hub& hub_;
+  const std::string& page_;
+};
+
+/// Reads the events of an LCM log that another process is still writing: whole events only, from
+/// where the last read stopped (lcm-logger flushes every 100 ms, possibly mid-event).
+class LogTail {
+ public:
+  explicit LogTail(std::string path) : path_(std::move(path)) {}
+
+  /// Calls on_event(channel, timestamp_us, data, size) for every complete new event.
+  template <typename F>
+  void Poll(F&& on_event) {
+    if (!file_.is_open()) {
+      file_.open(path_, std::ios::binary);
+      if (!file_.is_open()) return;  // not written yet
+    }
+    for (;;) {
+      file_.clear();
+      file_.seekg(offset_);
+      unsigned char header[28];
+      if (!file_.read(reinterpret_cast<char*>(header), sizeof header)) return;
+      const uint32_t magic = Be32(header);
+      if (magic != 0xEDA1DA01u) throw rbcp::InputError(path_ + ": not an LCM log (no event at byte " + std::to_string(offset_) + ")");
+      const int64_t timestamp = static_cast<int64_t>(Be64(header + 12));
+      const uint32_t channel_length = Be32(header + 20);
+      const uint32_t data_length = Be32(header + 24);
+      if (channel_length > 1024 || data_length > (1u << 28)) {
+        throw rbcp::InputError(path_ + ": malformed event at byte " + std::to_string(offset_));
+      }
+      std::string channel(channel_length, '\0');
+      data_.resize(data_length);
+      if (!file_.read(channel.data(), channel_length) || !file_.read(reinterpret_cast<char*>(data_.data()), data_length)) {
+        return;  // the rest of this event is not written yet
+      }
+      offset_ += static_cast<std::streamoff>(sizeof header + channel_length + data_length);
+      on_event(channel, timestamp, data_.data(), data_length);
+    }
+  }
+
+ private:
+  static uint32_t Be32(const unsigned char* p) {
+    return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
+  }
+  static uint64_t Be64(const unsigned char* p) { return (uint64_t{Be32(p)} << 32) | Be32(p + 4); }
+
+  std::string path_;
+  std::ifstream file_;
+  std::streamoff offset_ = 0;
+  std::vector<unsigned char> data_;
+};
+
+int64_t NowUs() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace rbcp;
+  CLI::App app{"Forwards a running pipeline to web pages over a websocket on 127.0.0.1 (for tools/view --live):\n"
+               "the LCM messages of the processes (on --lcm-url, or read from a growing LCM log with\n"
+               "--follow-log) as compact JSON (docs/json_schema.md, live messages). GET / returns the page of\n"
+               "--page; the websocket is at /ws. A page that connects late first gets what came before.\n"
+               "Prints 'live_bridge: listening on http://127.0.0.1:PORT/' once it listens. Runs until SIGINT or\n"
+               "SIGTERM (or --max-runtime). Exit status: 0 stopped, 2 bad input."};
+  nodes::CommonOptions common;
+  nodes::AddCommonOptions(app, common);
+  int port = 8765;
+  std::string page_path, follow_log;
+  app.add_option("--port", port, "TCP port on 127.0.0.1 (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
+  app.add_option("--page", page_path, "the page GET / returns (tools/view --live writes it)")->check(CLI::ExistingFile);
+  app.add_option("--follow-log", follow_log,
+                 "read the messages from this LCM log as it grows (e.g. build/logs/RUN/run.lcmlog while tools/launch "
+                 "runs, from another network namespace) instead of subscribing on --lcm-url");
+  return nodes::GuardedMain("live_bridge", app, argc, argv, [&]() -> int {
+    std::string page;
+    if (!page_path.empty()) {
+      std::ifstream file(page_path, std::ios::binary);
+      std::ostringstream text;
+      text << file.rdbuf();
+      page = text.str();
+    }
+    const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
+    Hub hub(robot, common.quiet);
+    net::io_context io;
+    std::shared_ptr<Listener> listener;
+    try {
+      listener = std::make_shared<Listener>(io, tcp::endpoint(net::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)),
+                                            hub, page);
+    } catch (const boost::system::system_error& e) {
+      throw InputError("cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + e.code().message());
+    }
+    listener->Accept();
+
+    std::unique_ptr<lcm::LCM> lcm;
+    std::unique_ptr<net::posix::stream_descriptor> lcm_fd;
+    std::function<void()> wait_lcm;
+    std::unique_ptr<LogTail> tail;
+    net::steady_timer poll(io);
+    std::function<void()> poll_log;
+    if (follow_log.empty()) {
+      lcm = transport::OpenLcm(common.lcm_url);
+      lcm->subscribeFunction(
+          ".*",
+          +[](const lcm::ReceiveBuffer* buffer, const std::string& channel, Hub* h) {
+            h->OnMessage(channel, NowUs(), buffer->data, buffer->data_size);
+          },
+          &hub);
+      lcm_fd = std::make_unique<net::posix::stream_descriptor>(io, ::dup(lcm->getFileno()));
+      wait_lcm = [&] {
+        lcm_fd->async_wait(net::posix::stream_descriptor::wait_read, [&](beast::error_code error) {
+          if (error) return;
+          while (lcm->handleTimeout(0) > 0) {
+          }
+          wait_lcm();
+        });
+      };
+      wait_lcm();
+    } else {
+      tail = std::make_unique<LogTail>(follow_log);
+      poll_log = [&] {
+        tail->Poll([&](const std::string& channel, int64_t t, const void* data, unsigned size) {
+          hub.OnMessage(channel, t, data, size);
+        });
+        poll.expires_after(std::chrono::milliseconds(100));
+        poll.async_wait([&](beast::error_code error) {
+          if (!error) poll_log();
+        });
+      };
+      poll_log();
+    }
+
+    net::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](beast::error_code, int) { io.stop(); });
+    net::steady_timer deadline(io);
+    if (common.max_runtime_s > 0) {
+      deadline.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+          std::chrono::duration<double>(common.max_runtime_s)));
+      deadline.async_wait([&](beast::error_code error) {
+        if (!error) io.stop();
+      });
+    }
+    std::cerr << "live_bridge: listening on http://127.0.0.1:" << listener->Port() << "/ (websocket ws://127.0.0.1:"
+              << listener->Port() << "/ws), "
+              << (follow_log.empty() ? "LCM on '" + common.lcm_url + "'" : "following " + follow_log) << std::endl;
+    io.run();
+    std::cerr << "live_bridge: stopped (" << hub.Malformed() << " malformed messages dropped)" << std::endl;
+    return 0;
+  });
+}
