@@ -1,5 +1,6 @@
 # Shared target conventions: warnings on every project target, optional sanitizers,
-# the source and config folders known to tests and programs.
+# the source and config folders known to tests and programs, what is installed.
+include(GNUInstallDirs)
 
 add_library(rbcp_warnings INTERFACE)
 target_compile_options(rbcp_warnings INTERFACE -Wall -Wextra -Wpedantic -Wno-unused-parameter)
@@ -9,21 +10,33 @@ if(RBCP_SANITIZE)
 endif()
 add_library(rbcp::warnings ALIAS rbcp_warnings)
 
+# The pure C++ libraries that `cmake --install` puts in the prefix, with their headers, as the
+# CMake package rbcp (targets rbcp::<name>; see tools/cmake/rbcpConfig.cmake.in). The LCM and
+# Bullet edges (transport, nodes, sim) stay inside the project.
+set(RBCP_INSTALLED_LIBRARIES core robot collision limb_database scenario affordance root_planner equilibrium
+    contact_planner plan_checker controller)
+
 # rbcp_add_library(NAME <name> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
 # A module library with include/ as its public include folder, aliased rbcp::<name>.
 function(rbcp_add_library)
   cmake_parse_arguments(A "" "NAME" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  set(include_dirs $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:include>)
   if(A_SOURCES)
     add_library(rbcp_${A_NAME} STATIC ${A_SOURCES})
-    target_include_directories(rbcp_${A_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
-    target_link_libraries(rbcp_${A_NAME} PUBLIC ${A_PUBLIC_DEPS} PRIVATE rbcp::warnings ${A_PRIVATE_DEPS})
+    target_include_directories(rbcp_${A_NAME} PUBLIC ${include_dirs})
+    target_link_libraries(rbcp_${A_NAME} PUBLIC ${A_PUBLIC_DEPS} PRIVATE $<BUILD_INTERFACE:rbcp::warnings> ${A_PRIVATE_DEPS})
     set_target_properties(rbcp_${A_NAME} PROPERTIES POSITION_INDEPENDENT_CODE ON)
   else()
     add_library(rbcp_${A_NAME} INTERFACE)
-    target_include_directories(rbcp_${A_NAME} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_include_directories(rbcp_${A_NAME} INTERFACE ${include_dirs})
     target_link_libraries(rbcp_${A_NAME} INTERFACE ${A_PUBLIC_DEPS})
   endif()
   add_library(rbcp::${A_NAME} ALIAS rbcp_${A_NAME})
+  if(A_NAME IN_LIST RBCP_INSTALLED_LIBRARIES)
+    set_target_properties(rbcp_${A_NAME} PROPERTIES EXPORT_NAME ${A_NAME})
+    install(TARGETS rbcp_${A_NAME} EXPORT rbcpTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  endif()
 endfunction()
 
 # rbcp_add_test(NAME <name> SOURCES ... DEPS ... [LABELS ...])
