@@ -207,6 +207,11 @@ function renderLegend() {
 
 const layers = {};
 const hidden = new Set();  // layers the user switched off
+// The scene is drawn again only when something changed (a pose, a layer, the camera, the size).
+let dirty = true;
+const invalidate = () => {
+  dirty = true;
+};
 
 /** Puts `object` in the scene as layer `name`, replacing (and freeing) the one before. */
 function setLayerObject(name, object) {
@@ -220,6 +225,7 @@ function setLayerObject(name, object) {
   layers[name] = object;
   object.visible = !hidden.has(name);
   if (view) view.scene.add(object);
+  invalidate();
   const box = document.querySelector(`#layers [data-layer=${name}]`);
   if (box) box.closest('label').hidden = false;
   return object;
@@ -500,6 +506,7 @@ function setupScene() {
     const r = sphere.radius * 1.3;
     Object.assign(sun.shadow.camera, { left: -r, right: r, top: r, bottom: -r, near: 0.1, far: 30 });
     sun.shadow.camera.updateProjectionMatrix();
+    invalidate();
   };
 
   const resize = () => {
@@ -507,6 +514,7 @@ function setupScene() {
     renderer.setSize(w, h, false);
     camera.aspect = w / h;
     camera.updateProjectionMatrix();
+    invalidate();
   };
   new ResizeObserver(resize).observe(canvas.parentElement);
   resize();
@@ -658,6 +666,7 @@ function setTime(t) {
   if (!track) return;
   time = Math.min(Math.max(t, 0), track.duration);
   const frame = track.at(time);
+  invalidate();
   if (view) {
     view.robotView.show(frame);
     if (follow) {
@@ -714,6 +723,7 @@ function setControlsEnabled(on) {
   $('controls').classList.toggle('disabled', !on);
   for (const el of $('controls').querySelectorAll('button:not(#home), input, select')) el.disabled = !on;
   if (layers.robot) layers.robot.visible = on && !hidden.has('robot');
+  invalidate();
 }
 
 function setupControls() {
@@ -776,6 +786,7 @@ function setLayer(name, visible) {
   if (visible) hidden.delete(name);
   else hidden.add(name);
   if (layers[name]) layers[name].visible = visible;
+  invalidate();
 }
 
 if (view) {
@@ -885,7 +896,10 @@ if (data.live) {
     } else if (dirtyTrack && track && track.kind === 'sim') {
       // Between plot updates the robot still follows the newest state.
       const newest = traceFrame(trace[trace.length - 1], trace.length - 1);
-      if (liveFollow) view.robotView.show(newest);
+      if (liveFollow) {
+        view.robotView.show(newest);
+        invalidate();
+      }
     }
     if (!homed && sceneData.terrain && trace.length) {
       view.home();
@@ -908,8 +922,11 @@ function tick(now) {
     if (t >= track.duration) setPlaying(false);
   }
   if (view) {
-    view.controls.update();
-    view.renderer.render(view.scene, view.camera);
+    if (view.controls.update()) dirty = true;  // the camera moved (or glides on)
+    if (dirty) {
+      dirty = false;
+      view.renderer.render(view.scene, view.camera);
+    }
   }
   frames += 1;
   if (frames === 2) window.rbcpViewer.ready = true;
