@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every script in tools/ answers --help (exit 0, text on stdout) without building or running
-# anything, and exits 2 on a bad argument, also before building anything.
+# anything, and exits 2 on a bad argument, also before building anything. Every built program
+# answers --help and either takes --lcm-url or says that it talks no LCM.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 failed=0
@@ -19,5 +20,16 @@ for f in "${scripts[@]}"; do
   if [ -n "$(ls -A "$empty")" ]; then echo "FAILED: $name wrote into the build folder: $(ls -A "$empty" | head -3 | tr '\n' ' ')"; failed=$((failed + 1)); fi
   rm -rf "$empty"
 done
-echo "tools_help_test: ${#scripts[@]} scripts, $failed failures"
+programs=0
+for f in "${RBCP_BUILD_DIR:-$root/build}"/bin/*; do
+  name="$(basename "$f")"
+  case "$name" in *_bench) [ "$name" = sim_bench ] || continue ;; esac  # Google Benchmark's own help
+  programs=$((programs + 1))
+  rc=0; out="$("$f" --help 2>&1)" || rc=$?
+  if [ $rc -ne 0 ]; then echo "FAILED: $name --help exited $rc"; failed=$((failed + 1)); continue; fi
+  if ! grep -q -- "--lcm-url" <<<"$out" && ! grep -qi "talks no LCM" <<<"$out"; then
+    echo "FAILED: $name --help neither offers --lcm-url nor says that it talks no LCM"; failed=$((failed + 1))
+  fi
+done
+echo "tools_help_test: ${#scripts[@]} scripts, $programs programs, $failed failures"
 [ $failed -eq 0 ]

@@ -43,7 +43,7 @@ double Median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Plans and simulates every scenario over several seeds; prints the success table."};
+  CLI::App app{"Plans and simulates every scenario over several seeds; prints the success table. Talks no LCM."};
   std::string config_dir = nodes::DefaultConfigDir(), json_path;
   std::vector<std::string> scenarios = {"flat_ground", "slalom_debris", "plinth", "darpa_rubble"};
   unsigned seeds = 20, first_seed = 1;

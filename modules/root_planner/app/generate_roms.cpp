@@ -8,7 +8,8 @@
 
 int main(int argc, char** argv) {
   using namespace rbcp;
-  CLI::App app{"Generate the leg range-of-motion shapes (convex hulls of sampled foot positions, base frame)."};
+  CLI::App app{"Generate the leg range-of-motion shapes (convex hulls of sampled foot positions, base frame).\n"
+               "Talks no LCM."};
   std::string config_dir = RBCP_DEFAULT_CONFIG_DIR;
   std::string params;
   std::string output;

@@ -8,7 +8,7 @@
 #include "rbcp/scenario/benchmark_terrains.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Generate the benchmark scenario files (flat_ground, slalom_debris, plinth, darpa_rubble)"};
+  CLI::App app{"Generate the benchmark scenario files (flat_ground, slalom_debris, plinth, darpa_rubble). Talks no LCM."};
   std::string out_dir = "config/scenarios";
   bool check = false;
   app.add_option("--out", out_dir, "Folder of the scenario files")->capture_default_str();
