@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every script in tools/ answers --help (exit 0, text on stdout) without building or running
 # anything, and exits 2 on a bad argument, also before building anything. Every built program
-# answers --help and either takes --lcm-url or says that it talks no LCM.
+# answers --help, exits 2 on a bad argument, and either takes --lcm-url or says that it talks no
+# LCM.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 failed=0
@@ -27,6 +28,8 @@ for f in "${RBCP_BUILD_DIR:-$root/build}"/bin/*; do
   programs=$((programs + 1))
   rc=0; out="$("$f" --help 2>&1)" || rc=$?
   if [ $rc -ne 0 ]; then echo "FAILED: $name --help exited $rc"; failed=$((failed + 1)); continue; fi
+  rc=0; "$f" --no-such-option >/dev/null 2>&1 || rc=$?
+  if [ $rc -ne 2 ]; then echo "FAILED: $name --no-such-option exited $rc, expected 2"; failed=$((failed + 1)); fi
   if ! grep -q -- "--lcm-url" <<<"$out" && ! grep -qi "talks no LCM" <<<"$out"; then
     echo "FAILED: $name --help neither offers --lcm-url nor says that it talks no LCM"; failed=$((failed + 1))
   fi

@@ -25,7 +25,7 @@ int GuardedMain(const char* process, CLI::App& app, int argc, char** argv, const
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; a bad argument is bad input
   }
   try {
     return body();

@@ -17,7 +17,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   app.add_option("--params", params, "generation parameters (default: CONFIG_DIR/robots/anymal_b_roms/rom_generation.yaml)");
   app.add_option("--output", output, "folder receiving LF.obj, RF.obj, LH.obj, RH.obj (default: the folder of --params)");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; a bad argument is bad input
+  }
   try {
     if (params.empty()) params = config_dir + "/robots/anymal_b_roms/rom_generation.yaml";
     if (output.empty()) output = params.substr(0, params.find_last_of('/') == std::string::npos ? 0 : params.find_last_of('/'));

@@ -13,7 +13,11 @@ int main(int argc, char** argv) {
   bool check = false;
   app.add_option("--out", out_dir, "Folder of the scenario files")->capture_default_str();
   app.add_flag("--check", check, "Compare with the files instead of writing them; exit 1 on any difference");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; a bad argument is bad input
+  }
 
   int problems = 0;
   if (!check) std::filesystem::create_directories(out_dir);

@@ -25,8 +25,9 @@ void AddCommonOptions(CLI::App& app, CommonOptions& options);
 /// Adds --config-dir and --quiet: the options of a program that talks no LCM.
 void AddOfflineOptions(CLI::App& app, CommonOptions& options);
 
-/// Runs `body` and returns its exit code; a CLI parse error exits as CLI11 prescribes (0 for
-/// --help), any other exception prints "<process>: error: <what>" and returns 2.
+/// Runs `body` and returns its exit code; --help prints the help and returns 0, a bad argument
+/// prints CLI11's message and returns 2, any other exception prints "<process>: error: <what>"
+/// and returns 2.
 int GuardedMain(const char* process, CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
 }  // namespace rbcp::nodes
