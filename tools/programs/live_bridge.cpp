@@ -216,12 +216,10 @@ class Hub {
   /// The steps walked so far (the walked plan), when a plan or the robot's progress changes.
   void SendWalked() {
     if (!record_.Latest()) return;
-    try {
-      const rbcp::ContactPlan walked = record_.ExecutedPlan();
-      Cache(walked_, Make({{"type", "walked"}, {"states", rbcp::ContactPlanToJson(walked)}}));
-    } catch (const rbcp::InputError&) {
-      // The plan being walked has not come yet (a page connecting mid-run).
-    }
+    // A plan the bridge missed (it started late, or UDP dropped it) is left out.
+    std::vector<std::string> missing;
+    const rbcp::ContactPlan walked = record_.ExecutedPlan(&missing);
+    Cache(walked_, Make({{"type", "walked"}, {"states", rbcp::ContactPlanToJson(walked)}, {"missing_plans", missing}}));
   }
   void Broadcast(const Text& text, bool droppable) {
     for (const auto& s : sessions_) s->Send(text, droppable);

@@ -1,7 +1,7 @@
 // Headless check of a viewer page in Debian's Chromium (driven by playwright-core): the page
 // loads (from disk, or from live_bridge), makes no network request (a live page: none but to its
-// bridge), logs no console error, draws with WebGL, and its screenshot shows the terrain and the
-// footholds in the four leg colours. A live page must first have received the terrain, the walked
+// bridge), logs no console error, draws with WebGL, and its screenshot shows the terrain, the
+// footholds in the four leg colours and the robot. A live page must first have received the terrain, the walked
 // steps and the robot's states, and the robot's time must move on.
 //
 //   node check_page.mjs (--page PAGE.html | --url URL) --screenshot OUT.png [--expect-status TEXT]
@@ -218,6 +218,17 @@ try {
   const changed = count(image, canvas, (r, g, b, i) =>
     Math.abs(r - noTerrain.pixels[i]) + Math.abs(g - noTerrain.pixels[i + 1]) + Math.abs(b - noTerrain.pixels[i + 2]) > 40);
   check(changed > area * 0.1, `the terrain is drawn (${((100 * changed) / area).toFixed(0)}% of the 3D view)`);
+
+  if (info.tracks.includes('plan') || info.tracks.includes('sim')) {
+    // The robot is drawn: hiding it changes the picture.
+    await page.evaluate(() => window.rbcpViewer.setLayer('robot', false));
+    await nextFrames();
+    const noRobot = decodePng(await page.screenshot());
+    await page.evaluate(() => window.rbcpViewer.setLayer('robot', true));
+    const robotPixels = count(image, canvas, (r, g, b, i) =>
+      Math.abs(r - noRobot.pixels[i]) + Math.abs(g - noRobot.pixels[i + 1]) + Math.abs(b - noRobot.pixels[i + 2]) > 40);
+    check(robotPixels > area * 0.002, `the robot is drawn (${robotPixels} px)`);
+  }
 
   if (info.tracks.length && !args.live) {
     // Play for a moment: the timeline moves, and the robot with it.

@@ -48,14 +48,18 @@ void RunRecord::OnContactPlan(int64_t receive_us, const rbcp_msgs::contact_plan_
   latency_times_s_.push_back(1e-6 * static_cast<double>(msg.start_utime));
 }
 
-ContactPlan RunRecord::ExecutedPlan() const {
+ContactPlan RunRecord::ExecutedPlan(std::vector<std::string>* missing) const {
   ContactPlan executed;
   executed.reaches_goal = false;
   for (std::size_t k = 0; k < segments_.size(); ++k) {
     const Segment& s = segments_[k];
     const auto it = plans_by_seq_.find(s.plan_seq);
     if (it == plans_by_seq_.end()) {
-      throw InputError("run record: plan " + std::to_string(s.plan_seq) + " was walked but never received");
+      const std::string what = "plan " + std::to_string(s.plan_seq) + " was walked but never received";
+      if (!missing) throw InputError("run record: " + what);
+      missing->push_back(what);
+      executed.reaches_goal = false;
+      continue;
     }
     const ContactPlan& plan = it->second;
     const int end_steps = k + 1 < segments_.size() ? segments_[k + 1].steps_at_start : latest_->steps_done;

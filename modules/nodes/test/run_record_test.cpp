@@ -77,6 +77,11 @@ TEST(RunRecord, AWaitWithNoAnswerIsCountedAndAWalkedPlanMustHaveBeenReceived) {
   EXPECT_EQ(run.UnansweredWaits(), 2);
   run.OnRobotState(20, State(600000, 4, 0, false));  // walking plan 4, never received
   EXPECT_THROW(run.ExecutedPlan(), InputError);
+  // Asked to, the record leaves the plan out and names it.
+  std::vector<std::string> missing;
+  EXPECT_TRUE(run.ExecutedPlan(&missing).states.empty());
+  ASSERT_EQ(missing.size(), 1u);
+  EXPECT_EQ(missing[0], "plan 4 was walked but never received");
 }
 
 TEST(RunRecord, Percentiles) {

@@ -176,6 +176,9 @@ function renderSummary() {
   const rows = keys
     .filter((k) => !Array.isArray(run[k]) && !(k === 'collision_links' && !Object.keys(run[k] ?? {}).length))
     .map((k) => `<tr><th>${escapeHtml(k)}</th><td>${escapeHtml(formatValue(run[k]))}</td></tr>`);
+  if ((run.missing_plans || []).length) {
+    rows.push(`<tr><th>missing plans</th><td>${escapeHtml(run.missing_plans.join('; '))} (their steps are not drawn)</td></tr>`);
+  }
   if (sceneData.terrain) {
     rows.push(`<tr><th>terrain</th><td>${sceneData.terrain.triangles.length} triangles, ${(sceneData.contact_surfaces || []).length} surfaces</td></tr>`);
   }

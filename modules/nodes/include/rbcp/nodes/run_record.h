@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "rbcp/core/contact_plan.h"
@@ -41,8 +42,9 @@ class RunRecord {
 
   /// The plan the robot walked: the first walked plan's first state, then the states of each plan
   /// for the steps walked while it was the robot's plan (ROBOT_STATE's plan_seq and steps_done).
-  /// Throws InputError when a walked plan was not received.
-  ContactPlan ExecutedPlan() const;
+  /// Throws InputError when a walked plan was not received; with `missing`, such a plan's steps
+  /// are left out instead (the plan then jumps there) and *missing names each one.
+  ContactPlan ExecutedPlan(std::vector<std::string>* missing = nullptr) const;
 
  private:
   struct Wait {
