@@ -210,23 +210,20 @@ try {
     check(left < total(legPixels) * 0.3, `hiding the footholds removes the leg colours (${left} of ${total(legPixels)} px left)`);
   }
 
-  // The terrain covers a good part of the view: hiding it changes many pixels.
-  await page.evaluate(() => window.rbcpViewer.setLayer('terrain', false));
-  await nextFrames();
-  const noTerrain = decodePng(await page.screenshot());
-  await page.evaluate(() => window.rbcpViewer.setLayer('terrain', true));
-  const changed = count(image, canvas, (r, g, b, i) =>
-    Math.abs(r - noTerrain.pixels[i]) + Math.abs(g - noTerrain.pixels[i + 1]) + Math.abs(b - noTerrain.pixels[i + 2]) > 40);
-  check(changed > area * 0.1, `the terrain is drawn (${((100 * changed) / area).toFixed(0)}% of the 3D view)`);
-
-  if (info.tracks.includes('plan') || info.tracks.includes('sim')) {
-    // The robot is drawn: hiding it changes the picture.
-    await page.evaluate(() => window.rbcpViewer.setLayer('robot', false));
+  /** Pixels of the 3D view that change when the layer is hidden. */
+  const layerPixels = async (name) => {
+    await page.evaluate((layer) => window.rbcpViewer.setLayer(layer, false), name);
     await nextFrames();
-    const noRobot = decodePng(await page.screenshot());
-    await page.evaluate(() => window.rbcpViewer.setLayer('robot', true));
-    const robotPixels = count(image, canvas, (r, g, b, i) =>
-      Math.abs(r - noRobot.pixels[i]) + Math.abs(g - noRobot.pixels[i + 1]) + Math.abs(b - noRobot.pixels[i + 2]) > 40);
+    const without = decodePng(await page.screenshot());
+    await page.evaluate((layer) => window.rbcpViewer.setLayer(layer, true), name);
+    return count(image, canvas, (r, g, b, i) =>
+      Math.abs(r - without.pixels[i]) + Math.abs(g - without.pixels[i + 1]) + Math.abs(b - without.pixels[i + 2]) > 40);
+  };
+  // The terrain covers a good part of the view.
+  const terrainPixels = await layerPixels('terrain');
+  check(terrainPixels > area * 0.1, `the terrain is drawn (${((100 * terrainPixels) / area).toFixed(0)}% of the 3D view)`);
+  if (info.tracks.includes('plan') || info.tracks.includes('sim')) {
+    const robotPixels = await layerPixels('robot');
     check(robotPixels > area * 0.002, `the robot is drawn (${robotPixels} px)`);
   }
 
