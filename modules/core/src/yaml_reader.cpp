@@ -77,6 +77,17 @@ std::string YamlMap::String(const std::string& key) const {
   return n.Scalar();
 }
 
+std::vector<std::string> YamlMap::Strings(const std::string& key) const {
+  YAML::Node n = Required(key);
+  if (!n.IsSequence()) Fail(key, "expected a list of strings, got " + Describe(n));
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    if (!n[i].IsScalar()) Fail(key, "element " + std::to_string(i) + ": expected a string, got " + Describe(n[i]));
+    out.push_back(n[i].Scalar());
+  }
+  return out;
+}
+
 std::vector<double> YamlMap::NumbersOf(const YAML::Node& n, const std::string& key) const {
   std::vector<double> v(n.size());
   for (std::size_t i = 0; i < n.size(); ++i) {

@@ -32,6 +32,14 @@ TEST(YamlMap, NumbersReadsListsOfAnyLength) {
   EXPECT_EQ(m.Numbers("three"), (std::vector<double>{1.0, -2.5, 0.03}));
 }
 
+TEST(YamlMap, StringsReadsListsOfStrings) {
+  YamlMap m(YAML::Load("{empty: [], cmd: [/bin/prog, --flag, '2'], bad: [a, [b]], scalar: a}"), "file.yaml");
+  EXPECT_TRUE(m.Strings("empty").empty());
+  EXPECT_EQ(m.Strings("cmd"), (std::vector<std::string>{"/bin/prog", "--flag", "2"}));
+  EXPECT_EQ(ErrorOf([&] { m.Strings("bad"); }), "file.yaml: 'bad': element 1: expected a string, got a list of 1");
+  EXPECT_EQ(ErrorOf([&] { m.Strings("scalar"); }), "file.yaml: 'scalar': expected a list of strings, got 'a'");
+}
+
 TEST(YamlMap, ErrorsSayWhereAndWhat) {
   YamlMap m(YAML::Load("{a: x, v: [1, 2], w: [1, .nan, 3], extra: 1}"), "file.yaml");
   EXPECT_EQ(ErrorOf([&] { m.Double("a"); }), "file.yaml: 'a': expected a number, got 'x'");

@@ -36,6 +36,8 @@ class YamlMap {
   Eigen::Vector3d Vector3(const std::string& key) const { return Vector(key, 3); }
   Eigen::Vector2d Vector2(const std::string& key) const { return Vector(key, 2); }
   YamlMap Map(const std::string& key) const;
+  /// A list of strings (possibly empty).
+  std::vector<std::string> Strings(const std::string& key) const;
   /// A list of maps.
   std::vector<YamlMap> MapList(const std::string& key) const;
   /// Keys in document order.
