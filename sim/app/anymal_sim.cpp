@@ -13,6 +13,7 @@
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/sim/plan_execution.h"
 #include "rbcp/sim/sim_node.h"
+#include "rbcp/sim/world_events.h"
 #include "rbcp/transport/run_loop.h"
 
 int main(int argc, char** argv) {
@@ -47,6 +48,10 @@ int main(int argc, char** argv) {
   app.add_option("--await-timeout", node_options.await_timeout_s,
                  "process, --replan: wall seconds to wait for a plan before going on with the current one")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  std::string events_path;
+  app.add_option("--events", events_path,
+                 "process: scripted changes of the world at simulated times (YAML: add_box, remove_box, push, goal)")
+      ->check(CLI::ExistingFile);
   app.add_option("--sim-config", sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
   app.add_option("--controller-config", controller_config_path,
                  "controller parameters (default: CONFIG_DIR/controller.yaml)");
@@ -91,6 +96,7 @@ int main(int argc, char** argv) {
       return outcome.ok() ? 0 : 1;
     }
 
+    if (!events_path.empty()) node_options.events = sim::LoadWorldEvents(events_path);
     auto lcm = transport::OpenLcm(common.lcm_url);
     node_options.pause_while_awaiting = realtime_factor <= 0.0;
     sim::SimNode node(*lcm, execution, scenario, sim_config, node_options);

@@ -93,6 +93,7 @@ struct BulletWorld::Impl {
   Eigen::Isometry3d base_com_from_link = Eigen::Isometry3d::Identity();  ///< base link frame in the base CoM frame
   JointVector command = JointVector::Zero();  ///< saturated command, held
   JointVector applied = JointVector::Zero();  ///< applied in the last step
+  Eigen::Vector3d base_force_W = Eigen::Vector3d::Zero();  ///< external force on the base, held
   long long steps = 0;
   btAlignedObjectArray<btQuaternion> scratch_rotations;
   btAlignedObjectArray<btVector3> scratch_origins;
@@ -283,9 +284,24 @@ void BulletWorld::Step() {
                                   m.config.joint_velocity_limit_radps);
     mb.addJointTorque(i, m.applied[i]);
   }
+  // Like joint torques, external forces are cleared after every step.
+  if (!m.base_force_W.isZero()) mb.addBaseForce(ToBt(m.base_force_W));
   // maxSubSteps = 0: one step of exactly time_step_s (no accumulation, no interpolation).
   m.world->stepSimulation(m.config.time_step_s, 0, m.config.time_step_s);
   ++m.steps;
+}
+
+void BulletWorld::SetTerrain(const std::vector<TerrainElement>& terrain) {
+  Impl& m = *impl_;
+  std::vector<TerrainObject> next = BuildTerrain(terrain);  // throws before anything changes
+  for (auto it = m.terrain.rbegin(); it != m.terrain.rend(); ++it) m.world->removeRigidBody(it->body.get());
+  m.terrain = std::move(next);
+  for (TerrainObject& o : m.terrain) m.world->addRigidBody(o.body.get());
+}
+
+void BulletWorld::SetBaseForce(const Eigen::Vector3d& force_W) {
+  if (!force_W.allFinite()) throw InputError("BulletWorld::SetBaseForce: expected a finite force");
+  impl_->base_force_W = force_W;
 }
 
 double BulletWorld::Time() const { return static_cast<double>(impl_->steps) * impl_->config.time_step_s; }

@@ -53,6 +53,14 @@ void PlanExecution::Reset(const Eigen::Vector3d& base_W, const Eigen::Quaternion
   controller_->SetAwaitPlans(await_plans_);
 }
 
+void PlanExecution::SetTerrain(std::vector<TerrainElement> terrain) {
+  TriangleMesh mesh = BuildTerrainMesh(terrain);  // throws for an invalid element
+  world_->SetTerrain(terrain);
+  scenario_.terrain = std::move(terrain);
+  scenario_.terrain_mesh = std::move(mesh);
+  controller_->SetTerrain(&scenario_.terrain_mesh);
+}
+
 void PlanExecution::SetAwaitPlans(bool await) {
   await_plans_ = await;
   controller_->SetAwaitPlans(await);

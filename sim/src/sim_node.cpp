@@ -1,5 +1,6 @@
 #include "rbcp/sim/sim_node.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -39,23 +40,38 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
       plans_in_(lcm, channels::kContactPlan),
       planner_failures_(lcm, channels::kStatus, [this](const rbcp_msgs::process_status_t& s) {
         return s.process == options_.contact_planner && s.state == rbcp_msgs::process_status_t::FAILED;
-      }) {
+      }),
+      requests_(lcm, channels::kPlanRequest) {
   if (!(options_.await_timeout_s > 0.0) || !(options_.retry_hold_s >= 0.0) || options_.max_failed_waits < 1) {
     throw InputError("simulator: await_timeout_s expected > 0, retry_hold_s >= 0 and max_failed_waits >= 1");
   }
   execution_.SetAwaitPlans(options_.replan);
   execution_.StandAt(scenario_.start);
+  element_names_.assign(execution_.CurrentWorld().terrain.size(), "");
 }
 
 int64_t SimNode::Utime() const { return static_cast<int64_t>(std::llround(execution_.Time() * 1e6)); }
 
 void SimNode::PublishTerrain() {
   last_terrain_wall_ = std::chrono::steady_clock::now();
-  const auto msg = transport::ToTerrainMsg(scenario_.terrain_mesh, Utime(), scenario_.name);
+  const auto msg = transport::ToTerrainMsg(execution_.CurrentWorld().terrain_mesh, Utime(), scenario_.name);
   lcm_.publish(channels::kTerrain, &msg);
 }
 
 void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
+  const char* stale_why = nullptr;
+  if (latest_request_ && msg.request_id < latest_request_->request_id) stale_why = "it answers an earlier goal";
+  if (options_.replan && world_changed_utime_ >= 0 && msg.start_utime < world_changed_utime_) {
+    stale_why = "it was planned before the world changed";
+  }
+  if (stale_why) {
+    stale_plans_ += 1;
+    if (status_.verbose()) {
+      std::fprintf(stderr, "[%s] dropped stale CONTACT_PLAN %lld: %s\n", kProcessName,
+                   static_cast<long long>(msg.plan_seq), stale_why);
+    }
+    return;
+  }
   if (options_.replan && (!awaiting_since_ || msg.start_utime < *awaiting_since_)) {
     // Planned from a stance the robot has left (or for a wait already given up): stale.
     stale_plans_ += 1;
@@ -72,6 +88,7 @@ void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
     execution_.GivePlan(plan);
     plans_ += 1;
     plan_seq_ = msg.plan_seq;
+    walked_plan_utime_ = msg.start_utime;
     failed_waits_ = 0;
     awaiting_since_.reset();
     answered_utime_ = Utime();
@@ -107,9 +124,13 @@ void SimNode::UpdateWait() {
   if (status_.verbose()) {
     std::fprintf(stderr, "[%s] no new plan for the wait since utime %lld (%s): %s\n", kProcessName,
                  static_cast<long long>(*awaiting_since_), failed ? "the contact planner failed" : "timed out",
-                 execution_.CanContinue() ? "going on with the current plan" : "holding the stance");
+                 execution_.CanContinue() && (world_changed_utime_ < 0 || walked_plan_utime_ >= world_changed_utime_)
+                     ? "going on with the current plan"
+                     : "holding the stance");
   }
-  if (execution_.CanContinue()) {
+  // The rest of the current plan is walked only if it was planned on the world as it is.
+  const bool current = world_changed_utime_ < 0 || walked_plan_utime_ >= world_changed_utime_;
+  if (execution_.CanContinue() && current) {
     execution_.ContinuePlan();
   } else if (++failed_waits_ >= options_.max_failed_waits) {
     execution_.Abort("no_plan", "no plan from this stance after " + std::to_string(failed_waits_) +
@@ -130,8 +151,78 @@ void SimNode::PublishState() {
   lcm_.publish(channels::kRobotState, &state_msg);
 }
 
+void SimNode::ApplyEvents() {
+  if (push_until_s_ >= 0.0 && execution_.Time() + 1e-9 >= push_until_s_) {
+    execution_.SetBaseForce(Eigen::Vector3d::Zero());
+    push_until_s_ = -1.0;
+    if (status_.verbose()) std::fprintf(stderr, "[%s] the push ends at %.2f s\n", kProcessName, execution_.Time());
+  }
+  while (next_event_ < options_.events.size() && options_.events[next_event_].t <= execution_.Time() + 1e-9) {
+    const WorldEvent& e = options_.events[next_event_++];
+    try {
+      Apply(e);
+      if (status_.verbose()) {
+        std::fprintf(stderr, "[%s] event at %.2f s: %s\n", kProcessName, execution_.Time(), e.Describe().c_str());
+      }
+    } catch (const InputError& error) {
+      status_.Failed(Utime(), Utime(), 0.0, "event " + e.Describe() + ": " + error.what());
+    }
+  }
+  if (own_request_ && std::chrono::steady_clock::now() - own_request_wall_ >= std::chrono::seconds(1)) {
+    // The goal again, for a root planner that restarted since.
+    own_request_wall_ = std::chrono::steady_clock::now();
+    lcm_.publish(channels::kPlanRequest, &*own_request_);
+  }
+}
+
+void SimNode::Apply(const WorldEvent& e) {
+  std::vector<TerrainElement> terrain = execution_.CurrentWorld().terrain;
+  switch (e.kind) {
+    case WorldEvent::Kind::kAddBox:
+      terrain.push_back(e.box);
+      execution_.SetTerrain(terrain);
+      element_names_.push_back(e.name);
+      break;
+    case WorldEvent::Kind::kRemoveBox: {
+      const auto it = std::find(element_names_.begin(), element_names_.end(), e.name);
+      if (it == element_names_.end()) throw InputError("no box named '" + e.name + "' in the world");
+      terrain.erase(terrain.begin() + (it - element_names_.begin()));
+      execution_.SetTerrain(terrain);
+      element_names_.erase(it);
+      break;
+    }
+    case WorldEvent::Kind::kPush:
+      execution_.SetBaseForce(e.force_W);
+      push_until_s_ = execution_.Time() + e.duration_s;
+      return;
+    case WorldEvent::Kind::kGoal: {
+      rbcp_msgs::plan_request_t r{};
+      if (latest_request_) r = *latest_request_;
+      r.utime = Utime();
+      r.request_id = (latest_request_ ? latest_request_->request_id : 0) + 1;
+      r.use_start = false;
+      r.goal_position[0] = e.goal.position.x();
+      r.goal_position[1] = e.goal.position.y();
+      r.goal_position[2] = 0.0;
+      r.goal_yaw = e.goal.yaw;
+      if (!latest_request_) r.seed = 1;
+      latest_request_ = r;
+      own_request_ = r;
+      own_request_wall_ = std::chrono::steady_clock::now();
+      lcm_.publish(channels::kPlanRequest, &r);
+      return;
+    }
+  }
+  // The terrain changed: everyone hears of it at once; plans made before are stale.
+  world_changed_utime_ = Utime();
+  PublishTerrain();
+}
+
 void SimNode::Tick() {
   if (auto error = plans_in_.TakeDecodeError()) status_.Failed(Utime(), 0, 0.0, *error);
+  if (auto request = requests_.Take()) {
+    if (!latest_request_ || request->request_id > latest_request_->request_id) latest_request_ = *request;
+  }
   if (auto msg = plans_in_.Take()) TakePlan(*msg);
   UpdateWait();
   if (Paused()) {
@@ -149,6 +240,7 @@ void SimNode::Tick() {
     PublishTerrain();
     next_terrain_s_ += config_.terrain_period_s;
   }
+  ApplyEvents();
   execution_.Tick();
   UpdateWait();
   PublishState();

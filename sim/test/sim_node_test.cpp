@@ -12,6 +12,9 @@
 #include "rbcp/controller/controller_config.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp/core/error.h"
+#include "rbcp/sim/world_events.h"
+#include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
@@ -211,6 +214,98 @@ TEST_F(ReplanningSimNodeTest, WaitsAtEveryStepBoundaryForAPlanFromThatStance) {
   ASSERT_TRUE(status_.Latest().has_value());
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
   EXPECT_NE(status_.Latest()->reason.find("no_plan"), std::string::npos) << status_.Latest()->reason;
+}
+
+/// The world changes at the events' simulated times: a box added and removed, a push, a new goal.
+class EventsSimNodeTest : public SimWorld {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(lcm_.good());
+    node_.status().set_verbose(false);
+  }
+  static SimNodeOptions Options() {
+    SimNodeOptions o;
+    o.events = ParseWorldEvents(R"(events:
+  - {t: 0.2, add_box: {name: crate, size: [0.3, 0.3, 0.1], position: [1.5, 0.0, 0.05], rpy: [0, 0, 0]}}
+  - {t: 0.5, push: {force: [0, 80, 0], duration: 0.2}}
+  - {t: 0.6, goal: {position: [2.0, 0.5], yaw: 0.3}}
+  - {t: 1.0, remove_box: crate}
+)", "events.yaml");
+    return o;
+  }
+  void TickTo(double t) {
+    while (node_.SimTime() + 1e-9 < t) {
+      node_.Tick();
+      Pump();
+    }
+  }
+  SimNode node_{lcm_, execution_, scenario_, config_, Options()};
+  transport::LatestMessage<rbcp_msgs::plan_request_t> requests_{lcm_, channels::kPlanRequest};
+};
+
+TEST_F(EventsSimNodeTest, ChangesTheWorldAtTheEventsTimes) {
+  const std::size_t elements = scenario_.terrain.size();
+  const int triangles = static_cast<int>(scenario_.terrain_mesh.NumTriangles());
+  TickTo(0.19);
+  EXPECT_EQ(terrain_.received(), 1);
+  EXPECT_EQ(terrain_.Latest()->num_triangles, triangles);
+  // The box: in the world, and on TERRAIN at once.
+  TickTo(0.21);
+  EXPECT_EQ(terrain_.received(), 2);
+  EXPECT_EQ(terrain_.Latest()->num_triangles, triangles + 12);
+  EXPECT_EQ(execution_.CurrentWorld().terrain.size(), elements + 1);
+  // The push moves the standing robot sideways; nothing else does.
+  TickTo(0.5);
+  const double y0 = states_.Latest()->base_position[1];
+  TickTo(0.75);
+  const double y1 = states_.Latest()->base_position[1];
+  EXPECT_GT(y1 - y0, 0.002) << "pushed along +y with 80 N for 0.2 s";
+  // The new goal: a request from the robot's state, with the next id.
+  ASSERT_TRUE(requests_.Latest().has_value());
+  EXPECT_EQ(requests_.Latest()->request_id, 1);
+  EXPECT_FALSE(requests_.Latest()->use_start);
+  EXPECT_DOUBLE_EQ(requests_.Latest()->goal_position[0], 2.0);
+  EXPECT_DOUBLE_EQ(requests_.Latest()->goal_position[1], 0.5);
+  EXPECT_DOUBLE_EQ(requests_.Latest()->goal_yaw, 0.3);
+  // The box is gone again.
+  TickTo(1.01);
+  EXPECT_EQ(terrain_.received(), 4);  // also the periodic one at 1 s
+  EXPECT_EQ(terrain_.Latest()->num_triangles, triangles);
+  EXPECT_EQ(execution_.CurrentWorld().terrain.size(), elements);
+  EXPECT_FALSE(execution_.Decided());
+}
+
+TEST(WorldEvents, ReadsStrictlyWithClearErrors) {
+  const std::vector<WorldEvent> events = ParseWorldEvents(R"(events:
+  - {t: 3.0, remove_box: b}
+  - {t: 1.0, add_box: {name: b, size: [1, 1, 0.1], position: [0, 0, 0.05], rpy: [0, 0, 0]}}
+  - {t: 2.0, push: {force: [10, 0, 0], duration: 0.5}}
+)", "e.yaml");
+  ASSERT_EQ(events.size(), 3u);
+  EXPECT_EQ(events[0].kind, WorldEvent::Kind::kAddBox);  // in time order
+  EXPECT_EQ(events[1].Describe(), "push the base with 10.0 N (10.00, 0.00, 0.00) for 0.50 s");
+  EXPECT_EQ(events[2].Describe(), "remove box 'b'");
+  const auto error = [](const std::string& text) {
+    try {
+      ParseWorldEvents(text, "e.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error("events: [{t: 1, remove_box: nope}]"),
+            "e.yaml: box 'nope' is removed at 1.00 s, but no earlier event adds it");
+  EXPECT_EQ(error("events: [{t: 1, push: {force: [1, 0, 0], duration: 0}}]"),
+            "e.yaml: events[0]: push: 'duration': expected a positive duration [s], got 0.000");
+  EXPECT_EQ(error("events: [{t: 1, jump: 2}]"),
+            "e.yaml: events[0]: 'jump': unknown event (expected add_box, remove_box, push or goal)");
+  EXPECT_EQ(error("events: [{t: 1, push: {force: [1, 0, 0], duration: 1}, goal: {position: [0, 0], yaw: 0}}]"),
+            "e.yaml: events[0]: expected t and exactly one of add_box, remove_box, push or goal, got 2 other keys");
+  EXPECT_EQ(error("events: [{t: 2, add_box: {name: b, size: [1, 1, 1], position: [0, 0, 0], rpy: [0, 0, 0]}}, "
+                  "{t: 1, remove_box: b}]"),
+            "e.yaml: box 'b' is removed at 1.00 s, but no earlier event adds it");
+  EXPECT_EQ(error("events: [{t: -1, goal: {position: [0, 0], yaw: 0}}]"),
+            "e.yaml: events[0]: 't': expected a simulated time >= 0 [s], got -1.000");
 }
 
 }  // namespace

@@ -217,4 +217,6 @@ std::string ScenarioToYaml(const Scenario& scenario, const std::vector<std::stri
   return out;
 }
 
+BaseGoal ReadBasePose(const YamlMap& map) { return ReadBaseGoal(map); }
+
 }  // namespace rbcp

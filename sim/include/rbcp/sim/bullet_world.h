@@ -104,6 +104,15 @@ class BulletWorld {
   /// a non-finite torque.
   JointVector SetJointTorques(const JointVector& tau_command);
 
+  /// Replaces the terrain (a box added or removed while the robot walks): the old static bodies
+  /// leave the world and the new ones enter it; the robot is not moved. Throws InputError for an
+  /// invalid element.
+  void SetTerrain(const std::vector<TerrainElement>& terrain);
+
+  /// An external force on the base at its centre of mass [N], world frame, applied in every
+  /// following step until changed (zero: none). Throws InputError for a non-finite force.
+  void SetBaseForce(const Eigen::Vector3d& force_W);
+
   /// Advances the world by one fixed step of time_step_s (one Bullet step of exactly that length:
   /// collision detection, contact and limit solve, semi-implicit Euler integration).
   void Step();

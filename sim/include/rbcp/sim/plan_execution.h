@@ -119,6 +119,15 @@ class PlanExecution {
   /// reaches the goal.
   bool CanContinue() const;
 
+  /// The world changes while the robot walks (a box added or removed): the simulated terrain, the
+  /// one the judge measures against and the one the controller plans its swings over. Throws
+  /// InputError for an invalid element (nothing changes then).
+  void SetTerrain(std::vector<TerrainElement> terrain);
+  /// The world as it is now: the scenario with its current terrain.
+  const Scenario& CurrentWorld() const { return scenario_; }
+  /// An external force on the base [N], world frame, until changed (a push).
+  void SetBaseForce(const Eigen::Vector3d& force_W) { world_->SetBaseForce(force_W); }
+
   /// One control period: the controller's torques from the measured state, then the physics
   /// steps of that period, then the judge. Returns false once the outcome is decided.
   bool Tick();

@@ -16,6 +16,14 @@
 /// max_failed_waits such waits in a row the run fails ("no_plan"). With
 /// pause_while_awaiting (runs faster than real time) the world stands still during the wait, so a
 /// run does not depend on how fast the planners answer.
+///
+/// The world changes at the events' simulated times (SimNodeOptions::events): a box added or
+/// removed is in the physics, the judge's and the controller's terrain at once and TERRAIN goes
+/// out at once; a push is a force on the base for its duration; a new goal is a PLAN_REQUEST
+/// (the latest request's id + 1, from the robot's state, its seed and budget), repeated every
+/// second like the operator's. A plan made before the world last changed, or for an earlier
+/// request than the latest, is stale: it is dropped, and the robot does not go on with the rest
+/// of one when no new plan comes (it holds its stance).
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -23,13 +31,16 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/sim/plan_execution.h"
 #include "rbcp/sim/sim_config.h"
+#include "rbcp/sim/world_events.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
 
 namespace rbcp::sim {
@@ -45,6 +56,8 @@ struct SimNodeOptions {
   double retry_hold_s = 0.5;         ///< [s, simulated] replan: hold before asking again, nothing left to walk
   int max_failed_waits = 20;         ///< replan: waits in a row with no plan and nothing left to walk before the run fails
   std::string contact_planner = "contact_planner";  ///< process whose FAILED status ends a wait
+  /// Scripted changes of the world (world_events.h), applied at their simulated times.
+  std::vector<WorldEvent> events;
 };
 
 class SimNode {
@@ -77,6 +90,9 @@ class SimNode {
   void TakePlan(const rbcp_msgs::contact_plan_t& msg);
   void UpdateWait();
   void PublishState();
+  /// Applies the events due by now; ends a push that is over.
+  void ApplyEvents();
+  void Apply(const WorldEvent& event);
 
   lcm::LCM& lcm_;
   PlanExecution& execution_;
@@ -86,6 +102,15 @@ class SimNode {
   SimNodeOptions options_;
   transport::LatestMessage<rbcp_msgs::contact_plan_t> plans_in_;
   transport::LatestMessage<rbcp_msgs::process_status_t> planner_failures_;
+  transport::LatestMessage<rbcp_msgs::plan_request_t> requests_;
+  std::optional<rbcp_msgs::plan_request_t> latest_request_;  ///< the newest goal request seen (or sent)
+  std::optional<rbcp_msgs::plan_request_t> own_request_;     ///< the latest goal an event sent, repeated
+  std::chrono::steady_clock::time_point own_request_wall_;
+  std::size_t next_event_ = 0;
+  std::vector<std::string> element_names_;  ///< per terrain element: the event box's name, "" for the scenario's
+  double push_until_s_ = -1.0;              ///< a push ends at this simulated time (< 0: none)
+  int64_t world_changed_utime_ = -1;        ///< when the terrain last changed
+  int64_t walked_plan_utime_ = -1;          ///< utime of the plan being walked
   std::optional<int64_t> awaiting_since_;  // replan: utime the current wait began
   std::chrono::steady_clock::time_point await_wall_start_;
   double hold_until_s_ = 0.0;              // replan: no new wait before this simulated time

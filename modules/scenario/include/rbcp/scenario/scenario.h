@@ -24,6 +24,8 @@
 
 namespace rbcp {
 
+class YamlMap;
+
 /// A planar base pose: where the trunk starts or must arrive.
 struct BaseGoal {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  ///< base x, y in the world frame [m]
@@ -82,6 +84,9 @@ TriangleMesh ElementMesh(const TerrainElement& element);
 
 /// All elements as one world-frame mesh, in order.
 TriangleMesh BuildTerrainMesh(const std::vector<TerrainElement>& terrain);
+
+/// A base pose as a scenario file writes it ({position: [x, y], yaw}), strictly read.
+BaseGoal ReadBasePose(const YamlMap& map);
 
 /// The canonical text of a scenario: fixed key order, one element per line, numbers with at most
 /// six decimals and no trailing zeros, so equal scenarios give identical bytes. Each entry of
