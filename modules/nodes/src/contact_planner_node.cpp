@@ -7,6 +7,7 @@
 #include <exception>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "rbcp/core/angle.h"
 #include "rbcp/core/error.h"
@@ -85,6 +86,9 @@ std::optional<std::string> ContactPlannerNode::TakeInputs() {
   if (auto e = world_.Take(&latest_utime_)) return e;
   if (world_.TakeChanged()) {
     world_set_ = false;
+    // The path was planned on another world: wait for the root planner's path on this one.
+    if (!path_.empty()) path_stale_ = true;
+    next_.reset();
     if (world_.Ready()) {
       const TriangleMesh& mesh = *world_.terrain();
       terrain_min_xy_ = terrain_max_xy_ = mesh.vertices.front().head<2>();
@@ -134,7 +138,13 @@ bool ContactPlannerNode::Step() {
       worked = true;
     }
     const auto& state = robot_state_.Latest();
+    if (state && !state->awaiting_plan) WatchStep(*state);
     if (!state || !state->awaiting_plan || !world_set_ || path_.empty()) return worked;
+    if (path_stale_) {
+      if (verbose_ && !logged_stale_) std::fprintf(stderr, "[%s] the terrain changed: waiting for a root path on it\n", kProcessName);
+      logged_stale_ = true;
+      return worked;
+    }
     if (answered_since_ == state->awaiting_since) return worked;
     answered_since_ = state->awaiting_since;
     Replan(*state);
@@ -153,21 +163,75 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
     status_.Failed(Now(), msg.utime, 0.0, *problem);
     return;
   }
+  const auto same_sample = [](const RootPathSample& a, const RootPathSample& b) {
+    return a.t == b.t && a.p == b.p && a.v == b.v && a.yaw == b.yaw;
+  };
+  if (msg.request_id == path_request_id_ && samples.size() == path_.size() &&
+      std::equal(samples.begin(), samples.end(), path_.begin(), same_sample)) {
+    return;  // the root planner repeats its path for late processes: nothing new
+  }
+  if (!path_.empty() && msg.request_id < path_request_id_) return;  // a path for a goal given up since
+  path_stale_ = false;
+  logged_stale_ = false;
   path_ = std::move(samples);
   path_request_id_ = msg.request_id;
   path_progress_ = 0;
   answered_since_.reset();  // a wait already answered on the old path gets a plan on the new one
   last_plan_.reset();
+  next_.reset();
   if (verbose_) {
     std::fprintf(stderr, "[%s] following the root path of request %lld: %zu points, %.2f s\n", kProcessName,
                  static_cast<long long>(msg.request_id), path_.size(), path_.back().t - path_.front().t);
   }
 }
 
+std::size_t ContactPlannerNode::PathProgress(const Eigen::Vector3d& base_W, double yaw, double* offset_xy) const {
+  // The sample nearest to the base (position, and heading at 0.3 m/rad), not behind the last one.
+  std::size_t nearest = path_progress_;
+  double best = std::numeric_limits<double>::infinity();
+  *offset_xy = best;
+  for (std::size_t i = path_progress_; i < path_.size(); ++i) {
+    const double xy = (path_[i].p.head<2>() - base_W.head<2>()).norm();
+    const double d = xy + 0.3 * std::abs(WrapAngle(path_[i].yaw - yaw));
+    if (d < best) {
+      best = d;
+      *offset_xy = xy;
+      nearest = i;
+    }
+  }
+  return nearest;
+}
+
+std::optional<std::string> ContactPlannerNode::StanceDeviation(const WholeBodyState& measured,
+                                                               const WholeBodyState& expected) const {
+  std::ostringstream os;
+  os.precision(3);
+  for (std::size_t i = 0; i < measured.feet.size(); ++i) {
+    const double d = (measured.feet[i].position - expected.feet[i].position).norm();
+    if (d > 0.0) {
+      os << LegName(kAllLegs[i]) << " stands " << d << " m from its planned foothold";
+      return os.str();
+    }
+  }
+  const double dp = (measured.base_position - expected.base_position).norm();
+  if (dp > options_.base_match_m) {
+    os << "the base is " << dp << " m from its planned position";
+    return os.str();
+  }
+  Eigen::Vector3d drpy = measured.base_rpy - expected.base_rpy;
+  drpy.z() = WrapAngle(drpy.z());
+  if (drpy.cwiseAbs().maxCoeff() > options_.base_match_rad) {
+    os << "the base is " << drpy.cwiseAbs().maxCoeff() << " rad from its planned orientation";
+    return os.str();
+  }
+  return std::nullopt;
+}
+
 void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   status_.Busy(Now(), msg.utime);
   const auto fail = [&](const std::string& why, double ms = 0.0) {
     last_result_.reset();
+    next_.reset();
     status_.Failed(Now(), msg.utime, ms, why);
   };
   RobotState measured;
@@ -199,38 +263,44 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
       if (match) stance->feet[i] = *match;
     }
   }
-  // Progress along the path: the sample nearest to the measured base, not behind the last one.
-  std::size_t nearest = path_progress_;
-  double best = std::numeric_limits<double>::infinity();
-  double best_xy = best;
-  for (std::size_t i = path_progress_; i < path_.size(); ++i) {
-    const double xy = (path_[i].p.head<2>() - measured.base_position_W.head<2>()).norm();
-    const double d = xy + 0.3 * std::abs(WrapAngle(path_[i].yaw - rpy.z()));
-    if (d < best) {
-      best = d;
-      best_xy = xy;
-      nearest = i;
-    }
-  }
-  if (best_xy > options_.max_path_offset_m) {
+  double offset_xy = 0.0;
+  const std::size_t nearest = PathProgress(measured.base_position_W, rpy.z(), &offset_xy);
+  if (offset_xy > options_.max_path_offset_m) {
     std::ostringstream os;
     os.precision(3);
-    os << "robot state: the base is " << best_xy << " m from the root path (at most " << options_.max_path_offset_m
+    os << "robot state: the base is " << offset_xy << " m from the root path (at most " << options_.max_path_offset_m
        << " m)";
     return fail(os.str());
   }
-  path_progress_ = nearest;
-  const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(nearest), path_.end());
   const int k = options_.horizon_steps;
-  if (verbose_) {
-    std::fprintf(stderr, "[%s] planning %d steps from the measured stance at utime %lld, base (%.3f, %.3f), %zu path points left\n",
-                 kProcessName, k, static_cast<long long>(msg.utime), measured.base_position_W.x(),
-                 measured.base_position_W.y(), remaining.size());
-  }
-  try {
-    last_result_ = planner_.PlanHorizon(*stance, remaining, k + options_.lookahead_steps);
-  } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what());
+  // The plan made ahead, while the robot walked its step, from the stance that step leads to:
+  // taken when the robot stands there (the same footholds, the base within base_match_m and
+  // base_match_rad); otherwise a new plan from the measured stance.
+  std::optional<Speculation> ahead = std::exchange(next_, std::nullopt);
+  std::string deviation = "no plan made ahead";
+  if (ahead && ahead->after_plan_seq != msg.plan_seq) deviation = "the robot walks another plan than the one planned ahead";
+  else if (ahead) deviation = StanceDeviation(*stance, ahead->expected).value_or("");
+  if (deviation.empty() && ahead->result.ok) {
+    path_progress_ = ahead->progress;
+    last_result_ = std::move(ahead->result);
+    if (verbose_) {
+      std::fprintf(stderr, "[%s] the robot stands where the plan made ahead starts (utime %lld): taking it\n",
+                   kProcessName, static_cast<long long>(msg.utime));
+    }
+  } else {
+    path_progress_ = nearest;
+    const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(nearest), path_.end());
+    if (verbose_) {
+      std::fprintf(stderr, "[%s] planning %d steps from the measured stance at utime %lld (%s), base (%.3f, %.3f), %zu path points left\n",
+                   kProcessName, k, static_cast<long long>(msg.utime),
+                   deviation.empty() ? "the plan made ahead failed" : deviation.c_str(),
+                   measured.base_position_W.x(), measured.base_position_W.y(), remaining.size());
+    }
+    try {
+      last_result_ = planner_.PlanHorizon(*stance, remaining, k + options_.lookahead_steps);
+    } catch (const std::exception& e) {
+      return fail(std::string("internal error: ") + e.what());
+    }
   }
   ContactPlanResult& r = *last_result_;
   const double ms = 1000.0 * r.planning_time_s;
@@ -248,10 +318,63 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
     r.reached_goal = false;
   }
   last_plan_ = r.plan;
-  plan_seq_ += 1;
+  // After a restart the sequence goes on from the plan the robot walks.
+  plan_seq_ = std::max(plan_seq_, msg.plan_seq) + 1;
   const auto out = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, plan_seq_, msg.utime);
   lcm_.publish(options_.contact_plan_channel, &out);
   status_.Ok(Now(), msg.utime, ms, "plan " + std::to_string(plan_seq_) + ": " + Summary(r, k));
+  PlanAhead();
+}
+
+void ContactPlannerNode::PlanAhead() {
+  if (!options_.plan_ahead || !last_plan_ || last_plan_->states.size() < 2) return;
+  if (last_plan_->reaches_goal && last_plan_->states.size() == 2) return;  // the last step: nothing after it
+  Speculation next;
+  next.after_plan_seq = plan_seq_;
+  next.expected = last_plan_->states[1];
+  double offset_xy = 0.0;
+  next.progress = PathProgress(next.expected.base_position, next.expected.base_rpy.z(), &offset_xy);
+  const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(next.progress), path_.end());
+  try {
+    next.result = planner_.PlanHorizon(next.expected, remaining, options_.horizon_steps + options_.lookahead_steps);
+  } catch (const std::exception& e) {
+    if (verbose_) std::fprintf(stderr, "[%s] planning ahead failed: %s\n", kProcessName, e.what());
+    return;
+  }
+  if (verbose_) {
+    std::fprintf(stderr, "[%s] planned ahead from the stance after the next step: %s in %.3f s\n", kProcessName,
+                 next.result.ok ? "ok" : next.result.reason.c_str(), next.result.planning_time_s);
+  }
+  next_ = std::move(next);
+}
+
+void ContactPlannerNode::WatchStep(const rbcp_msgs::robot_state_t& msg) {
+  // While the robot walks the step planned ahead from, a stance foot that slides from its
+  // foothold makes the plan made ahead stale: the robot will not stand where it starts.
+  if (!next_ || msg.awaiting_plan || msg.plan_seq != next_->after_plan_seq || !last_plan_) return;
+  RobotState measured;
+  try {
+    measured = transport::FromRobotStateMsg(msg);
+  } catch (const InputError&) {
+    return;
+  }
+  const Eigen::Isometry3d base_W = Eigen::Translation3d(measured.base_position_W) * measured.base_orientation_W;
+  const std::array<Eigen::Vector3d, kNumLegs> feet_B = robot_.FootPositions(measured.q);
+  const int moving = next_->expected.moving_leg;
+  for (int i = 0; i < kNumLegs; ++i) {
+    if (i == moving || !msg.foot_contact[i]) continue;
+    const Eigen::Vector3d& planned = last_plan_->states[0].feet[static_cast<std::size_t>(i)].position;
+    const double d = (base_W * feet_B[static_cast<std::size_t>(i)] - planned).norm();
+    if (d > options_.slip_m) {
+      if (verbose_) {
+        std::fprintf(stderr, "[%s] %s slid %.3f m from its foothold during the step: the plan made ahead is dropped, "
+                     "the next plan starts from the measured stance\n", kProcessName,
+                     std::string(LegName(kAllLegs[static_cast<std::size_t>(i)])).c_str(), d);
+      }
+      next_.reset();
+      return;
+    }
+  }
 }
 
 std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_path_t& msg,

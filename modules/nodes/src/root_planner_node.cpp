@@ -20,6 +20,14 @@ std::string CheckRequest(const rbcp_msgs::plan_request_t& r) {
   return {};
 }
 
+/// The same goal from the same start with the same seed (the utime and the budget may differ).
+bool SameRequest(const rbcp_msgs::plan_request_t& a, const rbcp_msgs::plan_request_t& b) {
+  const auto same3 = [](const double x[3], const double y[3]) { return x[0] == y[0] && x[1] == y[1] && x[2] == y[2]; };
+  return a.request_id == b.request_id && a.use_start == b.use_start && a.seed == b.seed &&
+         same3(a.goal_position, b.goal_position) && a.goal_yaw == b.goal_yaw &&
+         (!a.use_start || (same3(a.start_position, b.start_position) && a.start_yaw == b.start_yaw));
+}
+
 double YawOf(const double q[4]) {  // (w, x, y, z), base to world
   return std::atan2(2.0 * (q[0] * q[3] + q[1] * q[2]), 1.0 - 2.0 * (q[2] * q[2] + q[3] * q[3]));
 }
@@ -47,6 +55,10 @@ std::optional<std::string> RootPlannerNode::TakeInputs() {
     latest_utime_ = std::max(latest_utime_, msg->utime);
     const std::string problem = CheckRequest(*msg);
     if (!problem.empty()) return problem;
+    // The operator repeats its request so that a restarted planner gets it: a repeat of the
+    // request already handled is no new work.
+    if (handled_ && SameRequest(*handled_, *msg)) return std::nullopt;
+    if (handled_ && msg->request_id < handled_->request_id) return std::nullopt;  // superseded by a newer goal
     pending_ = *msg;
   }
   return std::nullopt;
@@ -68,9 +80,22 @@ bool RootPlannerNode::Step() {
     return true;
   }
   if (!pending_->use_start && !robot_state_.Latest()) return false;  // waiting for the robot's state
-  const rbcp_msgs::plan_request_t request = *pending_;
+  rbcp_msgs::plan_request_t request = *pending_;
   pending_.reset();
-  Plan(request);
+  handled_ = request;
+  std::string why;
+  if (request.use_start && robot_state_.Latest()) {
+    // A request to start where the robot no longer stands (the robot walked on while this
+    // process was restarted) is planned from where it stands.
+    const auto& state = *robot_state_.Latest();
+    const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
+    const double off = (base - Eigen::Vector2d(request.start_position[0], request.start_position[1])).norm();
+    if (base.allFinite() && off > options_.replan_path_offset_m) {
+      request.use_start = false;
+      why = "the robot stands " + FixedNumber(off, 2) + " m from the requested start";
+    }
+  }
+  Plan(request, why);
   return true;
 }
 
@@ -112,16 +137,21 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
                                static_cast<unsigned>(request.seed), budget);
   const double ms = 1000.0 * last_result_->planning_time_s;
   if (!last_result_->ok()) {
+    published_.reset();
     status_.Failed(Now(), request.utime, ms, ToString(last_result_->status) + ": " + last_result_->reason);
     return;
   }
-  const auto msg = ToRootPathMsg(*last_result_, Now(), request.request_id);
-  lcm_.publish(options_.root_path_channel, &msg);
+  published_ = ToRootPathMsg(*last_result_, Now(), request.request_id);
+  lcm_.publish(options_.root_path_channel, &*published_);
   active_ = request;
   status_.Ok(Now(), request.utime, ms, why.empty() ? "" : "replanned from the measured base: " + why);
 }
 
-void RootPlannerNode::Heartbeat() { status_.Heartbeat(Now()); }
+void RootPlannerNode::Heartbeat() {
+  status_.Heartbeat(Now());
+  // The current path again, unchanged, for a contact planner that started after it went out.
+  if (published_ && last_result_ && last_result_->ok()) lcm_.publish(options_.root_path_channel, &*published_);
+}
 
 rbcp_msgs::root_path_t ToRootPathMsg(const RootPlanResult& result, int64_t utime, int64_t request_id) {
   rbcp_msgs::root_path_t msg;

@@ -60,6 +60,15 @@ struct ContactPlannerNodeOptions {
   double max_foot_offset_m = 0.05;
   /// Horizon mode: a measured foot this close to a foothold of the previous plan stands there [m].
   double foothold_match_m = 0.02;
+  /// Horizon mode: once a plan is out, plan the next one while the robot walks its first step,
+  /// from the stance that step leads to; at the next boundary it is taken at once if the robot
+  /// stands there (same footholds, base within base_match_m and base_match_rad).
+  bool plan_ahead = true;
+  double base_match_m = 0.03;    ///< [m]
+  double base_match_rad = 0.05;  ///< [rad] roll, pitch and yaw
+  /// Horizon mode: a stance foot farther than this from its foothold during a step has slid;
+  /// the plan made ahead is then dropped [m].
+  double slip_m = 0.03;
 };
 
 class ContactPlannerNode {
@@ -90,8 +99,19 @@ class ContactPlannerNode {
   void Plan(const rbcp_msgs::root_path_t& msg);
   /// Horizon mode: keeps a new path as the one to follow.
   void TakePath(const rbcp_msgs::root_path_t& msg);
-  /// Horizon mode: plans from the measured stance of a waiting robot.
+  /// Horizon mode: plans from the measured stance of a waiting robot (or takes the plan made
+  /// ahead when the robot stands where it starts), then plans ahead.
   void Replan(const rbcp_msgs::robot_state_t& state);
+  /// Horizon mode: plans from the stance the published plan's first step leads to.
+  void PlanAhead();
+  /// Horizon mode: drops the plan made ahead when a stance foot slides during the step.
+  void WatchStep(const rbcp_msgs::robot_state_t& state);
+  /// Path sample nearest to a base pose, not behind path_progress_; its horizontal distance in
+  /// *offset_xy.
+  std::size_t PathProgress(const Eigen::Vector3d& base_W, double yaw, double* offset_xy) const;
+  /// Why a measured stance is not the expected one (another foothold, the base beyond
+  /// base_match_m / base_match_rad), or nullopt when it is.
+  std::optional<std::string> StanceDeviation(const WholeBodyState& measured, const WholeBodyState& expected) const;
   /// The path of a message, or the reason it is rejected.
   std::optional<std::string> ToSamples(const rbcp_msgs::root_path_t& msg, std::vector<RootPathSample>* samples) const;
   void LogWaiting();
@@ -114,8 +134,18 @@ class ContactPlannerNode {
   std::vector<RootPathSample> path_;
   int64_t path_request_id_ = 0;
   std::size_t path_progress_ = 0;
+  bool path_stale_ = false;   ///< the terrain changed since the path came: no answer until a new path
+  bool logged_stale_ = false;
   std::optional<int64_t> answered_since_;
   std::optional<ContactPlan> last_plan_;
+  /// The plan made ahead from the stance the robot stands in after the first step of a plan.
+  struct Speculation {
+    int64_t after_plan_seq = 0;  ///< the plan whose first step leads to `expected`
+    WholeBodyState expected;
+    std::size_t progress = 0;    ///< path progress at `expected`
+    ContactPlanResult result;
+  };
+  std::optional<Speculation> next_;
   int64_t plan_seq_ = 0;
   std::optional<ContactPlanResult> last_result_;
   int64_t latest_utime_ = 0;

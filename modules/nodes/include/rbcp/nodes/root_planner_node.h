@@ -46,8 +46,13 @@ class RootPlannerNode {
   /// with use_start = false starts from the latest ROBOT_STATE. Once a path is out, the request
   /// is planned again from the measured base (same request_id and seed) when the terrain or its
   /// surfaces change, and when the robot waits at a step boundary more than
-  /// replan_path_offset_m from the path. Returns true if it planned or rejected an input.
+  /// replan_path_offset_m from the path. A repeat of the request last taken (same id, start, goal
+  /// and seed: the operator repeats it for a restarted planner) is ignored; a request to start
+  /// more than replan_path_offset_m from where the robot stands is planned from the robot.
+  /// Returns true if it planned or rejected an input.
   bool Step();
+  /// Republishes STATUS, and the current ROOT_PATH unchanged (for a contact planner started
+  /// after it went out).
   void Heartbeat();
 
   transport::StatusReporter& status() { return status_; }
@@ -71,7 +76,9 @@ class RootPlannerNode {
   transport::StatusReporter status_;
 
   std::optional<rbcp_msgs::plan_request_t> pending_;
+  std::optional<rbcp_msgs::plan_request_t> handled_;  ///< the latest request taken (repeats of it are ignored)
   std::optional<rbcp_msgs::plan_request_t> active_;  ///< the request of the current path
+  std::optional<rbcp_msgs::root_path_t> published_;  ///< the current path, republished by Heartbeat()
   std::optional<int64_t> checked_wait_;              ///< awaiting_since of the last wait checked
   std::optional<RootPlanResult> last_result_;
   int64_t latest_utime_ = 0;
