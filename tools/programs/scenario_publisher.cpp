@@ -19,6 +19,8 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
@@ -30,6 +32,7 @@
 #include "rbcp/transport/convert.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/run_loop.h"
+#include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
@@ -65,25 +68,55 @@ class StatusBoard {
     return last_failure_;
   }
   const std::optional<rbcp_msgs::process_status_t>& last_failure() const { return last_failure_; }
+  /// "anymal_sim busy, contact_planner ok (restarted 1x), ...": every process heard, by name.
+  std::string States() const {
+    std::string out;
+    for (const auto& [name, p] : processes_) {
+      out += (out.empty() ? "" : ", ") + name + " " + transport::StatusName(p.state);
+      if (p.instances > 1) out += " (restarted " + std::to_string(p.instances - 1) + "x)";
+    }
+    return out;
+  }
+  /// Supervisor events not yet taken (restarts, processes given up on).
+  std::vector<rbcp_msgs::process_status_t> TakeSupervisorEvents() { return std::exchange(supervisor_events_, {}); }
 
  private:
   struct Process {
+    int32_t pid = 0;
+    int instances = 1;    ///< a new pid under the same name is a restarted process
     int64_t handled = 0;  ///< inputs handled when last heard
+    int8_t state = rbcp_msgs::process_status_t::ALIVE;
     std::optional<rbcp_msgs::process_status_t> ok;
   };
   void On(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::process_status_t* msg) {
     auto it = processes_.find(msg->process);
     if (it == processes_.end()) {
-      processes_[msg->process].handled = msg->handled;
+      Process& p = processes_[msg->process];
+      p.pid = msg->pid;
+      p.handled = msg->handled;
+      p.state = msg->state;
       return;
     }
+    it->second.state = msg->state;
+    if (msg->pid != it->second.pid) {
+      // A restarted process counts its inputs from zero again.
+      it->second.pid = msg->pid;
+      it->second.instances += 1;
+      it->second.handled = 0;
+    }
     if (msg->handled <= it->second.handled) return;  // nothing new handled
+    if (msg->process == "supervisor") {
+      it->second.handled = msg->handled;
+      supervisor_events_.push_back(*msg);
+      return;
+    }
     it->second.handled = msg->handled;
     if (msg->state == rbcp_msgs::process_status_t::FAILED) failures_.push_back(*msg);
     if (msg->state == rbcp_msgs::process_status_t::OK) it->second.ok = *msg;
   }
   std::map<std::string, Process> processes_;
   std::vector<rbcp_msgs::process_status_t> failures_;
+  std::vector<rbcp_msgs::process_status_t> supervisor_events_;
   std::optional<rbcp_msgs::process_status_t> last_failure_;
 };
 
@@ -141,10 +174,13 @@ class LoopWatch {
 
 /// --until loop: follows the run until the simulator's verdict, printing progress; returns the
 /// exit status.
-int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenario& scenario, double run_timeout_s,
-               double first_plan_timeout_s, std::string summary) {
+int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenario& scenario,
+               const rbcp_msgs::plan_request_t& request, double run_timeout_s, double first_plan_timeout_s,
+               std::string summary) {
   const auto start = Clock::now();
   auto next_print = start + std::chrono::seconds(5);
+  auto next_request = start + std::chrono::seconds(1);
+  int restarts = 0;
   int planner_failures = 0;
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   const auto finish = [&](int rc, const std::string& outcome) {
@@ -152,7 +188,8 @@ int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenar
     std::ostringstream os;
     os << summary << ", " << outcome << "; " << (s ? FixedNumber(static_cast<double>(s->utime) * 1e-6, 1) : "0")
        << " s simulated in " << FixedNumber(elapsed(), 1) << " s wall, " << (s ? s->steps_done : 0) << " steps, "
-       << watch.record.Plans() << " plans (" << planner_failures << " failed replans), replanning latency median "
+       << watch.record.Plans() << " plans (" << planner_failures << " failed replans), " << restarts
+       << " process restarts, replanning latency median "
        << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
        << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.95), 1) << " ms";
     std::cout << os.str() << std::endl;
@@ -161,6 +198,16 @@ int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenar
   std::cout << "loop: the robot walks to the goal, replanning at every step" << std::endl;
   while (!transport::StopRequested()) {
     lcm.handleTimeout(20);
+    if (Clock::now() >= next_request) {
+      // The goal again (same request), for a root planner that restarted since.
+      next_request += std::chrono::seconds(1);
+      lcm.publish(channels::kPlanRequest, &request);
+    }
+    for (const auto& e : board.TakeSupervisorEvents()) {
+      std::cout << "supervisor: " << e.reason << std::endl;
+      if (e.state == rbcp_msgs::process_status_t::FAILED) return finish(kPlanningFailed, "supervisor: " + e.reason);
+      if (e.reason.find(" restarted (pid ") != std::string::npos) restarts += 1;
+    }
     while (auto f = board.TakeFailure()) {
       if (f->process == "contact_planner") {
         planner_failures += 1;
@@ -184,7 +231,7 @@ int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenar
       const double dx = s.base_position[0] - scenario.goal.position.x(), dy = s.base_position[1] - scenario.goal.position.y();
       std::cout << "loop: " << FixedNumber(static_cast<double>(s.utime) * 1e-6, 1) << " s simulated, " << s.steps_done
                 << " steps, " << FixedNumber(std::hypot(dx, dy), 2) << " m to the goal, " << watch.record.Plans() << " plans"
-                << (s.awaiting_plan ? ", waiting for a plan" : "") << std::endl;
+                << (s.awaiting_plan ? ", waiting for a plan" : "") << "; " << board.States() << std::endl;
     }
   }
   return finish(kNoAnswer, "stopped");
@@ -334,7 +381,7 @@ int main(int argc, char** argv) {
     summary += ", root path of " + FixedNumber(duration_s, 2) + " s" +
                (root_ok ? " in " + FixedNumber(root_ok->compute_ms, 1) + " ms" : std::string());
     if (until == "root") return finish(kOk, "");
-    if (loop) return FollowLoop(*lcm, board, *watch, scenario, sim_timeout_s, timeout_s, summary);
+    if (loop) return FollowLoop(*lcm, board, *watch, scenario, request, sim_timeout_s, timeout_s, summary);
 
     // CONTACT_PLAN along the path, then the independent check.
     std::optional<rbcp_msgs::contact_plan_t> plan_msg;
