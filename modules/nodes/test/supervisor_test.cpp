@@ -250,7 +250,7 @@ TEST(PosixSupervisor, StopsEveryChildAStoppedAndAStubbornOneIncluded) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("rbcp_supervisor_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   SupervisorSpec spec;
-  spec.config.stop_grace_s = 0.5;
+  spec.config.stop_grace_s = 1.0;
   spec.processes = {
       {"polite", {"/bin/sh", "-c", "echo started; exec sleep 30"}, (dir / "polite.log").string()},
       {"stubborn", {"/bin/sh", "-c", "trap '' TERM; echo started; while :; do sleep 0.05; done"}, (dir / "stubborn.log").string()},
@@ -262,7 +262,14 @@ TEST(PosixSupervisor, StopsEveryChildAStoppedAndAStubbornOneIncluded) {
   const int polite = *supervisor.Pid("polite");
   const int stubborn = *supervisor.Pid("stubborn");
   const int stopped = *supervisor.Pid("stopped");
-  WallSleep(0.3);
+  // Each shell has set itself up (the stubborn one ignores SIGTERM) once it said so in its log.
+  const auto said_started = [&](const char* name) {
+    std::ifstream in(dir / name);
+    std::string line;
+    return std::getline(in, line) && line == "started";
+  };
+  for (int i = 0; i < 1000 && !(said_started("polite.log") && said_started("stubborn.log")); ++i) WallSleep(0.01);
+  ASSERT_TRUE(said_started("polite.log") && said_started("stubborn.log"));
   ASSERT_EQ(::kill(stopped, SIGSTOP), 0);
   const std::vector<std::string> lines = supervisor.StopAll(&WallClock, &WallSleep);
   ASSERT_EQ(lines.size(), 1u);
@@ -271,10 +278,6 @@ TEST(PosixSupervisor, StopsEveryChildAStoppedAndAStubbornOneIncluded) {
   EXPECT_FALSE(Alive(stubborn));
   EXPECT_FALSE(Alive(stopped));
   EXPECT_EQ(LiveMembers(stubborn), 0) << "the stubborn shell's own children are gone too";
-  std::ifstream log(dir / "polite.log");
-  std::string first;
-  std::getline(log, first);
-  EXPECT_EQ(first, "started");
   std::filesystem::remove_all(dir);
 }
 
