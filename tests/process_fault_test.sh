@@ -29,7 +29,7 @@ launch_pid=$!
 pid=""
 for _ in $(seq 1 600); do
   if [ -z "$pid" ]; then
-    pid="$(sed -n 's/^\[supervisor\] contact_planner started (pid \([0-9]*\)).*/\1/p' "$dir/supervisor.log" 2>/dev/null | head -n 1)"
+    pid="$(sed -n 's/^\[supervisor\] contact_planner started (pid \([0-9]*\)).*/\1/p' "$dir/supervisor.log" 2>/dev/null | head -n 1 || true)"
   fi
   if [ -n "$pid" ] && grep -q "plan 2:" "$dir/contact_planner.log" 2>/dev/null; then break; fi
   kill -0 "$launch_pid" 2>/dev/null || break

@@ -157,19 +157,21 @@ bool ContactPlannerNode::Step() {
   return true;
 }
 
+bool ContactPlannerNode::IsRepeat(int64_t request_id, const std::vector<RootPathSample>& samples) const {
+  const auto same_sample = [](const RootPathSample& a, const RootPathSample& b) {
+    return a.t == b.t && a.p == b.p && a.v == b.v && a.yaw == b.yaw;
+  };
+  return !path_stale_ && request_id == path_request_id_ && samples.size() == path_.size() &&
+         std::equal(samples.begin(), samples.end(), path_.begin(), same_sample);
+}
+
 void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   std::vector<RootPathSample> samples;
   if (auto problem = ToSamples(msg, &samples)) {
     status_.Failed(Now(), msg.utime, 0.0, *problem);
     return;
   }
-  const auto same_sample = [](const RootPathSample& a, const RootPathSample& b) {
-    return a.t == b.t && a.p == b.p && a.v == b.v && a.yaw == b.yaw;
-  };
-  if (msg.request_id == path_request_id_ && samples.size() == path_.size() &&
-      std::equal(samples.begin(), samples.end(), path_.begin(), same_sample)) {
-    return;  // the root planner repeats its path for late processes: nothing new
-  }
+  if (IsRepeat(msg.request_id, samples)) return;  // the root planner repeats its path for late processes
   if (!path_.empty() && msg.request_id < path_request_id_) return;  // a path for a goal given up since
   path_stale_ = false;
   logged_stale_ = false;
@@ -433,6 +435,11 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
     status_.Failed(Now(), msg.utime, 0.0, *problem);
     return;
   }
+  // The root planner repeats its path for late processes: the plan of it went out already.
+  if (IsRepeat(msg.request_id, samples)) return;
+  path_ = samples;
+  path_request_id_ = msg.request_id;
+  path_stale_ = false;
   try {
     if (verbose_) {
       std::fprintf(stderr, "[%s] planning the whole root path (request %lld): %zu points, %.2f s\n", kProcessName,

@@ -98,6 +98,8 @@ class ContactPlannerNode {
   std::optional<std::string> TakeInputs();
   void Plan(const rbcp_msgs::root_path_t& msg);
   /// Horizon mode: keeps a new path as the one to follow.
+  /// The path of this request as it was taken last (not after a terrain change): a repeat.
+  bool IsRepeat(int64_t request_id, const std::vector<RootPathSample>& samples) const;
   void TakePath(const rbcp_msgs::root_path_t& msg);
   /// Horizon mode: plans from the measured stance of a waiting robot (or takes the plan made
   /// ahead when the robot stands where it starts), then plans ahead.
