@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "rbcp/transport/wire_check.h"
+
 namespace rbcp::testing {
 
 struct RecordedEvent {
@@ -16,7 +18,7 @@ struct RecordedEvent {
 
   template <typename Msg>
   bool DecodeInto(Msg& msg) const {
-    return msg.decode(data.data(), 0, static_cast<int>(data.size())) >= 0;
+    return transport::DecodeMessage(data.data(), data.size(), msg).empty();
   }
 };
 

@@ -37,6 +37,7 @@
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/run_loop.h"
+#include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "view_json.h"
 
@@ -197,7 +198,7 @@ class Hub {
  private:
   template <typename Msg>
   bool Decode(Msg& msg, const void* data, unsigned size) {
-    if (msg.decode(data, 0, static_cast<int>(size)) >= 0) return true;
+    if (rbcp::transport::DecodeMessage(data, size, msg).empty()) return true;
     ++malformed_;
     return false;
   }

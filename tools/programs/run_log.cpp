@@ -18,6 +18,7 @@
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
@@ -29,7 +30,7 @@ using namespace rbcp;
 
 template <typename Msg>
 bool Decode(const lcm::LogEvent& e, Msg* msg) {
-  return msg->decode(e.data, 0, static_cast<int>(e.datalen)) >= 0;
+  return transport::DecodeMessage(e.data, static_cast<std::size_t>(e.datalen), *msg).empty();
 }
 
 }  // namespace

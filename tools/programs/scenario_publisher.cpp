@@ -47,11 +47,15 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kOk = 0, kPlanningFailed = 1, kNoAnswer = 3;
 
+/// A message that cannot be decoded is logged and otherwise ignored.
+void Malformed(const std::string& why) { std::cerr << "scenario_publisher: " << why << "\n"; }
+
 /// Every process's STATUS: whether it was heard, its latest result, and failures on inputs it
 /// handled after it was first heard (a heartbeat repeats an old result; `handled` tells them apart).
 class StatusBoard {
  public:
-  StatusBoard(lcm::LCM& lcm, const std::string& channel) { lcm.subscribe(channel, &StatusBoard::On, this); }
+  StatusBoard(lcm::LCM& lcm, const std::string& channel)
+      : subscription_(lcm, channel, [this](const rbcp_msgs::process_status_t& msg) { On(msg); }, Malformed) {}
 
   bool Heard(const std::string& process) const { return processes_.count(process) > 0; }
   /// The latest OK of the process on an input handled after it was first heard.
@@ -88,7 +92,8 @@ class StatusBoard {
     int8_t state = rbcp_msgs::process_status_t::ALIVE;
     std::optional<rbcp_msgs::process_status_t> ok;
   };
-  void On(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::process_status_t* msg) {
+  void On(const rbcp_msgs::process_status_t& status) {
+    const rbcp_msgs::process_status_t* msg = &status;
     auto it = processes_.find(msg->process);
     if (it == processes_.end()) {
       Process& p = processes_[msg->process];
@@ -118,6 +123,7 @@ class StatusBoard {
   std::vector<rbcp_msgs::process_status_t> failures_;
   std::vector<rbcp_msgs::process_status_t> supervisor_events_;
   std::optional<rbcp_msgs::process_status_t> last_failure_;
+  transport::EveryMessage<rbcp_msgs::process_status_t> subscription_;
 };
 
 enum class Waited { kDone, kFailed, kTimeout, kStopped };
@@ -149,27 +155,27 @@ void Pump(lcm::LCM& lcm, double timeout_s, const std::function<bool()>& done) {
 /// The replanning loop seen from outside: a RunRecord fed with the receive times here.
 class LoopWatch {
  public:
-  explicit LoopWatch(lcm::LCM& lcm) : start_(Clock::now()) {
-    lcm.subscribe(channels::kRobotState, &LoopWatch::OnState, this);
-    lcm.subscribe(channels::kContactPlan, &LoopWatch::OnPlan, this);
-  }
+  explicit LoopWatch(lcm::LCM& lcm)
+      : start_(Clock::now()),
+        states_(lcm, channels::kRobotState, [this](const rbcp_msgs::robot_state_t& msg) { OnState(msg); }, Malformed),
+        plans_(lcm, channels::kContactPlan, [this](const rbcp_msgs::contact_plan_t& msg) { OnPlan(msg); }, Malformed) {}
   nodes::RunRecord record;
 
  private:
   int64_t Now() const {
     return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start_).count();
   }
-  void OnState(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::robot_state_t* msg) {
-    record.OnRobotState(Now(), *msg);
-  }
-  void OnPlan(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::contact_plan_t* msg) {
+  void OnState(const rbcp_msgs::robot_state_t& msg) { record.OnRobotState(Now(), msg); }
+  void OnPlan(const rbcp_msgs::contact_plan_t& msg) {
     try {
-      record.OnContactPlan(Now(), *msg);
+      record.OnContactPlan(Now(), msg);
     } catch (const InputError& e) {
       std::cerr << "scenario_publisher: malformed CONTACT_PLAN: " << e.what() << "\n";
     }
   }
   Clock::time_point start_;
+  transport::EveryMessage<rbcp_msgs::robot_state_t> states_;
+  transport::EveryMessage<rbcp_msgs::contact_plan_t> plans_;
 };
 
 /// --until loop: follows the run until the simulator's verdict, printing progress; returns the

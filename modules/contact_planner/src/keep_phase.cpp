@@ -72,6 +72,14 @@ KeepResult KeepPhase(const PlannerContext& ctx, const PathTrack& path, const Nod
   double t_ok = node.t;
   std::array<double, kNumLegs> ok_stretch = first.stretch;
   while (t_ok < end) {
+    if (ctx.budget.Exhausted()) {
+      // A long path is walked in small steps: the search ends on the budget, not on the path.
+      result.why = "time budget exhausted";
+      std::array<bool, kNumLegs> every{};
+      every.fill(true);
+      finish(t_ok, every, ok_stretch);
+      return result;
+    }
     const double t = std::min(end, t_ok + ctx.config.path_step_s);
     const KeepCheck next = KeepAt(ctx, path, node, t);
     if (next.ok) {

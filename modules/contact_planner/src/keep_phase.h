@@ -38,7 +38,8 @@ struct KeepResult {
 };
 
 /// Advances from node.t in steps of path_step_s while KeepAt holds, then bisects down to
-/// step_time_resolution_s to the last time it holds.
+/// step_time_resolution_s to the last time it holds. Stops where it is, every leg failing, once
+/// the query's time budget is exhausted.
 KeepResult KeepPhase(const PlannerContext& ctx, const PathTrack& path, const Node& node);
 
 }  // namespace rbcp::contact_planner_detail

@@ -171,6 +171,21 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, GoalPlanTest,
                            return std::get<0>(info.param) + "_seed" + std::to_string(std::get<1>(info.param));
                          });
 
+TEST(ContactPlannerTest, APathLastingAlmostForeverEndsOnTheTimeBudget) {
+  // Standing still for 1e7 s: every foot can be kept all along, which the keep phase checks in
+  // steps of path_step_s; the query ends when its budget does.
+  const World& world = ScenarioWorld("flat_ground");
+  ContactPlannerConfig config = PlannerConfig();
+  config.time_budget_s = 0.3;
+  ContactPlanner planner = MakePlanner(world, config);
+  RootPathSample a, b;
+  a.p = b.p = Eigen::Vector3d(0.0, 0.0, Robot().NominalBaseHeight());
+  b.t = 1e7;
+  const ContactPlanResult result = planner.Plan(std::vector<RootPathSample>{a, b});
+  EXPECT_FALSE(result.ok);
+  EXPECT_EQ(result.status, ContactPlanStatus::kTimeout) << result.reason;
+}
+
 TEST(ContactPlannerTest, PathOverAPitIsAnsweredUnreachableBeforeAnyStep) {
   // Two platforms with a 1 m gap: no chain of surfaces joins them.
   const World world = BoxWorld("pit", {{-3.0, -0.5}, {0.5, 3.0}});

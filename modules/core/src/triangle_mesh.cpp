@@ -8,7 +8,8 @@ namespace rbcp {
 void TriangleMesh::Append(const TriangleMesh& other) {
   const int offset = static_cast<int>(vertices.size());
   vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
-  triangles.reserve(triangles.size() + other.triangles.size());
+  // No exact reserve here: the vectors grow geometrically, so appending many small meshes (a
+  // scenario of many boxes) takes time linear in the result.
   for (const auto& t : other.triangles) triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
 }
 

@@ -20,6 +20,22 @@ TEST(TriangleMesh, BoxHasOutwardNormalsAndTheRightArea) {
   EXPECT_EQ(ValidateMesh(box), "");
 }
 
+TEST(TriangleMesh, AppendingManyMeshesReallocatesRarely) {
+  // Reserving exactly the new size on every append reallocates (and copies) every time: time
+  // quadratic in the number of meshes appended.
+  const TriangleMesh box = MakeBoxMesh({0.1, 0.1, 0.1});
+  TriangleMesh all;
+  int reallocations = 0;
+  const std::array<int, 3>* data = all.triangles.data();
+  for (int i = 0; i < 10000; ++i) {
+    all.Append(box);
+    if (all.triangles.data() != data) ++reallocations;
+    data = all.triangles.data();
+  }
+  EXPECT_EQ(all.NumTriangles(), 10000u * box.NumTriangles());
+  EXPECT_LT(reallocations, 40);
+}
+
 TEST(TriangleMesh, AppendOffsetsIndicesAndTransformMoves) {
   TriangleMesh a = MakeBoxMesh({1, 1, 1});
   TriangleMesh b = MakeBoxMesh({1, 1, 1});

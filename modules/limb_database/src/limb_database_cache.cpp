@@ -1,9 +1,13 @@
 // Limb database cache: key, binary file writer and validating reader, LoadOrBuild. The file
 // layout is described in cache_format.h.
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -111,6 +115,60 @@ std::string ReadWholeFile(const std::string& path, bool* ok) {
   return bytes;
 }
 
+/// Creates `dir` and its missing parents owner-only (0700) when `create`. "" when `dir` is then a
+/// real folder (no symbolic link) of this user that no other user may write to; else why not.
+std::string PrivateFolderProblem(const std::filesystem::path& dir, bool create) {
+  if (create) {
+    std::filesystem::path partial;
+    for (const auto& part : dir) {
+      partial /= part;
+      if (::mkdir(partial.c_str(), 0700) != 0 && errno != EEXIST) {
+        return partial.string() + ": cannot create the folder: " + std::strerror(errno);
+      }
+    }
+  }
+  struct stat st {};
+  if (::lstat(dir.c_str(), &st) != 0) return dir.string() + ": " + std::strerror(errno);
+  if (S_ISLNK(st.st_mode)) return dir.string() + " is a symbolic link";
+  if (!S_ISDIR(st.st_mode)) return dir.string() + " is not a folder";
+  if (st.st_uid != ::geteuid()) return dir.string() + " belongs to another user";
+  if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) return dir.string() + " may be written by other users";
+  return "";
+}
+
+/// Reads the file at `path` (a regular file of this user, no symbolic link, at most `max_bytes`
+/// when > 0, checked before reading). Returns "" and fills *bytes, or why not.
+std::string ReadCacheFile(const std::string& path, std::uint64_t max_bytes, std::string* bytes) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) {
+    if (errno == ENOENT) return "no cache file";
+    if (errno == ELOOP) return "a symbolic link, not read";
+    return std::string("unreadable: ") + std::strerror(errno);
+  }
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return std::string("unreadable: ") + std::strerror(errno);
+  if (!S_ISREG(st.st_mode)) return "not a regular file";
+  if (st.st_uid != ::geteuid()) return "belongs to another user, not read";
+  const auto size = static_cast<std::uint64_t>(st.st_size);
+  if (max_bytes > 0 && size > max_bytes) {
+    return std::to_string(size) + " bytes, more than the " + std::to_string(max_bytes) +
+           " a cache of this configuration takes; not read";
+  }
+  bytes->assign(static_cast<std::size_t>(size), '\0');
+  std::size_t done = 0;
+  while (done < bytes->size()) {
+    const ssize_t n = ::read(fd, bytes->data() + done, bytes->size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return "unreadable (shorter than its size)";
+    done += static_cast<std::size_t>(n);
+  }
+  return "";
+}
+
 bool AllFinite(const std::vector<double>& v) {
   for (double x : v) {
     if (!std::isfinite(x)) return false;
@@ -183,7 +241,16 @@ std::uint64_t LimbDatabase::CacheKey(const std::vector<std::string>& robot_files
 }
 
 std::string LimbDatabase::CachePath(const LimbDatabaseConfig& config, std::uint64_t key) {
-  return (std::filesystem::path(config.ResolvedCacheDir()) / ("limb_db_" + Hex(key) + ".bin")).string();
+  const std::string dir = config.ResolvedCacheDir();
+  if (dir.empty()) return "";
+  return (std::filesystem::path(dir) / ("limb_db_" + Hex(key) + ".bin")).string();
+}
+
+std::uint64_t LimbDatabase::MaxCacheBytes(int samples_per_leg) {
+  const auto n = static_cast<std::uint64_t>(std::max(samples_per_leg, 0));
+  const std::uint64_t per_sample = 7 * sizeof(double) + sizeof(CellRecord);  // q, foot, score; a cell at most
+  const std::uint64_t per_leg = 2 * sizeof(std::uint64_t) + sizeof(LegData::draws) + n * per_sample;
+  return kHeaderBytes + sizeof(double) + kNumLegs * per_leg;
 }
 
 void LimbDatabase::Save(const std::string& path, std::uint64_t key) const {
@@ -210,17 +277,27 @@ void LimbDatabase::Save(const std::string& path, std::uint64_t key) const {
 
   const std::filesystem::path target(path);
   std::error_code ec;
-  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path(), ec);
-  if (ec) throw std::runtime_error(path + ": cannot create the cache folder: " + ec.message());
+  const std::string unsafe = PrivateFolderProblem(target.has_parent_path() ? target.parent_path() : ".", true);
+  if (!unsafe.empty()) throw std::runtime_error(path + ": no private cache folder: " + unsafe);
   static std::atomic<unsigned> counter{0};
   const std::string temp =
       path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
   {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    out.write(header.data(), static_cast<std::streamsize>(header.size()));
-    out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
-    out.close();
-    if (!out) {
+    // A new file of this user only: an existing file or link of that name is not written through.
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0) throw std::runtime_error(temp + ": cannot create the limb database cache: " + std::strerror(errno));
+    bool written = true;
+    for (const std::string* part : {&header, &payload}) {
+      std::size_t done = 0;
+      while (written && done < part->size()) {
+        const ssize_t n = ::write(fd, part->data() + done, part->size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) written = false;
+        else done += static_cast<std::size_t>(n);
+      }
+    }
+    if (::close(fd) != 0) written = false;
+    if (!written) {
       std::filesystem::remove(temp, ec);
       throw std::runtime_error(temp + ": cannot write the limb database cache");
     }
@@ -234,17 +311,18 @@ void LimbDatabase::Save(const std::string& path, std::uint64_t key) const {
 }
 
 std::optional<LimbDatabase> LimbDatabase::Load(const std::string& path, std::uint64_t expected_key,
-                                               std::string* reason) {
+                                               std::string* reason, std::uint64_t max_bytes) {
   auto fail = [&](const std::string& why) -> std::optional<LimbDatabase> {
     if (reason) *reason = path + ": " + why;
     return std::nullopt;
   };
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return fail("no cache file");
-  if (!std::filesystem::is_regular_file(path, ec)) return fail("not a regular file");
-  bool ok = false;
-  const std::string bytes = ReadWholeFile(path, &ok);
-  if (!ok) return fail("unreadable");
+  std::string bytes;
+  const std::string unreadable = ReadCacheFile(path, max_bytes, &bytes);
+  if (!unreadable.empty()) return fail(unreadable);
+  // A file in a folder others can write to may have been planted there.
+  const std::filesystem::path file(path);
+  const std::string unsafe = PrivateFolderProblem(file.has_parent_path() ? file.parent_path() : ".", false);
+  if (!unsafe.empty()) return fail("the cache folder is not private: " + unsafe);
   if (bytes.size() < kHeaderBytes) return fail("truncated header (" + std::to_string(bytes.size()) + " bytes)");
   if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) return fail("not a limb database cache (bad magic)");
   Reader header(bytes.data() + sizeof(kMagic), kHeaderBytes - sizeof(kMagic));
@@ -297,8 +375,13 @@ LimbDatabase LimbDatabase::LoadOrBuild(const RobotModel& model, const std::vecto
   r = LimbDatabaseCacheReport();
   r.key = CacheKey(robot_files, config);
   r.cache_path = CachePath(config, r.key);
+  if (r.cache_path.empty()) {
+    r.rebuild_reason = r.write_error =
+        "no cache folder: XDG_CACHE_HOME and HOME are unset and the user has no home folder";
+    return Build(model, config);
+  }
   std::string reason;
-  std::optional<LimbDatabase> cached = Load(r.cache_path, r.key, &reason);
+  std::optional<LimbDatabase> cached = Load(r.cache_path, r.key, &reason, MaxCacheBytes(config.samples_per_leg));
   if (cached && cached->Resolution() == config.octree_resolution && cached->NumSamples(Leg::kLF) == config.samples_per_leg) {
     r.loaded = true;
     return std::move(*cached);

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cstring>
 #include <filesystem>
@@ -94,6 +95,57 @@ TEST(LimbDatabaseCache, SaveThenLoadGivesIdenticalData) {
   // Another key is refused.
   EXPECT_FALSE(LimbDatabase::Load(path, 43, &reason));
   EXPECT_NE(reason.find("key"), std::string::npos) << reason;
+}
+
+mode_t ModeOf(const std::string& path) {
+  struct stat st {};
+  EXPECT_EQ(::lstat(path.c_str(), &st), 0) << path;
+  return st.st_mode & 07777;
+}
+
+TEST(LimbDatabaseCache, TheFolderIsPrivateAndNoLinkIsFollowed) {
+  ScratchDir dir;
+  const LimbDatabase built = LimbDatabase::Build(Anymal(), SmallConfig(kSamples));
+  const std::string path = dir.path() + "/a/b/db.bin";
+  built.Save(path, 42);
+  EXPECT_EQ(ModeOf(dir.path() + "/a"), 0700u);
+  EXPECT_EQ(ModeOf(dir.path() + "/a/b"), 0700u);
+  EXPECT_EQ(ModeOf(path) & 077u, 0u) << "the file is the owner's only";
+  std::string reason;
+  ASSERT_TRUE(LimbDatabase::Load(path, 42, &reason)) << reason;
+
+  // A cache file that is a symbolic link (to a valid cache) is not read.
+  fs::create_symlink(path, dir.path() + "/a/b/link.bin");
+  EXPECT_FALSE(LimbDatabase::Load(dir.path() + "/a/b/link.bin", 42, &reason));
+  EXPECT_NE(reason.find("symbolic link"), std::string::npos) << reason;
+
+  // A cache folder that is a symbolic link is neither read from nor written to.
+  fs::create_directory_symlink(dir.path() + "/a/b", dir.path() + "/planted");
+  EXPECT_FALSE(LimbDatabase::Load(dir.path() + "/planted/db.bin", 42, &reason));
+  EXPECT_NE(reason.find("is a symbolic link"), std::string::npos) << reason;
+  EXPECT_THROW(built.Save(dir.path() + "/planted/other.bin", 42), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir.path() + "/a/b/other.bin"));
+
+  // A folder others may write to is not trusted.
+  fs::permissions(dir.path() + "/a/b", fs::perms::all);
+  EXPECT_FALSE(LimbDatabase::Load(path, 42, &reason));
+  EXPECT_NE(reason.find("may be written by other users"), std::string::npos) << reason;
+  EXPECT_THROW(built.Save(path, 42), std::runtime_error);
+}
+
+TEST(LimbDatabaseCache, AFileLargerThanTheConfigurationWritesIsNotRead) {
+  ScratchDir dir;
+  const LimbDatabase built = LimbDatabase::Build(Anymal(), SmallConfig(kSamples));
+  const std::string path = dir.path() + "/db.bin";
+  built.Save(path, 42);
+  const std::uint64_t limit = LimbDatabase::MaxCacheBytes(kSamples);
+  EXPECT_LE(fs::file_size(path), limit) << "a real cache fits the limit";
+  std::string reason;
+  ASSERT_TRUE(LimbDatabase::Load(path, 42, &reason, limit)) << reason;
+  // Grown (sparse: no disk used) to 4 GB: refused from its size, before anything is read.
+  fs::resize_file(path, std::uint64_t{1} << 32);
+  EXPECT_FALSE(LimbDatabase::Load(path, 42, &reason, limit));
+  EXPECT_NE(reason.find("4294967296 bytes, more than the " + std::to_string(limit)), std::string::npos) << reason;
 }
 
 TEST(LimbDatabaseCache, LoadOrBuildBuildsOnceThenLoads) {

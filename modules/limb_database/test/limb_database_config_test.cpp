@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <cstdlib>
 
 #include "limb_database_test_util.h"
@@ -76,6 +78,24 @@ TEST(LimbDatabaseConfig, DefaultCacheFolderFollowsXdg) {
   ::unsetenv("XDG_CACHE_HOME");
   EXPECT_NE(c.ResolvedCacheDir().find("rbcp/limb_database"), std::string::npos);
   if (old_xdg) ::setenv("XDG_CACHE_HOME", saved.c_str(), 1);
+}
+
+TEST(LimbDatabaseConfig, WithoutHomeTheCacheNeverFallsBackToTheSharedTemporaryFolder) {
+  const char* old_xdg = std::getenv("XDG_CACHE_HOME");
+  const char* old_home = std::getenv("HOME");
+  const std::string saved_xdg = old_xdg ? old_xdg : "", saved_home = old_home ? old_home : "";
+  ::unsetenv("XDG_CACHE_HOME");
+  ::unsetenv("HOME");
+  const std::string dir = LimbDatabaseConfig{}.ResolvedCacheDir();
+  ::setenv("XDG_CACHE_HOME", "relative/xdg", 1);  // ignored, as the XDG specification says
+  const std::string relative = LimbDatabaseConfig{}.ResolvedCacheDir();
+  if (old_xdg) ::setenv("XDG_CACHE_HOME", saved_xdg.c_str(), 1); else ::unsetenv("XDG_CACHE_HOME");
+  if (old_home) ::setenv("HOME", saved_home.c_str(), 1);
+  // The home folder of the password database, or no cache at all.
+  const std::string temp = std::filesystem::temp_directory_path().string();
+  EXPECT_NE(dir.rfind(temp, 0), 0u) << dir;
+  if (!dir.empty()) EXPECT_EQ(dir.front(), '/') << dir;
+  EXPECT_EQ(relative, dir);
 }
 
 }  // namespace

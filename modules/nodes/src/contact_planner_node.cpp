@@ -19,14 +19,8 @@
 namespace rbcp::nodes {
 namespace {
 
-double YawOf(const double q[4]) {  // (w, x, y, z), base to world
-  return std::atan2(2.0 * (q[0] * q[3] + q[1] * q[2]), 1.0 - 2.0 * (q[2] * q[2] + q[3] * q[3]));
-}
-
 /// How far the trunk may be beyond the terrain's horizontal bounds, feet still on the terrain [m].
 constexpr double kTerrainMargin_m = 0.5;
-
-double QuaternionNorm(const double q[4]) { return std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]); }
 
 std::string Summary(const ContactPlanResult& r, int horizon_steps) {
   std::ostringstream os;
@@ -381,31 +375,14 @@ void ContactPlannerNode::WatchStep(const rbcp_msgs::robot_state_t& msg) {
 
 std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_path_t& msg,
                                                          std::vector<RootPathSample>* samples) const {
-  if (msg.num_points < 0 || msg.points.size() != static_cast<std::size_t>(msg.num_points)) {
-    return "root path: count " + std::to_string(msg.num_points) + " disagrees with " +
-           std::to_string(msg.points.size()) + " points";
+  try {
+    *samples = transport::FromRootPathMsg(msg, options_.max_path_duration_s);
+  } catch (const InputError& e) {
+    return std::string(e.what());
   }
-  if (msg.points.empty()) return std::string("root path: no point");
-  samples->clear();
-  samples->reserve(msg.points.size());
-  for (std::size_t i = 0; i < msg.points.size(); ++i) {
-    const auto& in = msg.points[i];
+  for (std::size_t i = 0; i < samples->size(); ++i) {
+    const RootPathSample& s = (*samples)[i];
     const std::string what = "root path: point " + std::to_string(i);
-    if (!std::isfinite(in.t) || !transport::AllFinite(in.position, 3) || !transport::AllFinite(in.velocity, 3) ||
-        !transport::AllFinite(in.orientation, 4)) {
-      return what + " is not finite";
-    }
-    if (std::abs(QuaternionNorm(in.orientation) - 1.0) > 1e-3) return what + ": orientation is not a unit quaternion";
-    if (i > 0 && !(in.t > msg.points[i - 1].t)) {
-      return what + ": times must increase, got t = " + std::to_string(in.t) + " s after " +
-             std::to_string(msg.points[i - 1].t) + " s";
-    }
-    RootPathSample s;
-    s.t = in.t;
-    s.p = Eigen::Vector3d(in.position[0], in.position[1], in.position[2]);
-    s.v = Eigen::Vector3d(in.velocity[0], in.velocity[1], in.velocity[2]);
-    s.yaw = YawOf(in.orientation);
-    s.rest_yaw = s.yaw;
     const Eigen::Vector2d xy = s.p.head<2>();
     if ((xy.array() < terrain_min_xy_.array() - kTerrainMargin_m).any() ||
         (xy.array() > terrain_max_xy_.array() + kTerrainMargin_m).any()) {
@@ -414,7 +391,6 @@ std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_p
          << terrain_max_xy_.x() << "], y in [" << terrain_min_xy_.y() << ", " << terrain_max_xy_.y() << "])";
       return os.str();
     }
-    samples->push_back(s);
   }
   // The robot stands at the path start: there must be terrain below it (elsewhere the trunk may
   // pass over gaps with its feet on either side).

@@ -11,15 +11,6 @@
 namespace rbcp::nodes {
 namespace {
 
-std::string CheckRequest(const rbcp_msgs::plan_request_t& r) {
-  if (!transport::AllFinite(r.goal_position, 3) || !std::isfinite(r.goal_yaw)) return "plan request: goal is not finite";
-  if (r.use_start && (!transport::AllFinite(r.start_position, 3) || !std::isfinite(r.start_yaw))) {
-    return "plan request: start is not finite";
-  }
-  if (!std::isfinite(r.time_budget)) return "plan request: time_budget is not finite";
-  return {};
-}
-
 /// The same goal from the same start with the same seed (the utime and the budget may differ).
 bool SameRequest(const rbcp_msgs::plan_request_t& a, const rbcp_msgs::plan_request_t& b) {
   const auto same3 = [](const double x[3], const double y[3]) { return x[0] == y[0] && x[1] == y[1] && x[2] == y[2]; };
@@ -53,7 +44,7 @@ std::optional<std::string> RootPlannerNode::TakeInputs() {
   if (auto e = world_.Take(&latest_utime_)) return e;
   if (auto msg = request_.Take()) {
     latest_utime_ = std::max(latest_utime_, msg->utime);
-    const std::string problem = CheckRequest(*msg);
+    const std::string problem = transport::CheckPlanRequest(*msg, options_.max_time_budget_s);
     if (!problem.empty()) return problem;
     // The operator repeats its request so that a restarted planner gets it: a repeat of the
     // request already handled is no new work.
@@ -126,15 +117,23 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
       return;
     }
   }
-  const auto start = planner_.StandingPosition(*world_.terrain(), start_xy);
-  const auto goal = planner_.StandingPosition(*world_.terrain(), {request.goal_position[0], request.goal_position[1]});
-  if (!start || !goal) {
-    status_.Failed(Now(), request.utime, 0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
+  try {
+    const auto start = planner_.StandingPosition(*world_.terrain(), start_xy);
+    const auto goal = planner_.StandingPosition(*world_.terrain(), {request.goal_position[0], request.goal_position[1]});
+    if (!start || !goal) {
+      status_.Failed(Now(), request.utime, 0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
+      return;
+    }
+    const double budget = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
+    last_result_ = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw,
+                                 static_cast<unsigned>(request.seed), budget);
+  } catch (const std::exception& e) {
+    // The inputs were validated; what the planner still rejects fails this request, not the process.
+    last_result_.reset();
+    published_.reset();
+    status_.Failed(Now(), request.utime, 0.0, std::string("cannot plan: ") + e.what());
     return;
   }
-  const double budget = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
-  last_result_ = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw,
-                               static_cast<unsigned>(request.seed), budget);
   const double ms = 1000.0 * last_result_->planning_time_s;
   if (!last_result_->ok()) {
     published_.reset();

@@ -8,6 +8,7 @@
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/run_loop.h"
 #include "rbcp/transport/status_reporter.h"
+#include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/process_status_t.hpp"
 
 namespace rbcp::nodes {
@@ -31,7 +32,7 @@ class StatusListener {
  private:
   void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
     rbcp_msgs::process_status_t msg;
-    if (msg.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
+    if (!transport::DecodeMessage(rbuf->data, rbuf->data_size, msg).empty()) {
       ++malformed_;
       return;
     }

@@ -16,21 +16,32 @@ std::optional<std::string> WorldInput::Take(int64_t* latest_utime) {
   if (auto e = affordances_msg_.TakeDecodeError()) return e;
   if (auto msg = terrain_msg_.Take()) {
     *latest_utime = std::max(*latest_utime, msg->utime);
+    // A new terrain makes the surfaces of older terrains stale: they wait for their own.
+    const auto new_terrain = [&] {
+      terrain_since_ = msg->utime;
+      changed_ = true;
+      if (surfaces_ && surfaces_utime_ < terrain_since_) surfaces_.reset();
+    };
     try {
       TriangleMesh mesh = transport::FromTerrainMsg(*msg);
       // The simulator republishes the same terrain for late processes: only new content counts.
       if (!terrain_ || mesh.vertices != terrain_->vertices || mesh.triangles != terrain_->triangles) {
         terrain_ = std::move(mesh);
-        changed_ = true;
+        new_terrain();
+      } else if (msg->utime < terrain_since_) {
+        terrain_since_ = msg->utime;  // a restarted world counts its time from 0 again
       }
     } catch (const InputError& e) {
       terrain_.reset();
-      changed_ = true;
+      new_terrain();
       return std::string(e.what());
     }
   }
   if (auto msg = affordances_msg_.Take()) {
     *latest_utime = std::max(*latest_utime, msg->utime);
+    // Surfaces carry the utime of the terrain they were extracted from: older ones are stale.
+    if (msg->utime < terrain_since_) return std::nullopt;
+    surfaces_utime_ = msg->utime;
     try {
       std::vector<AffordanceSurface> surfaces = transport::FromAffordanceMsg(*msg);
       const auto same = [](const AffordanceSurface& a, const AffordanceSurface& b) {

@@ -160,6 +160,11 @@ TEST_F(ContactPlannerNodeTest, InvalidPathsFailWithAReasonAndNoPlan) {
                            " at (40, 0) is off the terrain (x in [-1.75, 6.75], y in [-1.5, 1.5])");
 
   path = FlatGroundRootPath();
+  for (auto& p : path.points) p.t *= 1e8;  // spanning about 1e9 s
+  const std::string duration = std::to_string(path.points.back().t - path.points.front().t);
+  ExpectRejected(path, "root path: lasts " + duration + " s, more than the limit of 3600 s");
+
+  path = FlatGroundRootPath();
   path.points.front().position[0] = -2.0;  // 0.25 m beyond the floor's edge
   ExpectRejected(path, "root path: the start (-2, 0) is not above the terrain");
   EXPECT_FALSE(node_->last_result().has_value());

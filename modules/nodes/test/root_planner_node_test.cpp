@@ -164,5 +164,79 @@ TEST_F(RootPlannerNodeTest, BadRequestsFailWithAReason) {
   EXPECT_FALSE(path_.Take().has_value());
 }
 
+TEST_F(RootPlannerNodeTest, SurfacesWithoutUnitNormalsFailAndTheNextValidWorldIsPlannedOn) {
+  const Scenario scenario = LoadScenario(kConfig + "/scenarios/flat_ground.yaml");
+  const auto surfaces = AffordanceExtractor(AffordanceConfig::Load(YamlMap::LoadFile(kConfig + "/affordance.yaml")))
+                            .Extract(scenario.terrain_mesh);
+  const auto terrain = transport::ToTerrainMsg(scenario.terrain_mesh, 100, scenario.name);
+  auto affordances = transport::ToAffordanceMsg(surfaces, 100);
+  ASSERT_FALSE(affordances.surfaces.empty());
+  for (double& n : affordances.surfaces[0].normal) n = 0.0;
+  lcm_.publish(channels::kTerrain, &terrain);
+  lcm_.publish(channels::kAffordances, &affordances);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_EQ(status_.Latest()->reason,
+            "affordance surface 0: expected a unit normal, got (0, 0, 0) of norm 0.000000");
+
+  const auto request = Request(0.0, 1.5, 11);
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  EXPECT_FALSE(node_.Step()) << "no valid surfaces: the request waits";
+  EXPECT_FALSE(path_.Take().has_value());
+
+  affordances.surfaces[0].normal[2] = 1.0;
+  lcm_.publish(channels::kAffordances, &affordances);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  ASSERT_TRUE(path_.Take().has_value()) << status_.Latest()->reason;
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
+}
+
+TEST_F(RootPlannerNodeTest, ATimeBudgetBeyondTheLimitIsRejected) {
+  PublishWorld("flat_ground");
+  auto request = Request(0.0, 1.5, 12);
+  request.time_budget = 1e9;
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_EQ(status_.Latest()->reason, "plan request: time_budget 1000000000.000000 s exceeds the limit of 60 s");
+  EXPECT_FALSE(path_.Take().has_value());
+}
+
+TEST_F(RootPlannerNodeTest, ANewTerrainIsNeverPairedWithTheSurfacesOfTheOldOne) {
+  PublishWorld("flat_ground");  // terrain and surfaces at utime 100
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  // A new terrain (another floor) whose surfaces have not come: the old surfaces are stale.
+  const Scenario other = LoadScenario(kConfig + "/scenarios/plinth.yaml");
+  const auto terrain = transport::ToTerrainMsg(other.terrain_mesh, 300, other.name);
+  lcm_.publish(channels::kTerrain, &terrain);
+  const auto request = Request(0.0, 1.5, 13);
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  EXPECT_FALSE(node_.Step()) << "the request waits for the new terrain's surfaces";
+  EXPECT_FALSE(path_.Take().has_value());
+  // Surfaces extracted from the old terrain, arriving late, are not the new terrain's either.
+  const auto stale = transport::ToAffordanceMsg({}, 100);
+  lcm_.publish(channels::kAffordances, &stale);
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  // The new terrain's surfaces, even none at all, pair with it.
+  const auto none = transport::ToAffordanceMsg({}, 300);
+  lcm_.publish(channels::kAffordances, &none);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_FALSE(path_.Take().has_value());
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(status_.Latest()->reason.find("no contact surfaces"), std::string::npos) << status_.Latest()->reason;
+}
+
 }  // namespace
 }  // namespace rbcp::nodes

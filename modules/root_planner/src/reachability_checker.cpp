@@ -100,7 +100,9 @@ struct ReachabilityChecker::Impl {
   long queries = 0;
 
   // Vertical-ray lookup of the terrain triangles: non-vertical triangles by xy grid cell.
-  double cell = 0.1;
+  static constexpr double kMinCell = 0.1;           // [m]
+  static constexpr double kMaxGridEntries = 1.0e6;  // (triangle, cell) pairs per grid
+  double cell = kMinCell;
   std::vector<std::array<Eigen::Vector3d, 3>> ray_triangles;
   std::vector<double> ray_normal_z;
   std::unordered_map<std::uint64_t, std::vector<int>> grid;
@@ -117,6 +119,31 @@ struct ReachabilityChecker::Impl {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
   }
   long CellIndex(double x) const { return static_cast<long>(std::floor(x / cell)); }
+
+  /// Grid cells (listed, summed over the triangles) the xy bounds of every triangle cover with
+  /// cells of `size`.
+  static double Entries(const std::vector<Aabb>& boxes, double size) {
+    double entries = 0.0;
+    for (const Aabb& b : boxes) {
+      const double nx = std::floor(b.hi.x() / size) - std::floor(b.lo.x() / size) + 1.0;
+      const double ny = std::floor(b.hi.y() / size) - std::floor(b.lo.y() / size) + 1.0;
+      entries += nx * ny;
+    }
+    return entries;
+  }
+
+  /// The cell size: kMinCell, doubled until the grids list at most kMaxGridEntries triangles in
+  /// all (or at most 4 per triangle, with cells as large as the terrain), so that their memory
+  /// grows with the number of triangles and not with the terrain's area.
+  void ChooseCell(const TriangleMesh& mesh) {
+    std::vector<Aabb> boxes;
+    boxes.reserve(mesh.NumTriangles());
+    for (std::size_t t = 0; t < mesh.NumTriangles(); ++t) boxes.push_back(Bounds({mesh.Corner(t, 0), mesh.Corner(t, 1), mesh.Corner(t, 2)}));
+    const Eigen::Vector3d extent = terrain_box.hi - terrain_box.lo;
+    const double largest = std::max({extent.x(), extent.y(), kMinCell});
+    cell = kMinCell;
+    while (cell < largest && Entries(boxes, cell) > kMaxGridEntries) cell *= 2.0;
+  }
 
   void BuildBoxGrid(const TriangleMesh& mesh) {
     for (std::size_t t = 0; t < mesh.NumTriangles(); ++t) {
@@ -255,6 +282,7 @@ ReachabilityChecker::ReachabilityChecker(const TriangleMesh& terrain, const std:
   if (!(surface_depth > 0.0)) throw InputError("reachability checker: expected a surface depth > 0 m");
   Impl& m = *impl_;
   m.terrain_box = Bounds(terrain.vertices);
+  m.ChooseCell(terrain);
   m.BuildRayGrid(terrain);
   m.BuildBoxGrid(terrain);
 

@@ -43,6 +43,23 @@ TEST_F(ReachabilityTest, StandingOnFlatGroundIsValid) {
   EXPECT_TRUE(checker.IsValid({0.0, 0.0, Height() + 0.05}, 0.0));
 }
 
+TEST_F(ReachabilityTest, AKilometreFloorOfTwoTrianglesTakesLittleMemory) {
+  // The grids' cells grow with the terrain so that their size follows the triangle count, not
+  // the area: with 0.1 m cells this floor alone would list 10^8 cells.
+  TriangleMesh floor;
+  floor.vertices = {{-500, -500, 0}, {500, -500, 0}, {500, 500, 0}, {-500, 500, 0}};
+  floor.triangles = {{0, 1, 2}, {0, 2, 3}};
+  AffordanceSurface surface;
+  surface.vertices = floor.vertices;
+  surface.normal = Eigen::Vector3d::UnitZ();
+  surface.area = 1e6;
+  ReachabilityChecker checker(floor, {surface}, roms_, trunk_);
+  EXPECT_TRUE(checker.IsValid({120.0, -40.0, Height()}, 0.3));
+  const ReachabilityReport low = checker.Check({120.0, -40.0, 0.3}, 0.0);
+  EXPECT_TRUE(low.trunk_collision) << "the coarser grid still finds the floor";
+  EXPECT_FALSE(checker.IsValid({120.0, -40.0, -0.5}, 0.0)) << "below the floor";
+}
+
 TEST_F(ReachabilityTest, TooHighOrTooLowIsInvalid) {
   auto checker = Make(MakePlatforms({{-3.0, 3.0}}));
   const ReachabilityReport high = checker.Check({0.0, 0.0, 1.0}, 0.0);

@@ -1,3 +1,4 @@
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -6,13 +7,119 @@
 #include <assimp/Importer.hpp>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "rbcp/core/error.h"
 #include "rbcp/scenario/scenario.h"
 
 namespace rbcp {
+namespace {
+
+/// The file system as the importer sees it: the mesh file named and nothing else. An OBJ's
+/// mtllib line, for one, may name any file; a missing material leaves the default one.
+class OnlyTheMeshFile : public Assimp::DefaultIOSystem {
+ public:
+  explicit OnlyTheMeshFile(std::string path) : path_(std::move(path)) {}
+  bool Exists(const char* file) const override { return file && path_ == file && DefaultIOSystem::Exists(file); }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (!file || path_ != file) return nullptr;
+    return DefaultIOSystem::Open(file, mode);
+  }
+
+ private:
+  std::string path_;
+};
+
+/// Bytes of one value of a PLY scalar type, 0 for an unknown type.
+std::uint64_t PlyTypeBytes(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" || type == "float32") {
+    return 4;
+  }
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+/// Throws InputError when the element counts a PLY header declares need more bytes than the file
+/// holds (the importer would allocate them first): every element instance takes at least its
+/// properties' sizes (binary; an empty list its count) or two characters a property (ASCII).
+void CheckPlyCounts(const std::string& path, std::uint64_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, format;
+  std::uint64_t header_bytes = 0;
+  struct Element {
+    std::string name;
+    std::uint64_t count = 0;
+    std::uint64_t min_bytes = 0;
+  };
+  std::vector<Element> elements;
+  while (std::getline(in, line) && header_bytes < 65536) {
+    header_bytes += line.size() + 1;
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "end_header") break;
+    if (keyword == "format") words >> format;
+    if (keyword == "element") {
+      Element e;
+      words >> e.name >> e.count;
+      if (!words) throw InputError(path + ": malformed PLY element line '" + line + "'");
+      elements.push_back(e);
+    }
+    if (keyword == "property" && !elements.empty()) {
+      std::string type;
+      words >> type;
+      if (format == "ascii") {
+        elements.back().min_bytes += 2;
+      } else if (type == "list") {
+        std::string count_type;
+        words >> count_type;
+        elements.back().min_bytes += std::max<std::uint64_t>(1, PlyTypeBytes(count_type));
+      } else {
+        elements.back().min_bytes += std::max<std::uint64_t>(1, PlyTypeBytes(type));
+      }
+    }
+  }
+  const std::uint64_t body = file_size > header_bytes ? file_size - header_bytes : 0;
+  std::uint64_t needed = 0;
+  for (const Element& e : elements) {
+    if (e.min_bytes == 0) continue;
+    if (e.count > (body - std::min(needed, body)) / e.min_bytes) {
+      throw InputError(path + ": the PLY header declares " + std::to_string(e.count) + " " + e.name +
+                       " elements, more than the file's " + std::to_string(body) + " bytes after the header hold");
+    }
+    needed += e.count * e.min_bytes;
+  }
+}
+
+/// Throws InputError when a binary STL declares more triangles than the file holds (50 bytes
+/// each after the 84-byte header).
+void CheckStlCount(const std::string& path, std::uint64_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  char head[84] = {};
+  if (file_size < 84 || !in.read(head, sizeof(head))) return;  // too short for binary: ASCII or invalid
+  if (std::strncmp(head, "solid", 5) == 0) {
+    // "solid" starts an ASCII STL, but also some binary headers: binary only if the size matches.
+    std::uint32_t n = 0;
+    std::memcpy(&n, head + 80, sizeof(n));
+    if (84 + 50 * static_cast<std::uint64_t>(n) != file_size) return;
+  }
+  std::uint32_t count = 0;
+  std::memcpy(&count, head + 80, sizeof(count));  // little-endian, as STL is
+  const std::uint64_t needed = 84 + 50 * static_cast<std::uint64_t>(count);
+  if (needed > file_size) {
+    throw InputError(path + ": the binary STL declares " + std::to_string(count) + " triangles (" +
+                     std::to_string(needed) + " bytes), the file has " + std::to_string(file_size));
+  }
+}
+
+}  // namespace
 
 TriangleMesh LoadMeshFile(const std::string& path, double scale) {
   if (!(scale > 0.0) || !std::isfinite(scale)) {
@@ -28,8 +135,13 @@ TriangleMesh LoadMeshFile(const std::string& path, double scale) {
   }
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": mesh file not found");
+  const std::uint64_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path + ": cannot read the mesh file's size: " + ec.message());
+  if (ext == ".ply") CheckPlyCounts(path, file_size);
+  if (ext == ".stl") CheckStlCount(path, file_size);
 
   Assimp::Importer importer;
+  importer.SetIOHandler(new OnlyTheMeshFile(path));  // the importer owns it
   // Points and lines carry no surface: drop them instead of passing them on as triangles.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // Only positions matter; without the per-face normals of STL, vertices at one place are joined.

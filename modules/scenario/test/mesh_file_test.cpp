@@ -1,4 +1,8 @@
 #include <gtest/gtest.h>
+#include <sys/inotify.h>
+#include <unistd.h>
+
+#include <fstream>
 
 #include "rbcp/core/error.h"
 #include "rbcp/scenario/scenario.h"
@@ -24,6 +28,59 @@ std::string LoadError(const std::string& path, double scale) {
     return e.what();
   }
   return "no error";
+}
+
+void WriteFile(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+TEST(LoadMeshFile, DeclaredCountsBeyondTheFileAreRejectedBeforeAllocating) {
+  test::ScratchDir dir;
+  // A PLY of a few hundred bytes declaring four billion vertices.
+  const auto ply = dir.path() / "huge.ply";
+  WriteFile(ply,
+            "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+                std::string(64, '\0'));
+  EXPECT_EQ(LoadError(ply.string(), 1.0),
+            ply.string() + ": the PLY header declares 4000000000 vertex elements, more than the file's 64 bytes "
+                           "after the header hold");
+  // The same in ASCII.
+  const auto ascii = dir.path() / "huge_ascii.ply";
+  WriteFile(ascii, "ply\nformat ascii 1.0\nelement vertex 3000000000\nproperty float x\nproperty float y\n"
+                   "property float z\nend_header\n0 0 0\n");
+  EXPECT_NE(LoadError(ascii.string(), 1.0).find("declares 3000000000 vertex elements"), std::string::npos);
+  // A binary STL declaring 2^32 - 1 triangles with one in the file.
+  std::string stl(84 + 50, '\0');
+  stl.replace(0, 6, "binary");
+  for (int i = 80; i < 84; ++i) stl[static_cast<std::size_t>(i)] = '\xff';
+  const auto big_stl = dir.path() / "huge.stl";
+  WriteFile(big_stl, stl);
+  EXPECT_EQ(LoadError(big_stl.string(), 1.0), big_stl.string() +
+                                                  ": the binary STL declares 4294967295 triangles (214748364834 "
+                                                  "bytes), the file has 134");
+}
+
+TEST(LoadMeshFile, AnObjMaterialLineOpensNoOtherFile) {
+  test::ScratchDir dir;
+  const auto secret = dir.path() / "secret.mtl";
+  WriteFile(secret, "newmtl stone\nKd 0.5 0.5 0.5\n");
+  const auto obj = dir.path() / "ramp.obj";
+  WriteFile(obj, "mtllib secret.mtl\nusemtl stone\n" + test::ReadText(DataPath("meshes/ramp.obj")));
+  // Every open of the material file shows up as an inotify event.
+  const int watch = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  ASSERT_GE(watch, 0);
+  ASSERT_GE(::inotify_add_watch(watch, secret.c_str(), IN_OPEN), 0);
+  const TriangleMesh m = LoadMeshFile(obj.string(), 0.01);
+  EXPECT_EQ(m.NumTriangles(), 8u);
+  alignas(inotify_event) char events[4096];
+  const ssize_t n = ::read(watch, events, sizeof(events));
+  EXPECT_LT(n, 0) << "the loader opened " << secret;
+  // The watch works: opening the file ourselves is seen.
+  std::ifstream(secret).get();
+  EXPECT_GT(::read(watch, events, sizeof(events)), 0);
+  ::close(watch);
 }
 
 TEST(LoadMeshFile, StlRampJoinsVerticesAndKeepsOutwardWinding) {

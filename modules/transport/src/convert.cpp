@@ -1,8 +1,10 @@
 #include "rbcp/transport/convert.h"
 
 #include <cmath>
+#include <sstream>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 
 namespace rbcp::transport {
 namespace {
@@ -19,6 +21,28 @@ void CheckRows(const Rows& rows, int32_t count, std::size_t width, const std::st
 }
 
 Eigen::Vector3d Vec3(const double* v) { return {v[0], v[1], v[2]}; }
+
+/// Finite and within kMaxCoordinate_m of the origin along every axis.
+bool Sane(const Eigen::Vector3d& p) { return p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxCoordinate_m; }
+
+std::string Point(const Eigen::Vector3d& p) {
+  std::ostringstream os;
+  os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return os.str();
+}
+
+/// "" when p is finite and within kMaxCoordinate_m; otherwise the reason, naming `what`.
+std::string CheckPosition(const Eigen::Vector3d& p, const std::string& what) {
+  if (!p.allFinite()) return what + " is not finite";
+  if (!Sane(p)) return what + " " + Point(p) + " is beyond " + FixedNumber(kMaxCoordinate_m, 0) + " m of the origin";
+  return "";
+}
+
+double Norm4(const double q[4]) { return std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]); }
+
+double YawOf(const double q[4]) {  // (w, x, y, z), base to world
+  return std::atan2(2.0 * (q[0] * q[3] + q[1] * q[2]), 1.0 - 2.0 * (q[2] * q[2] + q[3] * q[3]));
+}
 
 }  // namespace
 
@@ -45,6 +69,10 @@ TriangleMesh FromTerrainMsg(const rbcp_msgs::terrain_mesh_t& msg) {
   for (const auto& t : msg.triangles) mesh.triangles.push_back({t[0], t[1], t[2]});
   const std::string problem = ValidateMesh(mesh);
   if (!problem.empty()) throw InputError("terrain mesh: " + problem);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const std::string bad = CheckPosition(mesh.vertices[i], "vertex " + std::to_string(i));
+    if (!bad.empty()) throw InputError("terrain mesh: " + bad);
+  }
   return mesh;
 }
 
@@ -84,6 +112,16 @@ std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set
     bool finite = surface.normal.allFinite() && std::isfinite(surface.area);
     for (const auto& v : surface.vertices) finite = finite && v.allFinite();
     if (!finite) throw InputError(what + ": expected finite values");
+    for (std::size_t k = 0; k < surface.vertices.size(); ++k) {
+      const std::string bad = CheckPosition(surface.vertices[k], "vertex " + std::to_string(k));
+      if (!bad.empty()) throw InputError(what + ": " + bad);
+    }
+    if (std::abs(surface.normal.norm() - 1.0) > kUnitTolerance) {
+      throw InputError(what + ": expected a unit normal, got " + Point(surface.normal) + " of norm " +
+                       std::to_string(surface.normal.norm()));
+    }
+    if (surface.area < 0.0) throw InputError(what + ": expected an area >= 0, got " + std::to_string(surface.area));
+    surface.normal.normalize();  // exactly unit for the planners, once within the tolerance
     out.push_back(std::move(surface));
   }
   return out;
@@ -141,6 +179,11 @@ ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg) {
       finite = finite && foot.position.allFinite() && foot.normal.allFinite();
     }
     if (!finite) throw InputError(what + ": expected finite values");
+    std::string bad = CheckPosition(s.base_position, "base position");
+    for (int leg = 0; leg < kNumLegs && bad.empty(); ++leg) {
+      bad = CheckPosition(s.feet[static_cast<std::size_t>(leg)].position, "foot " + std::to_string(leg));
+    }
+    if (!bad.empty()) throw InputError(what + ": " + bad);
     if (in.moving_leg < -1 || in.moving_leg >= kNumLegs) {
       throw InputError(what + ": moving_leg expected -1..3, got " + std::to_string(in.moving_leg));
     }
@@ -184,9 +227,11 @@ RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg) {
                       AllFinite(msg.joint_position, kNumJoints) && AllFinite(msg.joint_velocity, kNumJoints) &&
                       AllFinite(msg.joint_torque, kNumJoints) && AllFinite(&msg.foot_force[0][0], 3 * kNumLegs);
   if (!finite) throw InputError("robot state: expected finite values");
+  const std::string bad = CheckPosition(Vec3(msg.base_position), "base position");
+  if (!bad.empty()) throw InputError("robot state: " + bad);
   const Eigen::Quaterniond q(msg.base_orientation[0], msg.base_orientation[1], msg.base_orientation[2],
                              msg.base_orientation[3]);
-  if (std::abs(q.norm() - 1.0) > 1e-3) {
+  if (std::abs(q.norm() - 1.0) > kUnitTolerance) {
     throw InputError("robot state: expected a unit base orientation quaternion, got norm " + std::to_string(q.norm()));
   }
   RobotState state;
@@ -220,6 +265,61 @@ ControllerProgress ProgressFromRobotStateMsg(const rbcp_msgs::robot_state_t& msg
   progress.steps_done = msg.steps_done;
   if (msg.awaiting_plan) progress.awaiting_since = msg.awaiting_since;
   return progress;
+}
+
+std::vector<RootPathSample> FromRootPathMsg(const rbcp_msgs::root_path_t& msg, double max_duration_s) {
+  if (msg.num_points < 0 || msg.points.size() != static_cast<std::size_t>(msg.num_points)) {
+    throw InputError("root path: count " + std::to_string(msg.num_points) + " disagrees with " +
+                     std::to_string(msg.points.size()) + " points");
+  }
+  if (msg.points.empty()) throw InputError("root path: no point");
+  std::vector<RootPathSample> samples;
+  samples.reserve(msg.points.size());
+  for (std::size_t i = 0; i < msg.points.size(); ++i) {
+    const auto& in = msg.points[i];
+    const std::string what = "root path: point " + std::to_string(i);
+    if (!std::isfinite(in.t) || !AllFinite(in.position, 3) || !AllFinite(in.velocity, 3) ||
+        !AllFinite(in.orientation, 4)) {
+      throw InputError(what + " is not finite");
+    }
+    const std::string bad = CheckPosition(Vec3(in.position), "position");
+    if (!bad.empty()) throw InputError(what + ": " + bad);
+    if (std::abs(Norm4(in.orientation) - 1.0) > kUnitTolerance) {
+      throw InputError(what + ": orientation is not a unit quaternion");
+    }
+    if (i > 0 && !(in.t > msg.points[i - 1].t)) {
+      throw InputError(what + ": times must increase, got t = " + std::to_string(in.t) + " s after " +
+                       std::to_string(msg.points[i - 1].t) + " s");
+    }
+    RootPathSample s;
+    s.t = in.t;
+    s.p = Vec3(in.position);
+    s.v = Vec3(in.velocity);
+    s.yaw = YawOf(in.orientation);
+    s.rest_yaw = s.yaw;
+    samples.push_back(s);
+  }
+  const double duration = samples.back().t - samples.front().t;
+  if (!(duration <= max_duration_s)) {
+    throw InputError("root path: lasts " + std::to_string(duration) + " s, more than the limit of " +
+                     FixedNumber(max_duration_s, 0) + " s");
+  }
+  return samples;
+}
+
+std::string CheckPlanRequest(const rbcp_msgs::plan_request_t& msg, double max_time_budget_s) {
+  std::string bad = CheckPosition(Vec3(msg.goal_position), "goal");
+  if (bad.empty() && !std::isfinite(msg.goal_yaw)) bad = "goal yaw is not finite";
+  if (bad.empty() && msg.use_start) {
+    bad = CheckPosition(Vec3(msg.start_position), "start");
+    if (bad.empty() && !std::isfinite(msg.start_yaw)) bad = "start yaw is not finite";
+  }
+  if (bad.empty() && !std::isfinite(msg.time_budget)) bad = "time_budget is not finite";
+  if (bad.empty() && msg.time_budget > max_time_budget_s) {
+    bad = "time_budget " + std::to_string(msg.time_budget) + " s exceeds the limit of " +
+          FixedNumber(max_time_budget_s, 0) + " s";
+  }
+  return bad.empty() ? "" : "plan request: " + bad;
 }
 
 }  // namespace rbcp::transport

@@ -125,6 +125,119 @@ TEST(Convert, AffordanceRoundTripAndValidation) {
   EXPECT_THROW(FromAffordanceMsg(bad), InputError);
 }
 
+/// The InputError `convert` throws, "" if it throws none.
+template <typename Convert>
+std::string ProblemOf(Convert&& convert) {
+  try {
+    convert();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string AffordanceProblem(const rbcp_msgs::affordance_set_t& msg) {
+  return ProblemOf([&] { FromAffordanceMsg(msg); });
+}
+
+TEST(Convert, SurfacesNeedUnitNormalsSaneVerticesAndAreas) {
+  AffordanceSurface s;
+  s.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
+  s.normal = {0, 0, 1};
+  s.area = 0.5;
+  const auto msg = ToAffordanceMsg({s}, 7);
+  EXPECT_EQ(AffordanceProblem(msg), "");
+  auto nearly = msg;
+  nearly.surfaces[0].normal[2] = 1.0005;  // within the tolerance: made exactly unit
+  EXPECT_DOUBLE_EQ(FromAffordanceMsg(nearly)[0].normal.norm(), 1.0);
+  auto bad = msg;
+  for (double& n : bad.surfaces[0].normal) n = 0.0;
+  EXPECT_EQ(AffordanceProblem(bad), "affordance surface 0: expected a unit normal, got (0, 0, 0) of norm 0.000000");
+  bad.surfaces[0].normal[2] = 2.0;
+  EXPECT_EQ(AffordanceProblem(bad), "affordance surface 0: expected a unit normal, got (0, 0, 2) of norm 2.000000");
+  bad = msg;
+  bad.surfaces[0].vertices[1][0] = 1e9;
+  EXPECT_EQ(AffordanceProblem(bad), "affordance surface 0: vertex 1 (1e+09, 0, 0) is beyond 100000 m of the origin");
+  bad = msg;
+  bad.surfaces[0].area = -1.0;
+  EXPECT_EQ(AffordanceProblem(bad), "affordance surface 0: expected an area >= 0, got -1.000000");
+}
+
+TEST(Convert, TerrainAndRobotStateBeyondSaneExtentsAreRejected) {
+  auto terrain = ToTerrainMsg(MakeBoxMesh({1, 1, 1}), 0, "");
+  terrain.vertices[3][2] = -2e5;
+  const std::string problem = ProblemOf([&] { FromTerrainMsg(terrain); });
+  EXPECT_EQ(problem.rfind("terrain mesh: vertex 3 (", 0), 0u) << problem;
+  EXPECT_NE(problem.find(") is beyond 100000 m of the origin"), std::string::npos) << problem;
+  RobotState state;
+  auto msg = ToRobotStateMsg(state);
+  msg.base_position[1] = 1e300;
+  EXPECT_THROW(FromRobotStateMsg(msg), InputError);
+}
+
+rbcp_msgs::root_path_t StraightPath(int n, double dt) {
+  rbcp_msgs::root_path_t msg{};
+  msg.num_points = n;
+  for (int i = 0; i < n; ++i) {
+    rbcp_msgs::root_path_point_t p{};
+    p.t = i * dt;
+    p.position[0] = 0.01 * i;
+    p.position[2] = 0.45;
+    p.orientation[0] = 1.0;
+    msg.points.push_back(p);
+  }
+  return msg;
+}
+
+std::string RootPathProblem(const rbcp_msgs::root_path_t& msg, double max_duration_s) {
+  return ProblemOf([&] { FromRootPathMsg(msg, max_duration_s); });
+}
+
+TEST(Convert, RootPathsAreValidatedAndTheirDurationCapped) {
+  const auto msg = StraightPath(4, 0.5);
+  const auto samples = FromRootPathMsg(msg, 10.0);
+  ASSERT_EQ(samples.size(), 4u);
+  EXPECT_DOUBLE_EQ(samples[3].t, 1.5);
+  EXPECT_DOUBLE_EQ(samples[3].p.x(), 0.03);
+  EXPECT_DOUBLE_EQ(samples[3].yaw, 0.0);
+
+  EXPECT_EQ(RootPathProblem(StraightPath(4, 1e9), 3600.0),
+            "root path: lasts 3000000000.000000 s, more than the limit of 3600 s");
+  auto bad = msg;
+  bad.points[2].t = bad.points[1].t;
+  EXPECT_EQ(RootPathProblem(bad, 10.0), "root path: point 2: times must increase, got t = 0.500000 s after 0.500000 s");
+  bad = msg;
+  bad.points[1].orientation[0] = 0.0;
+  EXPECT_EQ(RootPathProblem(bad, 10.0), "root path: point 1: orientation is not a unit quaternion");
+  bad = msg;
+  bad.points[0].position[1] = -1e6;
+  EXPECT_EQ(RootPathProblem(bad, 10.0),
+            "root path: point 0: position (0, -1e+06, 0.45) is beyond 100000 m of the origin");
+  bad = msg;
+  bad.num_points = 5;
+  EXPECT_EQ(RootPathProblem(bad, 10.0), "root path: count 5 disagrees with 4 points");
+  EXPECT_EQ(RootPathProblem(StraightPath(0, 1.0), 10.0), "root path: no point");
+}
+
+TEST(Convert, PlanRequestsAreValidatedAndTheirBudgetCapped) {
+  rbcp_msgs::plan_request_t r{};
+  r.goal_position[0] = 2.0;
+  r.time_budget = 5.0;
+  EXPECT_EQ(CheckPlanRequest(r, 60.0), "");
+  r.time_budget = 1e9;
+  EXPECT_EQ(CheckPlanRequest(r, 60.0), "plan request: time_budget 1000000000.000000 s exceeds the limit of 60 s");
+  r.time_budget = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(CheckPlanRequest(r, 60.0), "plan request: time_budget is not finite");
+  r.time_budget = 0.0;  // the planner's default
+  r.goal_position[1] = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(CheckPlanRequest(r, 60.0), "plan request: goal is not finite");
+  r.goal_position[1] = 0.0;
+  r.start_position[0] = 5e5;
+  EXPECT_EQ(CheckPlanRequest(r, 60.0), "") << "the start is ignored without use_start";
+  r.use_start = true;
+  EXPECT_EQ(CheckPlanRequest(r, 60.0), "plan request: start (500000, 0, 0) is beyond 100000 m of the origin");
+}
+
 TEST(Convert, ContactPlanRoundTripAndValidation) {
   ContactPlan plan;
   for (int i = 0; i < 3; ++i) {

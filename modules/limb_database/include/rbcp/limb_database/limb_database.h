@@ -55,9 +55,11 @@ struct LimbDatabaseConfig {
   double weight_haa = 1.0;
   double weight_hfe = 1.0;
   double weight_kfe = 1.0;
-  /// Folder of the cache files. Empty: $XDG_CACHE_HOME/rbcp/limb_database, else
-  /// $HOME/.cache/rbcp/limb_database, else <system temp>/rbcp/limb_database. A relative path is
-  /// taken from the working directory. Not part of the cache key.
+  /// Folder of the cache files. Empty: $XDG_CACHE_HOME/rbcp/limb_database (an absolute
+  /// XDG_CACHE_HOME), else $HOME/.cache/rbcp/limb_database, else the same below the user's home
+  /// folder in the password database, else no cache. A relative path is taken from the working
+  /// directory. The folder is created owner-only (0700) and used only when it is a real folder
+  /// (no symbolic link) of the user that no one else may write to. Not part of the cache key.
   std::string cache_dir;
 
   /// Reads every key strictly (missing or unknown keys, wrong types and out-of-range values throw
@@ -66,7 +68,7 @@ struct LimbDatabaseConfig {
   static LimbDatabaseConfig LoadFile(const std::string& path);
   /// Throws InputError describing the first out-of-range value.
   void Validate(const std::string& where = "LimbDatabaseConfig") const;
-  /// The folder cache files go to (cache_dir, or the default described above).
+  /// The folder cache files go to (cache_dir, or the default described above); "" for none.
   std::string ResolvedCacheDir() const;
 };
 
@@ -132,16 +134,23 @@ class LimbDatabase {
   /// (samples_per_leg, octree_resolution, seed, weights) and the generation and file format
   /// versions. Throws InputError when a file is unreadable.
   static std::uint64_t CacheKey(const std::vector<std::string>& robot_files, const LimbDatabaseConfig& config);
-  /// The cache file of a key: <config.ResolvedCacheDir()>/limb_db_<16 hex digits>.bin.
+  /// The cache file of a key: <config.ResolvedCacheDir()>/limb_db_<16 hex digits>.bin; "" when
+  /// there is no cache folder.
   static std::string CachePath(const LimbDatabaseConfig& config, std::uint64_t key);
 
-  /// Writes the database to `path` under `key`, atomically (temporary file in the same folder,
-  /// then rename); creates the folder. Throws std::runtime_error on an I/O failure.
+  /// Writes the database to `path` under `key`, atomically (a new owner-only temporary file in
+  /// the same folder, then rename); creates the folder owner-only (0700). Throws
+  /// std::runtime_error on an I/O failure or when the folder is not private (a symbolic link,
+  /// another user's, or writable by others).
   void Save(const std::string& path, std::uint64_t key) const;
-  /// Reads a file written by Save(). Returns nullopt and sets *reason when the file is missing,
-  /// unreadable, written under another key or format, truncated, corrupted or inconsistent.
+  /// Reads a file written by Save(). Returns nullopt and sets *reason when the folder is not
+  /// private, or the file is missing, a symbolic link, another user's, larger than `max_bytes`
+  /// (checked before reading; 0: no limit), unreadable, written under another key or format,
+  /// truncated, corrupted or inconsistent.
   static std::optional<LimbDatabase> Load(const std::string& path, std::uint64_t expected_key,
-                                          std::string* reason = nullptr);
+                                          std::string* reason = nullptr, std::uint64_t max_bytes = 0);
+  /// The size of the cache file of a database of `samples_per_leg` samples per leg, at most.
+  static std::uint64_t MaxCacheBytes(int samples_per_leg);
 
   LimbDatabase(LimbDatabase&&) noexcept;
   LimbDatabase& operator=(LimbDatabase&&) noexcept;

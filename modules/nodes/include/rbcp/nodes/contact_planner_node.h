@@ -69,6 +69,8 @@ struct ContactPlannerNodeOptions {
   /// Horizon mode: a stance foot farther than this from its foothold during a step has slid;
   /// the plan made ahead is then dropped [m].
   double slip_m = 0.03;
+  /// A ROOT_PATH lasting longer than this is rejected [s] (the search walks the path in time).
+  double max_path_duration_s = 3600.0;
 };
 
 class ContactPlannerNode {

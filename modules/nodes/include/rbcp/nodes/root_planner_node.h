@@ -29,6 +29,7 @@ struct RootPlannerNodeOptions {
   std::string root_path_channel = channels::kRootPath;
   std::string status_channel = channels::kStatus;
   double default_time_budget_s = 2.0;  ///< used when a request gives none [s]
+  double max_time_budget_s = 60.0;     ///< a request asking for more is rejected [s]
   /// Replan the current request from the measured base when the robot, waiting at a step
   /// boundary, stands farther than this from the path (horizontally) [m]; the body's own shifts
   /// for its swings stay within the contact planner's 0.16 m.

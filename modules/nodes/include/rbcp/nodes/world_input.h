@@ -5,6 +5,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,7 +24,9 @@ class WorldInput {
 
   /// Takes the messages received since the last call, raising *latest_utime to their time.
   /// Returns why one was rejected (undecodable, or an invalid mesh or surface); that part of
-  /// the world is then unknown until a valid message arrives.
+  /// the world is then unknown until a valid message arrives. Surfaces belong to the terrain
+  /// whose utime they carry: a new terrain drops the surfaces extracted from an older one, and
+  /// surfaces older than the terrain are ignored, so a terrain and stale surfaces never pair.
   std::optional<std::string> Take(int64_t* latest_utime);
 
   const std::optional<TriangleMesh>& terrain() const { return terrain_; }
@@ -42,6 +45,8 @@ class WorldInput {
   std::optional<TriangleMesh> terrain_;
   std::optional<std::vector<AffordanceSurface>> surfaces_;
   bool changed_ = false;
+  int64_t terrain_since_ = std::numeric_limits<int64_t>::min();  ///< utime of the current terrain's first message
+  int64_t surfaces_utime_ = 0;                                    ///< utime of the current surfaces' message
 };
 
 }  // namespace rbcp::nodes

@@ -9,14 +9,23 @@
 
 #include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/contact_plan.h"
+#include "rbcp/core/root_path_sample.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/robot/robot_state.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
+#include "rbcp_msgs/root_path_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
 namespace rbcp::transport {
+
+/// Positions in a message farther than this from the origin along any axis are rejected [m]: no
+/// terrain of the robot's spans that far, and beyond it distances lose their centimetres.
+inline constexpr double kMaxCoordinate_m = 1.0e5;
+/// A message's unit vectors and quaternions may differ this much from norm 1.
+inline constexpr double kUnitTolerance = 1e-3;
 
 /// True when the n values of a message array are all finite.
 inline bool AllFinite(const double* v, int n) {
@@ -28,13 +37,15 @@ inline bool AllFinite(const double* v, int n) {
 
 rbcp_msgs::terrain_mesh_t ToTerrainMsg(const TriangleMesh& mesh, int64_t utime, const std::string& scenario_name);
 
-/// Throws InputError if the counts disagree with the arrays, a vertex is not finite, an index is
-/// out of range or a triangle is degenerate.
+/// Throws InputError if the counts disagree with the arrays, a vertex is not finite or beyond
+/// kMaxCoordinate_m, an index is out of range or a triangle is degenerate.
 TriangleMesh FromTerrainMsg(const rbcp_msgs::terrain_mesh_t& msg);
 
 rbcp_msgs::affordance_set_t ToAffordanceMsg(const std::vector<AffordanceSurface>& surfaces, int64_t utime);
 
-/// Throws InputError if counts disagree, a value is not finite or a polygon has < 3 vertices.
+/// Throws InputError if counts disagree, a value is not finite, a vertex is beyond
+/// kMaxCoordinate_m, a polygon has < 3 vertices, a normal is not a unit vector or an area is
+/// negative.
 std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set_t& msg);
 
 /// The plan's message; reaches_goal comes from plan.reaches_goal. plan_seq numbers the planner's
@@ -42,18 +53,30 @@ std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set
 rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utime, int64_t request_id,
                                            int64_t plan_seq = 0, int64_t start_utime = 0);
 
-/// Throws InputError if counts disagree, a value is not finite or a moving leg is out of range.
+/// Throws InputError if counts disagree, a value is not finite, a position is beyond
+/// kMaxCoordinate_m, a foot normal is not a unit vector or a moving leg is out of range.
 ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg);
 
 /// The message of a measured state with the controller's progress; utime = round(state.t * 1e6).
 rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state, const ControllerProgress& progress = {});
 
-/// Throws InputError if a value is not finite or the orientation is not a unit quaternion
-/// (within 1e-3).
+/// Throws InputError if a value is not finite, the base is beyond kMaxCoordinate_m or the
+/// orientation is not a unit quaternion (within kUnitTolerance).
 RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg);
 
 /// The controller's progress in a ROBOT_STATE. Throws InputError for a negative step count or a
 /// wait that begins after the message's time.
 ControllerProgress ProgressFromRobotStateMsg(const rbcp_msgs::robot_state_t& msg);
+
+/// The samples of a root path (yaw from the orientations, rest_yaw = yaw). Throws InputError if
+/// the count disagrees, the path is empty, a value is not finite, a position is beyond
+/// kMaxCoordinate_m, an orientation is not a unit quaternion, the times do not increase or the
+/// path lasts longer than max_duration_s.
+std::vector<RootPathSample> FromRootPathMsg(const rbcp_msgs::root_path_t& msg, double max_duration_s);
+
+/// Why a plan request cannot be planned ("" if it can): a goal (or, with use_start, a start) not
+/// finite or beyond kMaxCoordinate_m, or a time budget that is not finite or exceeds
+/// max_time_budget_s.
+std::string CheckPlanRequest(const rbcp_msgs::plan_request_t& msg, double max_time_budget_s);
 
 }  // namespace rbcp::transport

@@ -1,7 +1,8 @@
 #pragma once
-/// Subscription that keeps only the latest message of a channel. Decoding happens inside the
-/// callback under a try/catch, so a malformed message (bad fingerprint, truncated, negative
-/// array count) becomes an error string for the node's status instead of a crash.
+/// Subscription that keeps only the latest message of a channel. Messages are decoded with
+/// DecodeMessage, so a malformed one (bad fingerprint, truncated, a negative array count or one
+/// the bytes do not hold) becomes an error string naming the channel, for the node's status,
+/// instead of a crash or a huge allocation.
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -9,6 +10,8 @@
 #include <optional>
 #include <string>
 #include <utility>
+
+#include "rbcp/transport/wire_check.h"
 
 namespace rbcp::transport {
 
@@ -44,16 +47,9 @@ class LatestMessage {
  private:
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     Msg msg;
-    int status = -1;
-    try {
-      status = msg.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size));
-    } catch (const std::exception& e) {
-      decode_error_ = "cannot decode " + channel + ": " + e.what();
-      return;
-    }
-    if (status < 0) {
-      decode_error_ = "cannot decode " + channel + " (" + std::to_string(rbuf->data_size) +
-                      " bytes): wrong type, truncated or malformed";
+    const std::string problem = DecodeMessage(rbuf->data, rbuf->data_size, msg);
+    if (!problem.empty()) {
+      decode_error_ = "cannot decode " + channel + " (" + std::to_string(rbuf->data_size) + " bytes): " + problem;
       return;
     }
     if (keep_ && !keep_(msg)) return;
@@ -70,6 +66,43 @@ class LatestMessage {
   std::optional<std::string> decode_error_;
   bool fresh_ = false;
   long received_ = 0;
+};
+
+/// Subscription that hands every message of a channel to `handle` (for channels several processes
+/// share, where the newest alone is not enough). A message DecodeMessage rejects goes to `reject`
+/// with the reason, naming the channel, and is otherwise ignored.
+template <typename Msg>
+class EveryMessage {
+ public:
+  EveryMessage(lcm::LCM& lcm, const std::string& channel, std::function<void(const Msg&)> handle,
+               std::function<void(const std::string&)> reject)
+      : lcm_(lcm), handle_(std::move(handle)), reject_(std::move(reject)) {
+    subscription_ = lcm.subscribe(channel, &EveryMessage::OnMessage, this);
+  }
+  ~EveryMessage() {
+    if (subscription_) lcm_.unsubscribe(subscription_);
+  }
+  EveryMessage(const EveryMessage&) = delete;
+  EveryMessage& operator=(const EveryMessage&) = delete;
+  long rejected() const { return rejected_; }
+
+ private:
+  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    Msg msg;
+    const std::string problem = DecodeMessage(rbuf->data, rbuf->data_size, msg);
+    if (problem.empty()) {
+      handle_(msg);
+      return;
+    }
+    ++rejected_;
+    if (reject_) reject_("cannot decode " + channel + " (" + std::to_string(rbuf->data_size) + " bytes): " + problem);
+  }
+
+  lcm::LCM& lcm_;
+  std::function<void(const Msg&)> handle_;
+  std::function<void(const std::string&)> reject_;
+  lcm::Subscription* subscription_ = nullptr;
+  long rejected_ = 0;
 };
 
 }  // namespace rbcp::transport
