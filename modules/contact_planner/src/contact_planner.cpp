@@ -213,6 +213,9 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   if (problem.empty() && (!current.base_position.allFinite() || !current.base_rpy.allFinite())) {
     problem = "current state: base pose is not finite";
   }
+  if (problem.empty() && !(current.moving_leg >= -1 && current.moving_leg < kNumLegs)) {
+    problem = "current state: moving_leg must be -1 or a leg index, got " + std::to_string(current.moving_leg);
+  }
   if (!problem.empty()) {
     result.status = ContactPlanStatus::kInvalidInput;
     result.reason = problem;
@@ -220,8 +223,7 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   }
   m.BeginQuery(remaining_path);
   Node root;
-  root.state = current;
-  root.state.moving_leg = -1;
+  root.state = current;  // its moving_leg (the leg that stepped last) continues the crawl
   root.t = m.path->Begin();
   const Eigen::Isometry3d base = BasePose(current);
   const std::optional<JointVector> joints = SolveStance(m.ctx(), base, current.feet, kNoMargins);
@@ -236,7 +238,9 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   const PathPose start = m.path->At(root.t);
   root.shift = Yaw(start.yaw).transpose() * (current.base_position - start.p);
   if (m.config.base_pose.follow_feet) root.shift.z() = 0.0;  // the height follows the feet
-  return m.SearchFrom(root, max_steps);
+  ContactPlanResult result_from = m.SearchFrom(root, max_steps);
+  if (!result_from.plan.states.empty()) result_from.plan.states.front().moving_leg = -1;
+  return result_from;
 }
 
 std::optional<WholeBodyState> ContactPlanner::StandingStance(const Eigen::Vector3d& base_position_W, double yaw,

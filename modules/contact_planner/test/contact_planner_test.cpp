@@ -308,10 +308,35 @@ TEST(ContactPlannerTest, RecedingHorizonContinuesTheFullPlan) {
   EXPECT_TRUE(second.reached_goal);
   ASSERT_GE(second.plan.states.size(), 2u);
   EXPECT_EQ(second.plan.states.front().moving_leg, -1);
+  // The crawl goes on where the first piece left it: the same leg as the full plan steps next.
+  EXPECT_EQ(second.plan.states[1].moving_leg, full.plan.states[static_cast<std::size_t>(k + 1)].moving_leg);
   for (int i = 0; i < kNumLegs; ++i) {
     EXPECT_EQ(second.plan.states.front().feet[static_cast<std::size_t>(i)].position,
               current.feet[static_cast<std::size_t>(i)].position);
   }
+}
+
+TEST(ContactPlannerTest, RecedingHorizonContinuesTheCrawlOfTheLegThatSteppedLast) {
+  const World& world = ScenarioWorld("flat_ground");
+  const RootPath path = StraightPath({-1.0, 0.0}, {1.0, 0.0}, 0.0);
+  const auto samples = path.SampleEvery(0.01);
+  ContactPlanner planner = MakePlanner(world);
+  const ContactPlanResult full = planner.Plan(samples);
+  ASSERT_TRUE(full.ok) << full.reason;
+  // The crawl order LH, LF, RH, RF: from a stance a leg stepped to, the next leg steps first.
+  const std::array<std::pair<Leg, Leg>, kNumLegs> next = {
+      {{Leg::kLH, Leg::kLF}, {Leg::kLF, Leg::kRH}, {Leg::kRH, Leg::kRF}, {Leg::kRF, Leg::kLH}}};
+  for (const auto& [last, expected] : next) {
+    WholeBodyState current = full.plan.states.front();
+    current.moving_leg = Index(last);
+    const ContactPlanResult r = planner.PlanHorizon(current, samples, 2);
+    ASSERT_TRUE(r.ok) << r.reason;
+    EXPECT_EQ(r.plan.states.front().moving_leg, -1);
+    EXPECT_EQ(r.plan.states[1].moving_leg, Index(expected)) << "after " << LegName(last);
+  }
+  WholeBodyState bad = full.plan.states.front();
+  bad.moving_leg = 7;
+  EXPECT_EQ(planner.PlanHorizon(bad, samples, 2).status, ContactPlanStatus::kInvalidInput);
 }
 
 TEST(ContactPlannerTest, StandingStanceIsAtTheReference) {

@@ -258,6 +258,11 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
       }
       if (match) stance->feet[i] = *match;
     }
+    // The crawl goes on from the last step the robot walked of that plan.
+    const long walked = static_cast<long>(msg.steps_done) - static_cast<long>(plan_start_steps_);
+    if (msg.plan_seq == plan_seq_ && walked >= 1 && walked < static_cast<long>(last_plan_->states.size())) {
+      stance->moving_leg = last_plan_->states[static_cast<std::size_t>(walked)].moving_leg;
+    }
   }
   double offset_xy = 0.0;
   const std::size_t nearest = PathProgress(measured.base_position_W, rpy.z(), &offset_xy);
@@ -314,6 +319,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
     r.reached_goal = false;
   }
   last_plan_ = r.plan;
+  plan_start_steps_ = msg.steps_done;
   // After a restart the sequence goes on from the plan the robot walks.
   plan_seq_ = std::max(plan_seq_, msg.plan_seq) + 1;
   const auto out = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, plan_seq_, msg.utime);

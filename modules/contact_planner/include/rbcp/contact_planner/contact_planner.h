@@ -143,9 +143,10 @@ class ContactPlanner {
 
   /// Receding horizon: plans at most max_steps steps from `current` (a whole-body state with
   /// four feet in contact) along `remaining_path` (whose first sample should be near the current
-  /// base). The plan's first state is `current` with its joints recomputed by IK at its base
-  /// pose (moving_leg -1). ok with reached_goal false when max_steps steps were planned before
-  /// the path end.
+  /// base). current.moving_leg, the leg that stepped last (-1: none known), continues the crawl:
+  /// the next leg in the crawl order steps first unless another must. The plan's first state is
+  /// `current` with its joints recomputed by IK at its base pose (moving_leg -1). ok with
+  /// reached_goal false when max_steps steps were planned before the path end.
   ContactPlanResult PlanHorizon(const WholeBodyState& current, const std::vector<RootPathSample>& remaining_path,
                                 int max_steps);
 
