@@ -23,7 +23,11 @@
 //    budget runs out (the answer is then a timeout failure), and the contact planner's check of
 //    the stance feet while the robot walks a step (it looks at the newest ROBOT_STATE whenever it
 //    is free: a foot that slides more than 3 cm only briefly may be seen in one run and not in the
-//    other). A recording that shows either is reported as not reproducible rather than as equal.
+//    other), and a root path the root planner replans from the newest ROBOT_STATE while the robot
+//    walks (after a change of the terrain: which state is the newest when it plans depends on
+//    timing; replans at a wait, where the state stands still, do not). A recording that shows
+//    any of these may be reported as differing: record runs without them (a plain walk, as
+//    tools/record-replay-log does).
 // Every planner is seeded: the root planner by the request's seed; the others are deterministic.
 #include <algorithm>
 #include <chrono>
