@@ -62,8 +62,9 @@ nlohmann::json ReadJson(const fs::path& path) {
   }
 }
 
-double Mean(const std::vector<double>& v) {
-  if (v.empty()) return 0.0;
+/// The mean, or null when there is nothing to average.
+nlohmann::json Mean(const std::vector<double>& v) {
+  if (v.empty()) return nullptr;
   double sum = 0.0;
   for (double x : v) sum += x;
   return sum / static_cast<double>(v.size());
@@ -139,7 +140,9 @@ nlohmann::json Summarise(const Row& row) {
       {"time_to_goal_s", Mean(goal_s)},
       {"wall_s", Mean(wall_s)},
       {"replan_latency_ms",
-       {{"count", latencies.size()}, {"median", nodes::Percentile(latencies, 0.5)}, {"p95", nodes::Percentile(latencies, 0.95)}}},
+       {{"count", latencies.size()},
+        {"median", latencies.empty() ? nlohmann::json() : nlohmann::json(nodes::Percentile(latencies, 0.5))},
+        {"p95", latencies.empty() ? nlohmann::json() : nlohmann::json(nodes::Percentile(latencies, 0.95))}}},
       {"per_run", per_run},
   };
   if (const PaperRow* p = PaperFor(row.scenario)) {
@@ -152,7 +155,10 @@ nlohmann::json Summarise(const Row& row) {
 
 std::string Markdown(const nlohmann::json& table) {
   std::ostringstream md;
-  const auto f = [](double x, int digits) { return FixedNumber(x, digits); };
+  // A figure with its unit, or a dash where no run gave one.
+  const auto f = [](const nlohmann::json& x, int digits, const std::string& unit = "") {
+    return x.is_number() ? FixedNumber(x.get<double>(), digits) + unit : std::string("–");
+  };
   md << "| environment | affordance | root | contact, steps | success | time to goal (simulated) "
         "| replanning latency median / p95 | wall time per run |\n"
      << "|---|---|---|---|---|---|---|---|\n";
@@ -162,16 +168,16 @@ std::string Markdown(const nlohmann::json& table) {
     // Ours, then the paper's figure in parentheses.
     const auto theirs = [&](const std::string& text) { return paper ? " (paper " + text + ")" : std::string(); };
     const int successes = s["successes"];
-    md << "| " << s["scenario"].get<std::string>() << " | " << f(s["affordance_ms"], 3) << " ms"
-       << theirs(paper ? f(p["affordance_ms"], 2) + " ms" : "") << " | " << f(s["root_s"], 3) << " s"
-       << theirs(paper ? f(p["root_s"], 2) + " s" : "") << " | "
-       << (successes > 0 ? f(s["contact_s"], 2) + " s, " + f(s["steps"], 1) + " steps" : std::string("–"))
-       << theirs(paper ? f(p["contact_s"], 2) + " s, " + f(p["steps"], 1) + " steps" : "") << " | " << successes << "/"
+    md << "| " << s["scenario"].get<std::string>() << " | " << f(s["affordance_ms"], 3, " ms")
+       << theirs(paper ? f(p["affordance_ms"], 2, " ms") : "") << " | " << f(s["root_s"], 3, " s")
+       << theirs(paper ? f(p["root_s"], 2, " s") : "") << " | "
+       << (successes > 0 ? f(s["contact_s"], 2, " s, ") + f(s["steps"], 1, " steps") : std::string("–"))
+       << theirs(paper ? f(p["contact_s"], 2, " s, ") + f(p["steps"], 1, " steps") : "") << " | " << successes << "/"
        << s["runs"].get<int>()
        << theirs(paper ? std::to_string(p["successes"].get<int>()) + "/" + std::to_string(p["runs"].get<int>()) : "")
-       << " | " << (successes > 0 ? f(s["time_to_goal_s"], 1) + " s" : std::string("–")) << " | "
-       << f(s["replan_latency_ms"]["median"], 1) << " / " << f(s["replan_latency_ms"]["p95"], 1) << " ms ("
-       << s["replan_latency_ms"]["count"].get<int>() << " replans) | " << f(s["wall_s"], 0) << " s |\n";
+       << " | " << f(s["time_to_goal_s"], 1, " s") << " | " << f(s["replan_latency_ms"]["median"], 1) << " / "
+       << f(s["replan_latency_ms"]["p95"], 1, " ms") << " (" << s["replan_latency_ms"]["count"].get<int>()
+       << " replans) | " << f(s["wall_s"], 0, " s") << " |\n";
   }
   return md.str();
 }
