@@ -1,5 +1,6 @@
 // bench_table: the paper's Table 1 from runs of the replanning loop (tools/bench table). Each run
-// is a folder with meta.json ({"scenario", "seed", "exit", "wall_s"}: written by tools/bench) and,
+// is a folder with meta.json ({"scenario", "seed", "exit", "wall_s", "stopped_after_s"}: written by
+// tools/bench; the last is null unless the bench stopped a run that went on too long) and,
 // when the run left a log, run.json (run_log's JSON of it). Per scenario: the mean affordance
 // extraction, root planning and contact planning times, the steps walked, the success over the
 // runs, the mean simulated time to the goal and the replanning latency (median and 95th
@@ -10,6 +11,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -80,6 +82,7 @@ struct Run {
   int seed = 0;
   int exit = 0;
   double wall_s = 0.0;
+  std::optional<double> stopped_after_s;  ///< the bench stopped the run after this much wall time
   bool logged = false;  ///< run.json was there
   nlohmann::json log;
 };
@@ -100,7 +103,8 @@ nlohmann::json Summarise(const Row& row) {
     nlohmann::json one = {{"seed", r.seed}, {"exit", r.exit}, {"wall_s", r.wall_s}, {"reached_goal", ok}};
     if (r.logged) {
       const nlohmann::json& j = r.log;
-      one["outcome"] = j.value("outcome", "");
+      one["outcome"] = r.stopped_after_s ? "stopped after " + FixedNumber(*r.stopped_after_s, 0) + " s of wall time"
+                                         : j.value("outcome", "");
       one["sim_time_s"] = Number(j, "/sim_time_s");
       one["steps"] = Number(j, "/steps");
       one["plans"] = Number(j, "/plans");
@@ -186,8 +190,8 @@ std::string Markdown(const nlohmann::json& table) {
 
 int main(int argc, char** argv) {
   CLI::App app{"The paper's Table 1 from runs of the replanning loop (tools/bench table writes the runs): every\n"
-               "folder under --runs with a meta.json ({scenario, seed, exit, wall_s}) and, when the run left a log,\n"
-               "run.json (run_log's output). Per scenario: mean affordance extraction time (each TERRAIN), root\n"
+               "folder under --runs with a meta.json ({scenario, seed, exit, wall_s, stopped_after_s}) and, when\n"
+               "the run left a log, run.json (run_log's output). Per scenario: mean affordance extraction time (each TERRAIN), root\n"
                "planning time (the first path), contact planning time (the sum of the planning times of the plans\n"
                "the robot got, runs that reached the goal) with the steps walked, success over the runs, mean\n"
                "simulated time to the goal, replanning latency median and 95th percentile over every replan of\n"
@@ -211,6 +215,7 @@ int main(int argc, char** argv) {
       run.seed = meta.at("seed");
       run.exit = meta.at("exit");
       run.wall_s = meta.at("wall_s");
+      if (meta.contains("stopped_after_s") && meta["stopped_after_s"].is_number()) run.stopped_after_s = meta["stopped_after_s"];
       const fs::path log_path = entry.path() / "run.json";
       if (fs::exists(log_path)) {
         run.log = ReadJson(log_path);
