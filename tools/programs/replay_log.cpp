@@ -364,9 +364,16 @@ int main(int argc, char** argv) {
     auto lcm = transport::OpenLcm(common.lcm_url);
     Listener listener(*lcm);
     transport::InstallStopHandlers();
+    const auto program_start = Clock::now();
+    // SIGINT, SIGTERM or --max-runtime end the replay (exit 3: the answers were not all heard).
+    const auto stopped = [&] {
+      return transport::StopRequested() ||
+             (common.max_runtime_s > 0.0 &&
+              std::chrono::duration<double>(Clock::now() - program_start).count() > common.max_runtime_s);
+    };
     const auto pump_until = [&](const std::function<bool()>& done, double seconds) {
       const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
-      while (!done() && Clock::now() < end && !transport::StopRequested()) lcm->handleTimeout(5);
+      while (!done() && Clock::now() < end && !stopped()) lcm->handleTimeout(5);
       return done();
     };
     for (const char* process : {"affordance_extractor", "root_planner", "contact_planner"}) {
@@ -382,11 +389,15 @@ int main(int argc, char** argv) {
     const int64_t t0 = schedule.front().timestamp;
     Clock::duration shift{0};
     for (std::size_t i = 0; i < schedule.size(); ++i) {
-      if (transport::StopRequested()) return kNoAnswer;
+      if (stopped()) {
+        std::cerr << "replay_log: stopped before the end of the log\n";
+        return kNoAnswer;
+      }
       for (const Awaited& wait : before[i]) {
         const auto waited_from = Clock::now();
         if (!pump_until([&] { return wait.Done(listener.answers); }, timeout_s)) {
-          std::cerr << "replay_log: no answer within " << timeout_s << " s: " << wait.What() << "\n";
+          if (stopped()) std::cerr << "replay_log: stopped before the end of the log, waiting for " << wait.What() << "\n";
+          else std::cerr << "replay_log: no answer within " << timeout_s << " s: " << wait.What() << "\n";
           return kNoAnswer;
         }
         const auto due = start + shift + std::chrono::microseconds(schedule[i].timestamp - t0);
