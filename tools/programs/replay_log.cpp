@@ -12,7 +12,8 @@
 //    that answer before it sends the next input, and shifts its clock by the wait. The simulator
 //    stood still while the robot waited for its plan, so its later messages depended on that
 //    answer; waiting keeps the planners' inputs in the recorded causal order however fast they
-//    plan on this machine.
+//    plan on this machine. Meanwhile a waiting robot's state goes out again every 5 ms, as the
+//    simulator repeats it (a planner busy planning ahead may lose the first one).
 //  * Answers are compared per input, never by arrival time: each CONTACT_PLAN by the ROBOT_STATE
 //    it started from (start_utime), each FAILED answer by its input_utime, root paths and surface
 //    sets in the order of their distinct contents (the planners repeat an unchanged output every
@@ -329,12 +330,14 @@ int main(int argc, char** argv) {
     Answers recorded;
     std::vector<Event> schedule;               // the inputs, in order
     std::vector<std::vector<Awaited>> before;  // before[i]: the answers to wait for before schedule[i] goes out
+    std::vector<bool> waiting;                 // waiting[i]: schedule[i] is a ROBOT_STATE of a robot waiting for a plan
     std::vector<Awaited> pending;              // recorded answers since the last input
     std::size_t inputs = 0;
     for (const Event& e : events) {
       if (e.channel == channels::kTerrain || e.channel == channels::kRobotState || e.channel == channels::kPlanRequest) {
         schedule.push_back(e);
         before.push_back(std::exchange(pending, {}));
+        waiting.push_back(e.channel == channels::kRobotState && e.Decode<rbcp_msgs::robot_state_t>().awaiting_plan);
         ++inputs;
       } else if (e.channel == channels::kAffordances) {
         const std::size_t n = recorded.surfaces.items.size();
@@ -395,7 +398,18 @@ int main(int argc, char** argv) {
       }
       for (const Awaited& wait : before[i]) {
         const auto waited_from = Clock::now();
-        if (!pump_until([&] { return wait.Done(listener.answers); }, timeout_s)) {
+        // While the robot waits for its plan, the simulator repeats its state every 5 ms: a
+        // planner that was busy when the first one came (and whose socket dropped it) hears it.
+        auto next_repeat = Clock::now() + std::chrono::milliseconds(5);
+        const auto answered_or_repeat = [&] {
+          if (wait.Done(listener.answers)) return true;
+          if (i > 0 && waiting[i - 1] && Clock::now() >= next_repeat) {
+            next_repeat += std::chrono::milliseconds(5);
+            lcm->publish(schedule[i - 1].channel, schedule[i - 1].data.data(), static_cast<unsigned>(schedule[i - 1].data.size()));
+          }
+          return false;
+        };
+        if (!pump_until(answered_or_repeat, timeout_s)) {
           if (stopped()) std::cerr << "replay_log: stopped before the end of the log, waiting for " << wait.What() << "\n";
           else std::cerr << "replay_log: no answer within " << timeout_s << " s: " << wait.What() << "\n";
           return kNoAnswer;
