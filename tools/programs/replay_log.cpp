@@ -220,7 +220,7 @@ struct Event {
 
 /// What the replay waits for after a recorded event (the replayed counterpart of a recorded answer).
 struct Awaited {
-  enum class Kind { kNone, kSurfaces, kPath, kPlan, kFailure } kind = Kind::kNone;
+  enum class Kind { kSurfaces, kPath, kPlan, kFailure } kind;
   std::size_t count = 0;  ///< kSurfaces, kPath: this many distinct outputs
   int64_t utime = 0;      ///< kPlan, kFailure: the answer to the ROBOT_STATE of this utime
   std::string What() const {
@@ -229,9 +229,8 @@ struct Awaited {
       case Kind::kPath: return "root path " + std::to_string(count) + " (ROOT_PATH)";
       case Kind::kPlan: return "the CONTACT_PLAN from the ROBOT_STATE of utime " + std::to_string(utime);
       case Kind::kFailure: return "the contact planner's answer to the ROBOT_STATE of utime " + std::to_string(utime);
-      case Kind::kNone: break;
     }
-    return "nothing";
+    return "";
   }
   bool Done(const Answers& a) const {
     switch (kind) {
@@ -239,7 +238,6 @@ struct Awaited {
       case Kind::kPath: return a.paths.items.size() >= count;
       case Kind::kPlan:
       case Kind::kFailure: return a.plans.count(utime) > 0 || a.failures.count(utime) > 0;
-      case Kind::kNone: break;
     }
     return true;
   }
