@@ -2,10 +2,15 @@
 // JSON object that check_plan and the other tools read: the plan the robot walked ("states"), the
 // simulator's verdict, the replans and their latency (from the logger's receive times), the
 // robot's trace at 20 Hz of simulated time, and the world the run saw (terrain, contact surfaces,
-// root path) for tools/view.
+// root path) for tools/view, and the planners' compute times (from their STATUS answers).
+#include <algorithm>
 #include <iostream>
+#include <map>
 #include <optional>
+#include <set>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
@@ -33,6 +38,29 @@ bool Decode(const lcm::LogEvent& e, Msg* msg) {
   return transport::DecodeMessage(e.data, static_cast<std::size_t>(e.datalen), *msg).empty();
 }
 
+/// The answers of one planning process: the wall time of each input it handled (OK) and how many
+/// inputs it failed on.
+struct Answers {
+  std::vector<double> ok_ms;
+  int failed = 0;
+};
+
+nlohmann::json AnswersJson(const Answers& a) {
+  double sum = 0.0, max = 0.0;
+  for (double ms : a.ok_ms) {
+    sum += ms;
+    max = std::max(max, ms);
+  }
+  const double n = static_cast<double>(a.ok_ms.size());
+  return {{"count", a.ok_ms.size()},
+          {"failed", a.failed},
+          {"mean", a.ok_ms.empty() ? 0.0 : sum / n},
+          {"median", nodes::Percentile(a.ok_ms, 0.5)},
+          {"max", max},
+          {"total", sum},
+          {"first", a.ok_ms.empty() ? 0.0 : a.ok_ms.front()}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -41,7 +69,8 @@ int main(int argc, char** argv) {
                "the plans and replans with their latency (median and 95th percentile, from the log's receive times:\n"
                "the first ROBOT_STATE a plan starts from to that CONTACT_PLAN) and the robot's trace (sim_trace, 20 Hz).\n"
                "With the trace: joints and torques, the CoM's margin in the polygon of the feet in contact, and\n"
-               "each replan's time and latency (replans). A walked plan missing from the log is left out of\n"
+               "each replan's time and latency (replans); the planners' compute times (compute_ms: per process,\n"
+               "the wall time of every input answered OK, from STATUS). A walked plan missing from the log is left out of\n"
                "\"states\" and named in missing_plans. The JSON is described in docs/json_schema.md.\n"
                "Reads a file; talks no LCM. Exit status: 0 written, 2 bad input."};
   nodes::CommonOptions common;
@@ -61,6 +90,11 @@ int main(int argc, char** argv) {
     std::optional<rbcp_msgs::plan_request_t> request;
     int root_paths = 0;
     long events = 0, malformed = 0;
+    // Each answer once: STATUS repeats the latest one as a heartbeat, with the same count of
+    // inputs handled by that process instance.
+    std::set<std::tuple<std::string, int32_t, int64_t>> answered;
+    std::map<std::string, Answers> answers = {{"affordance_extractor", {}}, {"root_planner", {}}, {"contact_planner", {}}};
+    std::vector<double> plan_steps;
     while (const lcm::LogEvent* e = log.readNextEvent()) {
       ++events;
       const std::string channel = e->channel;
@@ -72,6 +106,7 @@ int main(int argc, char** argv) {
         if (!Decode(*e, &msg)) { ++malformed; continue; }
         try {
           record.OnContactPlan(e->timestamp, msg);
+          plan_steps.push_back(std::max(0, msg.num_states - 1));
         } catch (const InputError&) {
           ++malformed;
         }
@@ -80,6 +115,11 @@ int main(int argc, char** argv) {
         if (!Decode(*e, &msg)) { ++malformed; continue; }
         const bool decided = msg.state == rbcp_msgs::process_status_t::OK || msg.state == rbcp_msgs::process_status_t::FAILED;
         if (msg.process == "anymal_sim" && decided) verdict = msg;
+        const auto planner = answers.find(msg.process);
+        if (decided && planner != answers.end() && answered.emplace(msg.process, msg.pid, msg.handled).second) {
+          if (msg.state == rbcp_msgs::process_status_t::OK) planner->second.ok_ms.push_back(msg.compute_ms);
+          else planner->second.failed += 1;
+        }
       } else if (channel == channels::kTerrain) {
         rbcp_msgs::terrain_mesh_t msg;
         if (!Decode(*e, &msg)) { ++malformed; continue; }
@@ -125,6 +165,12 @@ int main(int argc, char** argv) {
       replans.push_back({{"t", record.LatencyTimesS()[i]}, {"latency_ms", lat[i]}});
     }
     j["replans"] = replans;
+    nlohmann::json compute = nlohmann::json::object();
+    for (const auto& [process, a] : answers) compute[process] = AnswersJson(a);
+    j["compute_ms"] = compute;
+    double steps_sum = 0.0;
+    for (double s : plan_steps) steps_sum += s;
+    j["plan_steps_mean"] = plan_steps.empty() ? 0.0 : steps_sum / static_cast<double>(plan_steps.size());
     // The world as the run saw it, for a viewer: terrain, contact surfaces, root path, start, goal.
     const auto or_null = [&](const auto& msg, auto convert) -> nlohmann::json {
       if (!msg) return nullptr;

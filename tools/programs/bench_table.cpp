@@ -1,0 +1,264 @@
+// bench_table: the paper's Table 1 from runs of the replanning loop (tools/bench table). Each run
+// is a folder with meta.json ({"scenario", "seed", "exit", "wall_s", "stopped_after_s"}: written by
+// tools/bench; the last is null unless the bench stopped a run that went on too long) and,
+// when the run left a log, run.json (run_log's JSON of it). Per scenario: the mean affordance
+// extraction, root planning and contact planning times, the steps walked, the success over the
+// runs, the mean simulated time to the goal and the replanning latency (median and 95th
+// percentile over every replan of every run), as markdown beside the paper's figures, and as JSON.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
+#include "rbcp/nodes/process.h"
+#include "rbcp/nodes/run_record.h"
+
+namespace {
+
+using namespace rbcp;
+namespace fs = std::filesystem;
+
+/// Table 1 of Geisert et al. (TAROS 2019), ANYmal: mean computation times over 20 runs per
+/// environment, and success in dynamic simulation (Gazebo, Free Gait controller).
+struct PaperRow {
+  const char* scenario;
+  const char* environment;
+  double affordance_ms;
+  double root_s;
+  double contact_s;
+  double steps;
+  int successes;
+  int runs;
+};
+constexpr PaperRow kPaper[] = {
+    {"flat_ground", "Flat ground (5 m)", 1.36, 0.54, 3.30, 62.2, 20, 20},
+    {"slalom_debris", "Slalom debris", 8.85, 0.82, 5.48, 79.1, 18, 20},
+    {"plinth", "Plinth", 2.27, 1.26, 4.26, 59.8, 12, 20},
+    {"darpa_rubble", "DARPA", 25.4, 2.18, 8.94, 29.9, 7, 20},
+};
+
+const PaperRow* PaperFor(const std::string& scenario) {
+  for (const PaperRow& row : kPaper) {
+    if (scenario == row.scenario) return &row;
+  }
+  return nullptr;
+}
+
+nlohmann::json ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read " + path.string());
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path.string() + ": not JSON: " + e.what());
+  }
+}
+
+/// The mean, or null when there is nothing to average.
+nlohmann::json Mean(const std::vector<double>& v) {
+  if (v.empty()) return nullptr;
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  return sum / static_cast<double>(v.size());
+}
+
+/// A number of a run_log document at a JSON pointer, or `fallback` when it is not there.
+double Number(const nlohmann::json& j, const std::string& pointer, double fallback = 0.0) {
+  const nlohmann::json::json_pointer p(pointer);
+  return j.contains(p) && j.at(p).is_number() ? j.at(p).get<double>() : fallback;
+}
+
+struct Run {
+  int seed = 0;
+  int exit = 0;
+  double wall_s = 0.0;
+  std::optional<double> stopped_after_s;  ///< the bench stopped the run after this much wall time
+  bool logged = false;  ///< run.json was there
+  nlohmann::json log;
+};
+
+struct Row {
+  std::string scenario;
+  std::vector<Run> runs;
+};
+
+/// One scenario's figures, as the JSON document and the markdown read them.
+nlohmann::json Summarise(const Row& row) {
+  std::vector<double> affordance_ms, root_s, contact_total_s, contact_plan_ms, steps, goal_s, wall_s, latencies;
+  int successes = 0;
+  nlohmann::json per_run = nlohmann::json::array();
+  for (const Run& r : row.runs) {
+    wall_s.push_back(r.wall_s);
+    // tools/launch exits 0 when the operator (scenario_publisher) received the simulator's verdict
+    // "goal reached". The log holds the same verdict, unless the logger missed that one message
+    // (UDP, under load): then verdict_in_log is false and the run still counts.
+    const bool ok = r.exit == 0 && !r.stopped_after_s;
+    nlohmann::json one = {{"seed", r.seed}, {"exit", r.exit}, {"wall_s", r.wall_s}, {"reached_goal", ok}};
+    if (r.logged) {
+      const nlohmann::json& j = r.log;
+      one["verdict_in_log"] = j.value("outcome", "") != "no verdict in the log";
+      one["outcome"] = r.stopped_after_s ? "stopped after " + FixedNumber(*r.stopped_after_s, 0) + " s of wall time"
+                                         : j.value("outcome", "");
+      one["sim_time_s"] = Number(j, "/sim_time_s");
+      one["steps"] = Number(j, "/steps");
+      one["plans"] = Number(j, "/plans");
+      one["unanswered_waits"] = Number(j, "/unanswered_waits");
+      one["replan_latency_ms"] = j.value("replan_latency_ms", nlohmann::json::object());
+      one["compute_ms"] = j.value("compute_ms", nlohmann::json::object());
+      if (Number(j, "/compute_ms/affordance_extractor/count") > 0) {
+        affordance_ms.push_back(Number(j, "/compute_ms/affordance_extractor/mean"));
+      }
+      if (Number(j, "/compute_ms/root_planner/count") > 0) root_s.push_back(1e-3 * Number(j, "/compute_ms/root_planner/first"));
+      if (Number(j, "/compute_ms/contact_planner/count") > 0) {
+        contact_plan_ms.push_back(Number(j, "/compute_ms/contact_planner/mean"));
+        if (ok) contact_total_s.push_back(1e-3 * Number(j, "/compute_ms/contact_planner/total"));
+      }
+      if (ok) {
+        successes += 1;
+        steps.push_back(Number(j, "/steps"));
+        goal_s.push_back(Number(j, "/sim_time_s"));
+      }
+      for (const auto& replan : j.value("replans", nlohmann::json::array())) {
+        if (replan.contains("latency_ms") && replan["latency_ms"].is_number()) latencies.push_back(replan["latency_ms"]);
+      }
+    } else {
+      one["outcome"] = "no log of the run";
+    }
+    per_run.push_back(one);
+  }
+  nlohmann::json s = {
+      {"scenario", row.scenario},
+      {"runs", row.runs.size()},
+      {"successes", successes},
+      {"affordance_ms", Mean(affordance_ms)},
+      {"root_s", Mean(root_s)},
+      {"contact_s", Mean(contact_total_s)},
+      {"contact_plan_ms", Mean(contact_plan_ms)},
+      {"steps", Mean(steps)},
+      {"time_to_goal_s", Mean(goal_s)},
+      {"wall_s", Mean(wall_s)},
+      {"replan_latency_ms",
+       {{"count", latencies.size()},
+        {"median", latencies.empty() ? nlohmann::json() : nlohmann::json(nodes::Percentile(latencies, 0.5))},
+        {"p95", latencies.empty() ? nlohmann::json() : nlohmann::json(nodes::Percentile(latencies, 0.95))}}},
+      {"per_run", per_run},
+  };
+  if (const PaperRow* p = PaperFor(row.scenario)) {
+    s["paper"] = {{"environment", p->environment}, {"affordance_ms", p->affordance_ms}, {"root_s", p->root_s},
+                  {"contact_s", p->contact_s},     {"steps", p->steps},                 {"successes", p->successes},
+                  {"runs", p->runs}};
+  }
+  return s;
+}
+
+std::string Markdown(const nlohmann::json& table) {
+  std::ostringstream md;
+  // A figure with its unit, or a dash where no run gave one.
+  const auto f = [](const nlohmann::json& x, int digits, const std::string& unit = "") {
+    return x.is_number() ? FixedNumber(x.get<double>(), digits) + unit : std::string("–");
+  };
+  md << "| environment | affordance | root | contact, steps | success | time to goal (simulated) "
+        "| replanning latency median / p95 | wall time per run |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
+  for (const auto& s : table["scenarios"]) {
+    const bool paper = s.contains("paper");
+    const nlohmann::json& p = paper ? s["paper"] : nlohmann::json::object();
+    // Ours, then the paper's figure in parentheses.
+    const auto theirs = [&](const std::string& text) { return paper ? " (paper " + text + ")" : std::string(); };
+    const int successes = s["successes"];
+    md << "| " << s["scenario"].get<std::string>() << " | " << f(s["affordance_ms"], 3, " ms")
+       << theirs(paper ? f(p["affordance_ms"], 2, " ms") : "") << " | " << f(s["root_s"], 3, " s")
+       << theirs(paper ? f(p["root_s"], 2, " s") : "") << " | "
+       << (successes > 0 ? f(s["contact_s"], 2, " s, ") + f(s["steps"], 1, " steps") : std::string("–"))
+       << theirs(paper ? f(p["contact_s"], 2, " s, ") + f(p["steps"], 1, " steps") : "") << " | " << successes << "/"
+       << s["runs"].get<int>()
+       << theirs(paper ? std::to_string(p["successes"].get<int>()) + "/" + std::to_string(p["runs"].get<int>()) : "")
+       << " | " << f(s["time_to_goal_s"], 1, " s") << " | " << f(s["replan_latency_ms"]["median"], 1) << " / "
+       << f(s["replan_latency_ms"]["p95"], 1, " ms") << " (" << s["replan_latency_ms"]["count"].get<int>()
+       << " replans) | " << f(s["wall_s"], 0, " s") << " |\n";
+  }
+  return md.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"The paper's Table 1 from runs of the replanning loop (tools/bench table writes the runs): every\n"
+               "folder under --runs with a meta.json ({scenario, seed, exit, wall_s, stopped_after_s}) and, when\n"
+               "the run left a log, run.json (run_log's output). Per scenario: mean affordance extraction time (each TERRAIN), root\n"
+               "planning time (the first path), contact planning time (the sum of the planning times of the plans\n"
+               "the robot got, runs that reached the goal) with the steps walked, success over the runs (tools/launch\n"
+               "exited 0: the simulator's verdict was goal reached), mean\n"
+               "simulated time to the goal, replanning latency median and 95th percentile over every replan of\n"
+               "every run (run_log's, from the log's receive times). Writes table.md (beside the paper's figures)\n"
+               "and table.json into --out. Reads files; talks no LCM. Exit status: 0 written, 2 bad input."};
+  std::string runs_dir, out_dir;
+  std::vector<std::string> order;
+  std::string title;
+  app.add_option("--runs", runs_dir, "folder of run folders")->required()->check(CLI::ExistingDirectory);
+  app.add_option("--out", out_dir, "where table.md and table.json go")->required();
+  app.add_option("--scenarios", order, "scenario order in the table (default: by name)")->delimiter(',');
+  app.add_option("--title", title, "a line under the table's heading (date, runs, seeds, machine)");
+  return nodes::GuardedMain("bench_table", app, argc, argv, [&]() -> int {
+    std::map<std::string, Row> rows;
+    for (const auto& entry : fs::directory_iterator(runs_dir)) {
+      const fs::path meta_path = entry.path() / "meta.json";
+      if (!entry.is_directory() || !fs::exists(meta_path)) continue;
+      const nlohmann::json meta = ReadJson(meta_path);
+      Run run;
+      const std::string scenario = meta.at("scenario");
+      run.seed = meta.at("seed");
+      run.exit = meta.at("exit");
+      run.wall_s = meta.at("wall_s");
+      if (meta.contains("stopped_after_s") && meta["stopped_after_s"].is_number()) run.stopped_after_s = meta["stopped_after_s"];
+      const fs::path log_path = entry.path() / "run.json";
+      if (fs::exists(log_path)) {
+        run.log = ReadJson(log_path);
+        run.logged = true;
+      }
+      Row& row = rows[scenario];
+      row.scenario = scenario;
+      row.runs.push_back(std::move(run));
+    }
+    if (rows.empty()) throw InputError("no run (a folder with meta.json) in " + runs_dir);
+    for (const auto& [name, row] : rows) {
+      if (std::find(order.begin(), order.end(), name) == order.end()) order.push_back(name);
+    }
+    nlohmann::json table = {{"schema_version", 1}, {"title", title}, {"scenarios", nlohmann::json::array()}};
+    for (const std::string& name : order) {
+      auto it = rows.find(name);
+      if (it == rows.end()) continue;
+      std::sort(it->second.runs.begin(), it->second.runs.end(), [](const Run& a, const Run& b) { return a.seed < b.seed; });
+      table["scenarios"].push_back(Summarise(it->second));
+    }
+    fs::create_directories(out_dir);
+    std::ofstream(fs::path(out_dir) / "table.json") << table.dump(1) << "\n";
+    std::ostringstream md;
+    md << "# Table 1 through the replanning loop\n\n";
+    if (!title.empty()) md << title << "\n\n";
+    md << Markdown(table) << "\n"
+       << "Ours, and in parentheses the paper's Table 1 (ANYmal, 20 runs per environment).\n"
+       << "Ours: the four processes over LCM with the simulator as the world (tools/launch), the robot replanning\n"
+       << "at every step boundary (8 steps planned, 8 more searched). Affordance: mean extraction time per TERRAIN\n"
+       << "message. Root: the first root path's planning time. Contact: the sum of the planning times of the\n"
+       << "plans the robot got, and the steps walked to the goal (runs that reached it). Success: runs whose\n"
+       << "simulated robot reached the goal (Bullet, the onboard controller; the paper: Gazebo, Free Gait);\n"
+       << "a run still going after the bench's --run-timeout is stopped and counts as failed.\n"
+       << "Latency: from the first receipt of the ROBOT_STATE a plan started from to the receipt of that\n"
+       << "CONTACT_PLAN, in the log's receive times, over every replan of every run. The paper's contact time\n"
+       << "plans the whole path once.\n";
+    std::ofstream(fs::path(out_dir) / "table.md") << md.str();
+    std::cout << md.str();
+    return 0;
+  });
+}

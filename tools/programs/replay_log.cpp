@@ -1,0 +1,497 @@
+// replay_log: replays the world's side of a recorded run (the simulator's TERRAIN and ROBOT_STATE,
+// the operator's and the simulator's PLAN_REQUEST) into running planner processes
+// (affordance_extractor, root_planner, contact_planner --horizon-steps K, as the run had them) and
+// checks that they answer as they did in the recording: the same contact surfaces, root paths and
+// contact plans, within a numerical tolerance.
+//
+// The rule (what is deterministic given the inputs, and what is not):
+//  * Inputs go out in the recorded order, at the recorded pace (the log's receive times).
+//  * Where the recording holds a planner's answer with new content (a CONTACT_PLAN answering a
+//    wait of the robot, or the contact planner's FAILED answer to one; a ROOT_PATH or AFFORDANCES
+//    that differs from the one before), the replay waits until the replayed planner has given
+//    that answer before it sends the next input, and shifts its clock by the wait. The simulator
+//    stood still while the robot waited for its plan, so its later messages depended on that
+//    answer; waiting keeps the planners' inputs in the recorded causal order however fast they
+//    plan on this machine. Meanwhile a waiting robot's state goes out again every 5 ms, as the
+//    simulator repeats it (a planner busy planning ahead may lose the first one).
+//  * Answers are compared per input, never by arrival time: each CONTACT_PLAN by the ROBOT_STATE
+//    it started from (start_utime), each FAILED answer by its input_utime, root paths and surface
+//    sets in the order of their distinct contents (the planners repeat an unchanged output every
+//    second, as often as the wall clock allows: repeats are not counted). The planners' `utime`
+//    fields are left out: they are the newest simulated time the planner had heard when it
+//    finished, which depends on how many ROBOT_STATEs arrived meanwhile.
+//  * Still timing-dependent, and so not reproducible in general: a planner whose wall-clock time
+//    budget runs out (the answer is then a timeout failure), and the contact planner's check of
+//    the stance feet while the robot walks a step (it looks at the newest ROBOT_STATE whenever it
+//    is free: a foot that slides more than 3 cm only briefly may be seen in one run and not in the
+//    other), and a root path the root planner replans from the newest ROBOT_STATE while the robot
+//    walks (after a change of the terrain: which state is the newest when it plans depends on
+//    timing; replans at a wait, where the state stands still, do not). A recording that shows
+//    any of these may be reported as differing: record runs without them (a plain walk, as
+//    tools/record-replay-log does).
+// Every planner is seeded: the root planner by the request's seed; the others are deterministic.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
+#include "rbcp/nodes/process.h"
+#include "rbcp/transport/channels.h"
+#include "rbcp/transport/run_loop.h"
+#include "rbcp_msgs/affordance_set_t.hpp"
+#include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/process_status_t.hpp"
+#include "rbcp_msgs/robot_state_t.hpp"
+#include "rbcp_msgs/root_path_t.hpp"
+
+namespace {
+
+using namespace rbcp;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kReproduced = 0, kDiffers = 1, kNoAnswer = 3;
+
+/// Compares two messages field by field: the largest difference of their numbers and the first
+/// field that differs beyond the tolerance (or in a count, an id or a flag).
+class Diff {
+ public:
+  explicit Diff(double tolerance) : tolerance_(tolerance) {}
+  void Num(const std::string& field, double a, double b) {
+    const double d = std::abs(a - b);
+    if (std::isfinite(d)) max_ = std::max(max_, d);
+    if ((d > tolerance_ || std::isnan(d)) && first_.empty()) {
+      std::ostringstream os;
+      os.precision(17);
+      os << field << ": recorded " << a << ", replayed " << b;
+      first_ = os.str();
+    }
+  }
+  template <std::size_t N>
+  void Nums(const std::string& field, const double (&a)[N], const double (&b)[N]) {
+    for (std::size_t i = 0; i < N; ++i) Num(field + "[" + std::to_string(i) + "]", a[i], b[i]);
+  }
+  void Exact(const std::string& field, long long a, long long b) {
+    if (a != b && first_.empty()) first_ = field + ": recorded " + std::to_string(a) + ", replayed " + std::to_string(b);
+  }
+  bool ok() const { return first_.empty(); }
+  const std::string& first() const { return first_; }
+  double max() const { return max_; }
+
+ private:
+  double tolerance_;
+  double max_ = 0.0;
+  std::string first_;
+};
+
+void Compare(const rbcp_msgs::affordance_set_t& a, const rbcp_msgs::affordance_set_t& b, Diff& d) {
+  d.Exact("num_surfaces", a.num_surfaces, b.num_surfaces);
+  for (std::size_t i = 0; d.ok() && i < a.surfaces.size() && i < b.surfaces.size(); ++i) {
+    const auto& sa = a.surfaces[i];
+    const auto& sb = b.surfaces[i];
+    const std::string f = "surface " + std::to_string(i);
+    d.Exact(f + " num_vertices", sa.num_vertices, sb.num_vertices);
+    for (std::size_t v = 0; d.ok() && v < sa.vertices.size() && v < sb.vertices.size(); ++v) {
+      for (int k = 0; k < 3; ++k) d.Num(f + " vertex " + std::to_string(v), sa.vertices[v][k], sb.vertices[v][k]);
+    }
+    d.Nums(f + " normal", sa.normal, sb.normal);
+    d.Num(f + " area", sa.area, sb.area);
+  }
+}
+
+void Compare(const rbcp_msgs::root_path_t& a, const rbcp_msgs::root_path_t& b, Diff& d) {
+  d.Exact("request_id", a.request_id, b.request_id);
+  d.Exact("num_points", a.num_points, b.num_points);
+  for (std::size_t i = 0; d.ok() && i < a.points.size() && i < b.points.size(); ++i) {
+    const std::string f = "point " + std::to_string(i);
+    d.Num(f + " t", a.points[i].t, b.points[i].t);
+    d.Nums(f + " position", a.points[i].position, b.points[i].position);
+    d.Nums(f + " velocity", a.points[i].velocity, b.points[i].velocity);
+    d.Nums(f + " orientation", a.points[i].orientation, b.points[i].orientation);
+  }
+}
+
+void Compare(const rbcp_msgs::contact_plan_t& a, const rbcp_msgs::contact_plan_t& b, Diff& d) {
+  d.Exact("request_id", a.request_id, b.request_id);
+  d.Exact("plan_seq", a.plan_seq, b.plan_seq);
+  d.Exact("reaches_goal", a.reaches_goal, b.reaches_goal);
+  d.Exact("num_states", a.num_states, b.num_states);
+  for (std::size_t i = 0; d.ok() && i < a.states.size() && i < b.states.size(); ++i) {
+    const auto& sa = a.states[i];
+    const auto& sb = b.states[i];
+    const std::string f = "state " + std::to_string(i);
+    d.Exact(f + " moving_leg", sa.moving_leg, sb.moving_leg);
+    d.Nums(f + " base_position", sa.base_position, sb.base_position);
+    d.Nums(f + " base_rpy", sa.base_rpy, sb.base_rpy);
+    d.Nums(f + " joint_position", sa.joint_position, sb.joint_position);
+    for (int leg = 0; leg < 4; ++leg) {
+      d.Nums(f + " foot_position[" + std::to_string(leg) + "]", sa.foot_position[leg], sb.foot_position[leg]);
+      d.Nums(f + " foot_normal[" + std::to_string(leg) + "]", sa.foot_normal[leg], sb.foot_normal[leg]);
+    }
+  }
+}
+
+/// The same content, `utime` aside (a repeat of an unchanged output).
+template <typename Msg>
+bool SameContent(Msg a, Msg b) {
+  a.utime = 0;
+  b.utime = 0;
+  const int n = a.getEncodedSize();
+  if (n != b.getEncodedSize()) return false;
+  std::vector<uint8_t> ea(static_cast<std::size_t>(n)), eb(static_cast<std::size_t>(n));
+  a.encode(ea.data(), 0, n);
+  b.encode(eb.data(), 0, n);
+  return ea == eb;
+}
+
+/// A planner's outputs in order, each distinct content once.
+template <typename Msg>
+struct Distinct {
+  std::vector<Msg> items;
+  void Add(const Msg& m) {
+    if (items.empty() || !SameContent(items.back(), m)) items.push_back(m);
+  }
+};
+
+/// What the planners said: distinct surface sets and root paths, the contact planner's answers
+/// to the robot's waits (plans by start_utime, failures by input_utime), who is up.
+struct Answers {
+  Distinct<rbcp_msgs::affordance_set_t> surfaces;
+  Distinct<rbcp_msgs::root_path_t> paths;
+  std::map<int64_t, rbcp_msgs::contact_plan_t> plans;
+  std::map<int64_t, std::string> failures;
+  std::set<std::pair<int32_t, int64_t>> failures_seen;  // (pid, handled): each failure once
+  std::set<std::string> heard;
+
+  void OnSurfaces(const rbcp_msgs::affordance_set_t& m) { surfaces.Add(m); }
+  void OnPath(const rbcp_msgs::root_path_t& m) { paths.Add(m); }
+  void OnPlan(const rbcp_msgs::contact_plan_t& m) {
+    plans.emplace(m.start_utime, m);
+  }
+  void OnStatus(const rbcp_msgs::process_status_t& m) {
+    heard.insert(m.process);
+    if (m.process == "contact_planner" && m.state == rbcp_msgs::process_status_t::FAILED &&
+        failures_seen.emplace(m.pid, m.handled).second) {
+      failures.emplace(m.input_utime, m.reason);
+    }
+  }
+};
+
+/// The replayed planners' answers, as they come over LCM.
+class Listener {
+ public:
+  explicit Listener(lcm::LCM& lcm) {
+    lcm.subscribe(channels::kAffordances, &Listener::Surfaces, this);
+    lcm.subscribe(channels::kRootPath, &Listener::Path, this);
+    lcm.subscribe(channels::kContactPlan, &Listener::Plan, this);
+    lcm.subscribe(channels::kStatus, &Listener::Status, this);
+  }
+  Answers answers;
+
+ private:
+  void Surfaces(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::affordance_set_t* m) { answers.OnSurfaces(*m); }
+  void Path(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::root_path_t* m) { answers.OnPath(*m); }
+  void Plan(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::contact_plan_t* m) { answers.OnPlan(*m); }
+  void Status(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::process_status_t* m) { answers.OnStatus(*m); }
+};
+
+struct Event {
+  int64_t timestamp = 0;  ///< the logger's receive time [us]
+  std::string channel;
+  std::vector<uint8_t> data;
+  template <typename Msg>
+  Msg Decode() const {
+    Msg m;
+    if (m.decode(data.data(), 0, static_cast<int>(data.size())) < 0) throw InputError("malformed " + channel + " message in the log");
+    return m;
+  }
+};
+
+/// What the replay waits for after a recorded event (the replayed counterpart of a recorded answer).
+struct Awaited {
+  enum class Kind { kSurfaces, kPath, kPlan, kFailure } kind;
+  std::size_t count = 0;  ///< kSurfaces, kPath: this many distinct outputs
+  int64_t utime = 0;      ///< kPlan, kFailure: the answer to the ROBOT_STATE of this utime
+  std::string What() const {
+    switch (kind) {
+      case Kind::kSurfaces: return "contact surface set " + std::to_string(count) + " (AFFORDANCES)";
+      case Kind::kPath: return "root path " + std::to_string(count) + " (ROOT_PATH)";
+      case Kind::kPlan: return "the CONTACT_PLAN from the ROBOT_STATE of utime " + std::to_string(utime);
+      case Kind::kFailure: return "the contact planner's answer to the ROBOT_STATE of utime " + std::to_string(utime);
+    }
+    return "";
+  }
+  bool Done(const Answers& a) const {
+    switch (kind) {
+      case Kind::kSurfaces: return a.surfaces.items.size() >= count;
+      case Kind::kPath: return a.paths.items.size() >= count;
+      case Kind::kPlan:
+      case Kind::kFailure: return a.plans.count(utime) > 0 || a.failures.count(utime) > 0;
+    }
+    return true;
+  }
+};
+
+/// Writes `events` to `path` without the LCM self test and with ROBOT_STATE thinned: while the
+/// robot walks, one state every 1 / walking_state_hz of simulated time (and the first after a
+/// wait); while it waits, each state once (the simulator repeats the same state every few ms).
+int WriteThinned(const std::vector<Event>& events, const std::string& path, double walking_state_hz,
+                 const std::function<void(const std::string&)>& say) {
+  lcm::LogFile out(path, "w");
+  if (!out.good()) throw InputError("cannot write " + path);
+  const auto period_us = static_cast<int64_t>(1e6 / walking_state_hz);
+  std::optional<int64_t> last_walking;
+  std::set<int64_t> waiting;  // utimes of the wait states written
+  bool was_waiting = false;
+  std::size_t kept = 0, states = 0;
+  for (const Event& e : events) {
+    if (e.channel == "LCM_SELF_TEST") continue;
+    if (e.channel == channels::kRobotState) {
+      ++states;
+      const auto state = e.Decode<rbcp_msgs::robot_state_t>();
+      bool keep = false;
+      if (state.awaiting_plan) {
+        keep = waiting.insert(state.utime).second;
+      } else {
+        keep = was_waiting || !last_walking || state.utime - *last_walking >= period_us;
+        if (keep) last_walking = state.utime;
+      }
+      was_waiting = state.awaiting_plan;
+      if (!keep) continue;
+      ++kept;
+    }
+    lcm::LogEvent le{};
+    le.timestamp = e.timestamp;
+    le.channel = e.channel;
+    le.datalen = static_cast<int32_t>(e.data.size());
+    le.data = const_cast<uint8_t*>(e.data.data());
+    if (out.writeEvent(&le) != 0) throw InputError("cannot write " + path);
+  }
+  say("wrote " + path + ": " + std::to_string(kept) + " of " + std::to_string(states) + " ROBOT_STATE messages kept");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Replays the world's side of a recorded run (TERRAIN, ROBOT_STATE, PLAN_REQUEST of an LCM log that\n"
+               "tools/launch recorded) into running planner processes (affordance_extractor, root_planner,\n"
+               "contact_planner with the run's --horizon-steps) and checks that they reproduce their recorded\n"
+               "answers: the contact surfaces, the root paths, and each CONTACT_PLAN (or failure) answering a wait of\n"
+               "the robot, compared per input within --tolerance (utime fields aside). Inputs go out in the\n"
+               "recorded order and pace; at each recorded answer the replay waits for the replayed one.\n"
+               "tools/replay-log starts the planners and runs it. Exit status: 0 reproduced, 1 an answer differs\n"
+               "or is missing, 2 bad input, 3 a planner did not answer in time."};
+  nodes::CommonOptions common;
+  nodes::AddCommonOptions(app, common);
+  std::string log_path;
+  double tolerance = 1e-6, timeout_s = 30.0;
+  app.add_option("--log", log_path, "the LCM log of a run (tools/launch's run.lcmlog)")->required()->check(CLI::ExistingFile);
+  app.add_option("--tolerance", tolerance, "largest difference of a number taken as equal")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--timeout", timeout_s, "longest wait for a planner's answer, and for the planners to be up [s]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  std::string thin_path;
+  double walking_state_hz = 50.0;
+  app.add_option("--write-thinned", thin_path,
+                 "instead of replaying: write the log to this file with ROBOT_STATE thinned while the robot walks "
+                 "(--walking-state-hz of simulated time; every state of a wait kept once), a smaller log that "
+                 "replays the same (the planners act on a walking robot's state only to see a stance foot slide)");
+  app.add_option("--walking-state-hz", walking_state_hz, "with --write-thinned: ROBOT_STATE kept while walking [Hz]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  return nodes::GuardedMain("replay_log", app, argc, argv, [&]() -> int {
+    const auto say = [&](const std::string& line) {
+      if (!common.quiet) std::cerr << "replay_log: " << line << "\n";
+    };
+    // The recording: inputs to replay, and the answers that came.
+    std::vector<Event> events;
+    {
+      lcm::LogFile log(log_path, "r");
+      if (!log.good()) throw InputError("cannot read the LCM log " + log_path);
+      while (const lcm::LogEvent* e = log.readNextEvent()) {
+        const auto* bytes = static_cast<const uint8_t*>(e->data);
+        events.push_back({e->timestamp, e->channel, std::vector<uint8_t>(bytes, bytes + e->datalen)});
+      }
+    }
+    if (!thin_path.empty()) return WriteThinned(events, thin_path, walking_state_hz, say);
+    Answers recorded;
+    std::vector<Event> schedule;               // the inputs, in order
+    std::vector<std::vector<Awaited>> before;  // before[i]: the answers to wait for before schedule[i] goes out
+    std::vector<bool> waiting;                 // waiting[i]: schedule[i] is a ROBOT_STATE of a robot waiting for a plan
+    std::vector<Awaited> pending;              // recorded answers since the last input
+    std::size_t inputs = 0;
+    for (const Event& e : events) {
+      if (e.channel == channels::kTerrain || e.channel == channels::kRobotState || e.channel == channels::kPlanRequest) {
+        schedule.push_back(e);
+        before.push_back(std::exchange(pending, {}));
+        waiting.push_back(e.channel == channels::kRobotState && e.Decode<rbcp_msgs::robot_state_t>().awaiting_plan);
+        ++inputs;
+      } else if (e.channel == channels::kAffordances) {
+        const std::size_t n = recorded.surfaces.items.size();
+        recorded.OnSurfaces(e.Decode<rbcp_msgs::affordance_set_t>());
+        if (recorded.surfaces.items.size() > n) pending.push_back({Awaited::Kind::kSurfaces, n + 1, 0});
+      } else if (e.channel == channels::kRootPath) {
+        const std::size_t n = recorded.paths.items.size();
+        recorded.OnPath(e.Decode<rbcp_msgs::root_path_t>());
+        if (recorded.paths.items.size() > n) pending.push_back({Awaited::Kind::kPath, n + 1, 0});
+      } else if (e.channel == channels::kContactPlan) {
+        const auto plan = e.Decode<rbcp_msgs::contact_plan_t>();
+        if (recorded.plans.count(plan.start_utime) == 0) pending.push_back({Awaited::Kind::kPlan, 0, plan.start_utime});
+        recorded.OnPlan(plan);
+      } else if (e.channel == channels::kStatus) {
+        const auto status = e.Decode<rbcp_msgs::process_status_t>();
+        const std::size_t n = recorded.failures.size();
+        recorded.OnStatus(status);
+        if (recorded.failures.size() > n) pending.push_back({Awaited::Kind::kFailure, 0, status.input_utime});
+      }
+    }
+    if (recorded.plans.empty()) throw InputError(log_path + ": no CONTACT_PLAN in the log: nothing to reproduce");
+    say(std::to_string(inputs) + " inputs to replay; the recording answered with " +
+        std::to_string(recorded.surfaces.items.size()) + " contact surface set(s), " +
+        std::to_string(recorded.paths.items.size()) + " root path(s), " + std::to_string(recorded.plans.size()) +
+        " contact plan(s) and " + std::to_string(recorded.failures.size()) + " failed replan(s)");
+
+    auto lcm = transport::OpenLcm(common.lcm_url);
+    Listener listener(*lcm);
+    transport::InstallStopHandlers();
+    const auto program_start = Clock::now();
+    // SIGINT, SIGTERM or --max-runtime end the replay (exit 3: the answers were not all heard).
+    const auto stopped = [&] {
+      return transport::StopRequested() ||
+             (common.max_runtime_s > 0.0 &&
+              std::chrono::duration<double>(Clock::now() - program_start).count() > common.max_runtime_s);
+    };
+    const auto pump_until = [&](const std::function<bool()>& done, double seconds) {
+      const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+      while (!done() && Clock::now() < end && !stopped()) lcm->handleTimeout(5);
+      return done();
+    };
+    for (const char* process : {"affordance_extractor", "root_planner", "contact_planner"}) {
+      if (!pump_until([&] { return listener.answers.heard.count(process) > 0; }, timeout_s)) {
+        std::cerr << "replay_log: no STATUS from " << process << " within " << timeout_s << " s: is it running on this LCM URL?\n";
+        return kNoAnswer;
+      }
+    }
+    say("the planners are up; replaying " + log_path);
+
+    // Inputs at the recorded pace; the clock shifts by every wait for an answer.
+    const auto start = Clock::now();
+    const int64_t t0 = schedule.front().timestamp;
+    Clock::duration shift{0};
+    for (std::size_t i = 0; i < schedule.size(); ++i) {
+      if (stopped()) {
+        std::cerr << "replay_log: stopped before the end of the log\n";
+        return kNoAnswer;
+      }
+      for (const Awaited& wait : before[i]) {
+        const auto waited_from = Clock::now();
+        // While the robot waits for its plan, the simulator repeats its state every 5 ms: a
+        // planner that was busy when the first one came (and whose socket dropped it) hears it.
+        auto next_repeat = Clock::now() + std::chrono::milliseconds(5);
+        const auto answered_or_repeat = [&] {
+          if (wait.Done(listener.answers)) return true;
+          if (i > 0 && waiting[i - 1] && Clock::now() >= next_repeat) {
+            next_repeat += std::chrono::milliseconds(5);
+            lcm->publish(schedule[i - 1].channel, schedule[i - 1].data.data(), static_cast<unsigned>(schedule[i - 1].data.size()));
+          }
+          return false;
+        };
+        if (!pump_until(answered_or_repeat, timeout_s)) {
+          if (stopped()) std::cerr << "replay_log: stopped before the end of the log, waiting for " << wait.What() << "\n";
+          else std::cerr << "replay_log: no answer within " << timeout_s << " s: " << wait.What() << "\n";
+          return kNoAnswer;
+        }
+        const auto due = start + shift + std::chrono::microseconds(schedule[i].timestamp - t0);
+        if (Clock::now() > due) shift += Clock::now() - std::max(waited_from, due);
+      }
+      const auto due = start + shift + std::chrono::microseconds(schedule[i].timestamp - t0);
+      while (Clock::now() < due) {
+        lcm->handleTimeout(std::max(1, static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(due - Clock::now()).count())));
+      }
+      lcm->publish(schedule[i].channel, schedule[i].data.data(), static_cast<unsigned>(schedule[i].data.size()));
+    }
+    // The answers to the last inputs.
+    pump_until([] { return false; }, 1.0);
+    const double replay_s = std::chrono::duration<double>(Clock::now() - start).count();
+
+    // The comparison, per input.
+    const Answers& replayed = listener.answers;
+    int differences = 0;
+    double largest = 0.0;
+    const auto report = [&](const std::string& what, const Diff& d) {
+      largest = std::max(largest, d.max());
+      if (d.ok()) return;
+      ++differences;
+      std::cout << "replay_log: DIFFERS: " << what << ": " << d.first() << std::endl;
+    };
+    const auto missing = [&](const std::string& what) {
+      ++differences;
+      std::cout << "replay_log: MISSING: " << what << std::endl;
+    };
+    for (std::size_t i = 0; i < recorded.surfaces.items.size(); ++i) {
+      const std::string what = "contact surface set " + std::to_string(i + 1);
+      if (i >= replayed.surfaces.items.size()) { missing(what); continue; }
+      Diff d(tolerance);
+      Compare(recorded.surfaces.items[i], replayed.surfaces.items[i], d);
+      report(what, d);
+    }
+    for (std::size_t i = 0; i < recorded.paths.items.size(); ++i) {
+      const std::string what = "root path " + std::to_string(i + 1);
+      if (i >= replayed.paths.items.size()) { missing(what); continue; }
+      Diff d(tolerance);
+      Compare(recorded.paths.items[i], replayed.paths.items[i], d);
+      report(what, d);
+    }
+    int states = 0;
+    for (const auto& [utime, plan] : recorded.plans) {
+      const std::string what = "CONTACT_PLAN " + std::to_string(plan.plan_seq) + " from the ROBOT_STATE of utime " + std::to_string(utime);
+      const auto it = replayed.plans.find(utime);
+      if (it == replayed.plans.end()) {
+        const auto f = replayed.failures.find(utime);
+        missing(what + (f != replayed.failures.end() ? " (the replayed planner failed: " + f->second + ")" : ""));
+        continue;
+      }
+      Diff d(tolerance);
+      Compare(plan, it->second, d);
+      report(what, d);
+      states += plan.num_states;
+    }
+    for (const auto& [utime, reason] : recorded.failures) {
+      const std::string what = "the failed replan from the ROBOT_STATE of utime " + std::to_string(utime);
+      const auto it = replayed.failures.find(utime);
+      if (it == replayed.failures.end()) { missing(what + " (recorded: " + reason + ")"); continue; }
+      if (it->second != reason) {
+        ++differences;
+        std::cout << "replay_log: DIFFERS: " << what << ": recorded '" << reason << "', replayed '" << it->second << "'\n";
+      }
+    }
+    for (const auto& [utime, plan] : replayed.plans) {
+      if (recorded.plans.count(utime) == 0 && recorded.failures.count(utime) == 0) {
+        say("note: a CONTACT_PLAN from the ROBOT_STATE of utime " + std::to_string(utime) +
+            " that the recording has no answer to (the recording ended first)");
+      }
+    }
+    std::ostringstream summary;
+    summary << "replay_log: " << recorded.surfaces.items.size() << " contact surface set(s), "
+            << recorded.paths.items.size() << " root path(s), " << recorded.plans.size() << " contact plan(s) ("
+            << states << " states) and " << recorded.failures.size() << " failed replan(s) compared in "
+            << FixedNumber(replay_s, 1) << " s; largest difference " << largest << " (tolerance " << tolerance << "): ";
+    if (differences == 0) {
+      std::cout << summary.str() << "the planners reproduced the recorded answers" << std::endl;
+      return kReproduced;
+    }
+    std::cout << summary.str() << differences << " answer(s) differ or are missing" << std::endl;
+    return kDiffers;
+  });
+}
