@@ -202,13 +202,37 @@ void Supervisor::Down(Child& c, double now, const std::string& why, std::vector<
   events->push_back(os.str());
 }
 
+void Supervisor::OnOwnStatus(double now) { last_own_status_ = now; }
+
+bool Supervisor::Hearing(double now, std::vector<std::string>* events) {
+  const bool deaf = last_own_status_ && now - *last_own_status_ > config_.heartbeat_timeout_s;
+  if (deaf && !deaf_) {
+    events->push_back("hears no STATUS, its own included, for " + FixedNumber(now - *last_own_status_, 1) +
+                      " s: its LCM reception stalls; no process is judged silent until it hears again");
+  } else if (!deaf && deaf_) {
+    events->push_back("hears STATUS again: every process gets a fresh " + FixedNumber(config_.heartbeat_timeout_s, 1) +
+                      " s to answer");
+    for (Child& c : children_) {
+      if (!c.pid) continue;
+      if (c.last_status) {
+        c.last_status = now;
+      } else {  // not answered yet: at least heartbeat_timeout_s more before it counts as never answering
+        c.started_at = std::max(c.started_at, now - config_.startup_timeout_s + config_.heartbeat_timeout_s);
+      }
+    }
+  }
+  deaf_ = deaf;
+  return !deaf;
+}
+
 std::vector<std::string> Supervisor::Step(double now) {
   std::vector<std::string> events;
   while (const std::optional<ProcessExit> e = control_.Reap()) {
     if (Child* c = ByPid(e->pid)) Down(*c, now, "died: " + e->how, &events);
   }
+  const bool hearing = Hearing(now, &events);
   for (Child& c : children_) {
-    if (!c.pid) continue;
+    if (!c.pid || !hearing) continue;
     const bool silent = c.last_status ? now - *c.last_status > config_.heartbeat_timeout_s
                                       : now - c.started_at > config_.startup_timeout_s;
     if (!silent) continue;

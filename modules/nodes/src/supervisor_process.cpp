@@ -1,5 +1,7 @@
 #include "rbcp/nodes/supervisor_process.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -36,7 +38,11 @@ class StatusListener {
       ++malformed_;
       return;
     }
-    supervisor_.OnStatus(msg.process, msg.pid, Now());
+    if (msg.process == kSupervisorName && msg.pid == static_cast<int32_t>(::getpid())) {
+      supervisor_.OnOwnStatus(Now());
+    } else {
+      supervisor_.OnStatus(msg.process, msg.pid, Now());
+    }
   }
   Supervisor& supervisor_;
   lcm::Subscription* subscription_ = nullptr;

@@ -132,6 +132,33 @@ TEST(Supervisor, NamesKillsAndRestartsAProcessThatStopsAnswering) {
   EXPECT_EQ(supervisor.Step(3.1), (std::vector<std::string>{"planner restarted (pid 102)"}));
 }
 
+TEST(Supervisor, ASupervisorThatDoesNotHearItselfJudgesNoProcessSilent) {
+  FakeControl control;
+  Supervisor supervisor(TwoProcesses(), control);
+  supervisor.Step(0.0);
+  supervisor.OnOwnStatus(0.5);
+  supervisor.OnStatus("planner", 100, 0.5);
+  supervisor.OnStatus("sim", 101, 0.5);
+  // Nothing heard for 2.5 s, the supervisor's own STATUS included: its reception stalls.
+  std::vector<std::string> events = supervisor.Step(3.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_TRUE(Contains(events, "hears no STATUS, its own included, for 2.5 s")) << events[0];
+  EXPECT_TRUE(supervisor.Step(6.0).empty());
+  EXPECT_TRUE(control.killed.empty());
+  // Hearing again, each process gets a fresh heartbeat_timeout_s; then the silent one is named.
+  supervisor.OnOwnStatus(6.5);
+  events = supervisor.Step(6.5);
+  EXPECT_TRUE(Contains(events, "hears STATUS again")) << (events.empty() ? "" : events[0]);
+  supervisor.OnOwnStatus(8.0);
+  supervisor.OnStatus("sim", 101, 8.0);
+  EXPECT_TRUE(supervisor.Step(8.0).empty());
+  supervisor.OnOwnStatus(8.6);
+  events = supervisor.Step(8.6);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0], "planner (pid 100) stopped answering: no STATUS for 2.1 s; killed; restart 1 in 0.5 s");
+  EXPECT_EQ(control.killed, (std::vector<int>{100}));
+}
+
 TEST(Supervisor, KillsAProcessThatNeverAnswersWithinTheStartupTimeout) {
   FakeControl control;
   Supervisor supervisor(TwoProcesses(), control);

@@ -85,6 +85,12 @@ class Supervisor {
   /// STATUS of an earlier instance (another pid) or of an unknown process is ignored.
   void OnStatus(const std::string& process, int pid, double now);
 
+  /// The supervisor's own STATUS came back at `now`: its LCM reception works. Once heard, a
+  /// supervisor that stops hearing itself for heartbeat_timeout_s judges no process silent (the
+  /// silence is its own: a starved or overflowing receiver), and gives each a fresh
+  /// heartbeat_timeout_s when it hears again.
+  void OnOwnStatus(double now);
+
   /// Reaps ended processes, kills silent ones, starts those due. Returns what happened, one
   /// line per event ("contact_planner (pid 123) died: killed by signal 9 (Killed); restart 1 in
   /// 0.5 s").
@@ -116,6 +122,10 @@ class Supervisor {
     bool given_up = false;
   };
   void Down(Child& child, double now, const std::string& why, std::vector<std::string>* events);
+  /// False while the supervisor's own STATUS has not come back for heartbeat_timeout_s.
+  bool Hearing(double now, std::vector<std::string>* events);
+  std::optional<double> last_own_status_;
+  bool deaf_ = false;
   Child* ByPid(int pid);
 
   SupervisionConfig config_;
