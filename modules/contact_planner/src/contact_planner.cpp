@@ -225,6 +225,12 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   Node root;
   root.state = current;  // its moving_leg (the leg that stepped last) continues the crawl
   root.t = m.path->Begin();
+  if (current.moving_leg >= 0) {
+    // That step was taken at about this path time: the leg steps again only once the trunk has
+    // advanced, as within one search (a horizon that re-placed it again would undo its step).
+    root.steps_at_time = 1;
+    root.stepped_at_time[static_cast<std::size_t>(current.moving_leg)] = true;
+  }
   const Eigen::Isometry3d base = BasePose(current);
   const std::optional<JointVector> joints = SolveStance(m.ctx(), base, current.feet, kNoMargins);
   if (!joints) {

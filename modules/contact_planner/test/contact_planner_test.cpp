@@ -334,6 +334,21 @@ TEST(ContactPlannerTest, RecedingHorizonContinuesTheCrawlOfTheLegThatSteppedLast
     EXPECT_EQ(r.plan.states.front().moving_leg, -1);
     EXPECT_EQ(r.plan.states[1].moving_leg, Index(expected)) << "after " << LegName(last);
   }
+  // A leg that has just stepped does not step again before the trunk advances: from a stance
+  // whose RF foot lags far behind (it must step at once), reached by stepping RF, another leg
+  // steps first.
+  WholeBodyState lagging = full.plan.states.front();
+  lagging.feet[static_cast<std::size_t>(Index(Leg::kRF))].position.x() -= 0.25;
+  for (const int last : {-1, Index(Leg::kRF)}) {
+    lagging.moving_leg = last;
+    const ContactPlanResult r = planner.PlanHorizon(lagging, samples, 2);
+    ASSERT_TRUE(r.ok) << r.reason;
+    if (last < 0) {
+      EXPECT_EQ(r.plan.states[1].moving_leg, Index(Leg::kRF)) << "the lagging leg steps first";
+    } else {
+      EXPECT_NE(r.plan.states[1].moving_leg, Index(Leg::kRF)) << "RF stepped last";
+    }
+  }
   WholeBodyState bad = full.plan.states.front();
   bad.moving_leg = 7;
   EXPECT_EQ(planner.PlanHorizon(bad, samples, 2).status, ContactPlanStatus::kInvalidInput);
