@@ -245,6 +245,14 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   root.shift = Yaw(start.yaw).transpose() * (current.base_position - start.p);
   if (m.config.base_pose.follow_feet) root.shift.z() = 0.0;  // the height follows the feet
   ContactPlanResult result_from = m.SearchFrom(root, max_steps);
+  if (result_from.status == ContactPlanStatus::kNoFoothold && root.steps_at_time > 0) {
+    // Only re-placing that leg at once frees the others (it blocks a lift-off): search again
+    // with the leg free to step.
+    root.steps_at_time = 0;
+    root.stepped_at_time.fill(false);
+    ContactPlanResult again = m.SearchFrom(root, max_steps);
+    if (again.ok) result_from = std::move(again);
+  }
   if (!result_from.plan.states.empty()) result_from.plan.states.front().moving_leg = -1;
   return result_from;
 }

@@ -145,7 +145,8 @@ class ContactPlanner {
   /// four feet in contact) along `remaining_path` (whose first sample should be near the current
   /// base). current.moving_leg, the leg that stepped last (-1: none known), continues the crawl:
   /// the next leg in the crawl order steps first unless another must, and that leg itself steps
-  /// again only once the trunk has advanced along the path. The plan's first state is
+  /// again only once the trunk has advanced along the path (unless no plan is found otherwise).
+  /// The plan's first state is
   /// `current` with its joints recomputed by IK at its base pose (moving_leg -1). ok with
   /// reached_goal false when max_steps steps were planned before the path end.
   ContactPlanResult PlanHorizon(const WholeBodyState& current, const std::vector<RootPathSample>& remaining_path,
