@@ -229,8 +229,11 @@ try {
 
   if (info.tracks.length && !args.live) {
     // Play for a moment: the timeline moves, and the robot with it.
+    // Until the slider has moved (a loaded machine renders few frames a second), 15 s at most.
     await page.click('#play');
-    await page.waitForTimeout(1500);
+    await page
+      .waitForFunction(() => Number(document.getElementById('slider').value) > 0, null, { timeout: 15000 })
+      .catch(() => {});
     await page.click('#play');
     const t = await page.evaluate(() => Number(document.getElementById('slider').value));
     check(t > 0, `play advances the timeline (to ${t.toFixed(2)})`);
