@@ -14,18 +14,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rbcp/core/config_checks.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
 
 namespace rbcp::nodes {
-namespace {
-
-void RequirePositive(const YamlMap& map, const char* key, double value) {
-  if (!(value > 0.0)) map.Fail(key, "expected a positive number, got " + std::to_string(value));
-}
-
-}  // namespace
-
 SupervisorSpec SupervisorSpec::Load(const YamlMap& map) {
   SupervisorSpec spec;
   SupervisionConfig& c = spec.config;
@@ -36,16 +29,17 @@ SupervisorSpec SupervisorSpec::Load(const YamlMap& map) {
   c.healthy_after_s = map.Double("healthy_after_s");
   c.max_restarts = map.Int("max_restarts");
   c.stop_grace_s = map.Double("stop_grace_s");
-  RequirePositive(map, "heartbeat_timeout_s", c.heartbeat_timeout_s);
-  RequirePositive(map, "startup_timeout_s", c.startup_timeout_s);
-  RequirePositive(map, "backoff_initial_s", c.backoff_initial_s);
-  RequirePositive(map, "healthy_after_s", c.healthy_after_s);
-  RequirePositive(map, "stop_grace_s", c.stop_grace_s);
+  const ConfigChecks check(map.Where());
+  check.Positive("heartbeat_timeout_s", c.heartbeat_timeout_s, "s");
+  check.Positive("startup_timeout_s", c.startup_timeout_s, "s");
+  check.Positive("backoff_initial_s", c.backoff_initial_s, "s");
+  check.Positive("healthy_after_s", c.healthy_after_s, "s");
+  check.Positive("stop_grace_s", c.stop_grace_s, "s");
   if (!(c.backoff_max_s >= c.backoff_initial_s)) {
-    map.Fail("backoff_max_s", "expected at least backoff_initial_s (" + std::to_string(c.backoff_initial_s) +
-                                  "), got " + std::to_string(c.backoff_max_s));
+    check.Fail("backoff_max_s", "at least backoff_initial_s (" + ConfigNumber(c.backoff_initial_s) + ")",
+               ConfigNumber(c.backoff_max_s));
   }
-  if (c.max_restarts < 0) map.Fail("max_restarts", "expected >= 0, got " + std::to_string(c.max_restarts));
+  check.AtLeast("max_restarts", c.max_restarts, 0);
   for (const YamlMap& p : map.MapList("processes")) {
     ProcessSpec s;
     s.name = p.String("name");

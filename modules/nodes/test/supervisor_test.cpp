@@ -232,7 +232,7 @@ TEST(SupervisorSpec, LoadsStrictlyWithClearErrors) {
   };
   std::string text = ok;
   text.replace(text.find("backoff_max_s: 8"), 16, "backoff_max_s: 0.1");
-  EXPECT_EQ(error(text), "spec.yaml: 'backoff_max_s': expected at least backoff_initial_s (0.500000), got 0.100000");
+  EXPECT_EQ(error(text), "spec.yaml: 'backoff_max_s': expected at least backoff_initial_s (0.5), got 0.1");
   text = ok;
   text.replace(text.find("command: [/bin/sim, --replan]"), 29, "command: []");
   EXPECT_EQ(error(text), "spec.yaml: processes[0]: 'command': expected a program and its arguments");
