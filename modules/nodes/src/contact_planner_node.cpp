@@ -19,6 +19,14 @@
 namespace rbcp::nodes {
 namespace {
 
+/// The feet where forward kinematics of the measured joints puts them, in the world frame.
+std::array<Eigen::Vector3d, kNumLegs> MeasuredFeetW(const RobotModel& robot, const RobotState& measured) {
+  const Eigen::Isometry3d base_W = Eigen::Translation3d(measured.base_position_W) * measured.base_orientation_W;
+  std::array<Eigen::Vector3d, kNumLegs> feet_W = robot.FootPositions(measured.q);
+  for (Eigen::Vector3d& p : feet_W) p = base_W * p;
+  return feet_W;
+}
+
 /// How far the trunk may be beyond the terrain's horizontal bounds, feet still on the terrain [m].
 constexpr double kTerrainMargin_m = 0.5;
 
@@ -236,10 +244,8 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   } catch (const InputError& e) {
     return fail(e.what());
   }
-  const Eigen::Isometry3d base_W = Eigen::Translation3d(measured.base_position_W) * measured.base_orientation_W;
   const Eigen::Vector3d rpy = RpyFromRotation(measured.base_orientation_W.toRotationMatrix());
-  std::array<Eigen::Vector3d, kNumLegs> feet_W = robot_.FootPositions(measured.q);
-  for (Eigen::Vector3d& p : feet_W) p = base_W * p;
+  const std::array<Eigen::Vector3d, kNumLegs> feet_W = MeasuredFeetW(robot_, measured);
   std::string why;
   std::optional<WholeBodyState> stance =
       planner_.MeasuredStance(measured.base_position_W, rpy, feet_W, options_.max_foot_offset_m, &why);
@@ -354,19 +360,20 @@ void ContactPlannerNode::WatchStep(const rbcp_msgs::robot_state_t& msg) {
   // While the robot walks the step planned ahead from, a stance foot that slides from its
   // foothold makes the plan made ahead stale: the robot will not stand where it starts.
   if (!next_ || msg.awaiting_plan || msg.plan_seq != next_->after_plan_seq || !last_plan_) return;
+  if (msg.utime == watched_utime_) return;  // this state was watched already
+  watched_utime_ = msg.utime;
   RobotState measured;
   try {
     measured = transport::FromRobotStateMsg(msg);
   } catch (const InputError&) {
     return;
   }
-  const Eigen::Isometry3d base_W = Eigen::Translation3d(measured.base_position_W) * measured.base_orientation_W;
-  const std::array<Eigen::Vector3d, kNumLegs> feet_B = robot_.FootPositions(measured.q);
+  const std::array<Eigen::Vector3d, kNumLegs> feet_W = MeasuredFeetW(robot_, measured);
   const int moving = next_->expected.moving_leg;
   for (int i = 0; i < kNumLegs; ++i) {
     if (i == moving || !msg.foot_contact[i]) continue;
     const Eigen::Vector3d& planned = last_plan_->states[0].feet[static_cast<std::size_t>(i)].position;
-    const double d = (base_W * feet_B[static_cast<std::size_t>(i)] - planned).norm();
+    const double d = (feet_W[static_cast<std::size_t>(i)] - planned).norm();
     if (d > options_.slip_m) {
       if (verbose_) {
         std::fprintf(stderr, "[%s] %s slid %.3f m from its foothold during the step: the plan made ahead is dropped, "

@@ -152,6 +152,7 @@ class ContactPlannerNode {
   std::optional<Speculation> next_;
   int64_t plan_seq_ = 0;
   int32_t plan_start_steps_ = 0;  ///< ROBOT_STATE.steps_done when the last plan went out
+  int64_t watched_utime_ = -1;    ///< utime of the last ROBOT_STATE WatchStep looked at
   std::optional<ContactPlanResult> last_result_;
   int64_t latest_utime_ = 0;
   bool verbose_ = true;
