@@ -121,16 +121,14 @@ void SimNode::UpdateWait() {
   }
   const bool timed_out = std::chrono::duration<double>(now - await_wall_start_).count() > options_.await_timeout_s;
   if (!failed && !timed_out) return;
+  // The rest of the current plan is walked only if it was planned on the world as it is.
+  const bool go_on = execution_.CanContinue() && (world_changed_utime_ < 0 || walked_plan_utime_ >= world_changed_utime_);
   if (status_.verbose()) {
     std::fprintf(stderr, "[%s] no new plan for the wait since utime %lld (%s): %s\n", kProcessName,
                  static_cast<long long>(*awaiting_since_), failed ? "the contact planner failed" : "timed out",
-                 execution_.CanContinue() && (world_changed_utime_ < 0 || walked_plan_utime_ >= world_changed_utime_)
-                     ? "going on with the current plan"
-                     : "holding the stance");
+                 go_on ? "going on with the current plan" : "holding the stance");
   }
-  // The rest of the current plan is walked only if it was planned on the world as it is.
-  const bool current = world_changed_utime_ < 0 || walked_plan_utime_ >= world_changed_utime_;
-  if (execution_.CanContinue() && current) {
+  if (go_on) {
     execution_.ContinuePlan();
   } else if (++failed_waits_ >= options_.max_failed_waits) {
     execution_.Abort("no_plan", "no plan from this stance after " + std::to_string(failed_waits_) +
