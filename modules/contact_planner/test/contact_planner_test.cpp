@@ -269,12 +269,26 @@ TEST(ContactPlannerTest, InvalidInputsAreReported) {
   EXPECT_THROW(ContactPlanner(Robot(), SmallDatabase(), test::Equilibrium(), bad), InputError);
 }
 
+/// A planner on flat ground, a straight 2 m path sampled every 0.01 s and its whole plan: the
+/// reference the receding-horizon pieces are compared with.
+struct FlatWholePlan {
+  ContactPlanner planner;
+  std::vector<RootPathSample> samples;
+  ContactPlanResult full;
+};
+
+FlatWholePlan PlanFlatPath() {
+  FlatWholePlan w{MakePlanner(ScenarioWorld("flat_ground")),
+                  StraightPath({-1.0, 0.0}, {1.0, 0.0}, 0.0).SampleEvery(0.01), {}};
+  w.full = w.planner.Plan(w.samples);
+  return w;
+}
+
 TEST(ContactPlannerTest, RecedingHorizonContinuesTheFullPlan) {
-  const World& world = ScenarioWorld("flat_ground");
-  const RootPath path = StraightPath({-1.0, 0.0}, {1.0, 0.0}, 0.0);
-  const auto samples = path.SampleEvery(0.01);
-  ContactPlanner planner = MakePlanner(world);
-  const ContactPlanResult full = planner.Plan(samples);
+  FlatWholePlan w = PlanFlatPath();
+  ContactPlanner& planner = w.planner;
+  const std::vector<RootPathSample>& samples = w.samples;
+  const ContactPlanResult& full = w.full;
   ASSERT_TRUE(full.ok) << full.reason;
   const int k = 3;
   const ContactPlanResult first = planner.PlanHorizon(full.plan.states.front(), samples, k);
@@ -317,11 +331,10 @@ TEST(ContactPlannerTest, RecedingHorizonContinuesTheFullPlan) {
 }
 
 TEST(ContactPlannerTest, RecedingHorizonContinuesTheCrawlOfTheLegThatSteppedLast) {
-  const World& world = ScenarioWorld("flat_ground");
-  const RootPath path = StraightPath({-1.0, 0.0}, {1.0, 0.0}, 0.0);
-  const auto samples = path.SampleEvery(0.01);
-  ContactPlanner planner = MakePlanner(world);
-  const ContactPlanResult full = planner.Plan(samples);
+  FlatWholePlan w = PlanFlatPath();
+  ContactPlanner& planner = w.planner;
+  const std::vector<RootPathSample>& samples = w.samples;
+  const ContactPlanResult& full = w.full;
   ASSERT_TRUE(full.ok) << full.reason;
   // The crawl order LH, LF, RH, RF: from a stance a leg stepped to, the next leg steps first.
   const std::array<std::pair<Leg, Leg>, kNumLegs> next = {
