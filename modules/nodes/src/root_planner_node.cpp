@@ -91,10 +91,18 @@ bool RootPlannerNode::Step() {
 }
 
 std::string RootPlannerNode::ReplanReason(bool world_changed) {
+  if (world_changed) terrain_replan_due_ = true;
   if (!active_ || !last_result_ || !last_result_->ok() || !robot_state_.Latest()) return "";
-  if (world_changed) return "the terrain changed";
   const auto& state = *robot_state_.Latest();
-  if (!state.awaiting_plan || checked_wait_ == state.awaiting_since) return "";
+  // Replans start where the robot stands at a step boundary: the world stands still there (the
+  // robot waits for a plan), so the new path does not depend on when this process heard of it.
+  if (!state.awaiting_plan) return "";
+  if (terrain_replan_due_) {
+    terrain_replan_due_ = false;
+    checked_wait_ = state.awaiting_since;
+    return "the terrain changed";
+  }
+  if (checked_wait_ == state.awaiting_since) return "";
   checked_wait_ = state.awaiting_since;
   const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
   if (!base.allFinite()) return "";

@@ -141,6 +141,19 @@ TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges)
   path = path_.Take();
   ASSERT_TRUE(path.has_value()) << status_.Latest()->reason;
   EXPECT_NE(status_.Latest()->reason.find("the terrain changed"), std::string::npos) << status_.Latest()->reason;
+
+  // The terrain changes while the robot walks: the new path starts where it next waits.
+  auto walking = waiting(3000000, 0.6, 0.0);
+  walking.awaiting_plan = false;
+  lcm_.publish(channels::kRobotState, &walking);
+  PublishWorld("flat_ground");
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  EXPECT_FALSE(path_.Take().has_value()) << "no replan in the middle of a step";
+  path = PathAfter(waiting(3500000, 0.7, 0.0));
+  ASSERT_TRUE(path.has_value());
+  EXPECT_NEAR(path->points.front().position[0], 0.7, 1e-9);
+  EXPECT_NE(status_.Latest()->reason.find("the terrain changed"), std::string::npos) << status_.Latest()->reason;
 }
 
 TEST_F(RootPlannerNodeTest, BadRequestsFailWithAReason) {
