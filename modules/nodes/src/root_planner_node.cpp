@@ -91,8 +91,9 @@ bool RootPlannerNode::Step() {
 }
 
 std::string RootPlannerNode::ReplanReason(bool world_changed) {
-  if (world_changed) terrain_replan_due_ = true;
-  if (!active_ || !last_result_ || !last_result_->ok() || !robot_state_.Latest()) return "";
+  if (!active_ || !last_result_ || !last_result_->ok()) return "";
+  if (world_changed) terrain_replan_due_ = true;  // a path planned on another terrain
+  if (!robot_state_.Latest()) return "";
   const auto& state = *robot_state_.Latest();
   // Replans start where the robot stands at a step boundary: the world stands still there (the
   // robot waits for a plan), so the new path does not depend on when this process heard of it.
@@ -114,6 +115,7 @@ std::string RootPlannerNode::ReplanReason(bool world_changed) {
 
 void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::string& why) {
   status_.Busy(Now(), request.utime);
+  terrain_replan_due_ = false;  // planned on the terrain as it is now
   Eigen::Vector2d start_xy(request.start_position[0], request.start_position[1]);
   double start_yaw = request.start_yaw;
   if (!request.use_start) {
