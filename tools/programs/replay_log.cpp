@@ -307,7 +307,7 @@ int main(int argc, char** argv) {
   app.add_option("--write-thinned", thin_path,
                  "instead of replaying: write the log to this file with ROBOT_STATE thinned while the robot walks "
                  "(--walking-state-hz of simulated time; every state of a wait kept once), a smaller log that "
-                 "replays the same (the planners act on a walking robot's state only to see a stance foot slide)");
+                 "replays the same (the planners act only on the states of a robot waiting at a step boundary)");
   app.add_option("--walking-state-hz", walking_state_hz, "with --write-thinned: ROBOT_STATE kept while walking [Hz]")
       ->capture_default_str()->check(CLI::PositiveNumber);
   return nodes::GuardedMain("replay_log", app, argc, argv, [&]() -> int {

@@ -27,6 +27,13 @@ std::array<Eigen::Vector3d, kNumLegs> MeasuredFeetW(const RobotModel& robot, con
   return feet_W;
 }
 
+/// The largest difference of roll, pitch and yaw between two base poses [rad].
+double OrientationDifference(const WholeBodyState& a, const WholeBodyState& b) {
+  Eigen::Vector3d d = a.base_rpy - b.base_rpy;
+  d.z() = WrapAngle(d.z());
+  return d.cwiseAbs().maxCoeff();
+}
+
 /// How far the trunk may be beyond the terrain's horizontal bounds, feet still on the terrain [m].
 constexpr double kTerrainMargin_m = 0.5;
 
@@ -67,6 +74,9 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
   if (!(options_.foothold_match_m >= 0.0)) {
     throw InputError("contact planner node: foothold_match_m expected >= 0, got " +
                      std::to_string(options_.foothold_match_m));
+  }
+  if (!(options_.planned_base_m >= 0.0) || !(options_.planned_base_rad >= 0.0)) {
+    throw InputError("contact planner node: planned_base_m and planned_base_rad expected >= 0");
   }
   if (!(options_.max_path_offset_m > 0.0)) {
     throw InputError("contact planner node: max_path_offset_m expected > 0, got " +
@@ -140,7 +150,6 @@ bool ContactPlannerNode::Step() {
       worked = true;
     }
     const auto& state = robot_state_.Latest();
-    if (state && !state->awaiting_plan) WatchStep(*state);
     if (!state || !state->awaiting_plan || !world_set_ || path_.empty()) return worked;
     if (path_stale_) {
       if (verbose_ && !logged_stale_) std::fprintf(stderr, "[%s] the terrain changed: waiting for a root path on it\n", kProcessName);
@@ -222,10 +231,9 @@ std::optional<std::string> ContactPlannerNode::StanceDeviation(const WholeBodySt
     os << "the base is " << dp << " m from its planned position";
     return os.str();
   }
-  Eigen::Vector3d drpy = measured.base_rpy - expected.base_rpy;
-  drpy.z() = WrapAngle(drpy.z());
-  if (drpy.cwiseAbs().maxCoeff() > options_.base_match_rad) {
-    os << "the base is " << drpy.cwiseAbs().maxCoeff() << " rad from its planned orientation";
+  const double drpy = OrientationDifference(measured, expected);
+  if (drpy > options_.base_match_rad) {
+    os << "the base is " << drpy << " rad from its planned orientation";
     return os.str();
   }
   return std::nullopt;
@@ -252,6 +260,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   if (!stance) return fail("measured stance: " + why);
   if (last_plan_) {
     // A foot still on a foothold of the previous plan stands exactly there.
+    int on_plan = 0;
     for (std::size_t i = 0; i < stance->feet.size(); ++i) {
       const FootContact* match = nullptr;
       double best_d = options_.foothold_match_m;
@@ -262,12 +271,26 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
           match = &s.feet[i];
         }
       }
-      if (match) stance->feet[i] = *match;
+      if (match) {
+        stance->feet[i] = *match;
+        ++on_plan;
+      }
     }
     // The crawl goes on from the last step the robot walked of that plan.
     const long walked = static_cast<long>(msg.steps_done) - static_cast<long>(plan_start_steps_);
     if (msg.plan_seq == plan_seq_ && walked >= 1 && walked < static_cast<long>(last_plan_->states.size())) {
-      stance->moving_leg = last_plan_->states[static_cast<std::size_t>(walked)].moving_leg;
+      const WholeBodyState& planned = last_plan_->states[static_cast<std::size_t>(walked)];
+      stance->moving_leg = planned.moving_leg;
+      // On the planned footholds, the base stands where the plan put it: the controller holds the
+      // base a few centimetres off its plan where a swing needs clearance or a joint torque
+      // (higher, aside), and a stance planned from that offset pose could leave a stretched leg
+      // out of reach.
+      if (on_plan == static_cast<int>(stance->feet.size()) &&
+          (stance->base_position - planned.base_position).norm() <= options_.planned_base_m &&
+          OrientationDifference(*stance, planned) <= options_.planned_base_rad) {
+        stance->base_position = planned.base_position;
+        stance->base_rpy = planned.base_rpy;
+      }
     }
   }
   double offset_xy = 0.0;
@@ -354,36 +377,6 @@ void ContactPlannerNode::PlanAhead() {
                  next.result.ok ? "ok" : next.result.reason.c_str(), next.result.planning_time_s);
   }
   next_ = std::move(next);
-}
-
-void ContactPlannerNode::WatchStep(const rbcp_msgs::robot_state_t& msg) {
-  // While the robot walks the step planned ahead from, a stance foot that slides from its
-  // foothold makes the plan made ahead stale: the robot will not stand where it starts.
-  if (!next_ || msg.awaiting_plan || msg.plan_seq != next_->after_plan_seq || !last_plan_) return;
-  if (msg.utime == watched_utime_) return;  // this state was watched already
-  watched_utime_ = msg.utime;
-  RobotState measured;
-  try {
-    measured = transport::FromRobotStateMsg(msg);
-  } catch (const InputError&) {
-    return;
-  }
-  const std::array<Eigen::Vector3d, kNumLegs> feet_W = MeasuredFeetW(robot_, measured);
-  const int moving = next_->expected.moving_leg;
-  for (int i = 0; i < kNumLegs; ++i) {
-    if (i == moving || !msg.foot_contact[i]) continue;
-    const Eigen::Vector3d& planned = last_plan_->states[0].feet[static_cast<std::size_t>(i)].position;
-    const double d = (feet_W[static_cast<std::size_t>(i)] - planned).norm();
-    if (d > options_.slip_m) {
-      if (verbose_) {
-        std::fprintf(stderr, "[%s] %s slid %.3f m from its foothold during the step: the plan made ahead is dropped, "
-                     "the next plan starts from the measured stance\n", kProcessName,
-                     std::string(LegName(kAllLegs[static_cast<std::size_t>(i)])).c_str(), d);
-      }
-      next_.reset();
-      return;
-    }
-  }
 }
 
 std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_path_t& msg,

@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "rbcp/core/pose.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/nodes/root_planner_node.h"
 #include "rbcp/plan_checker/plan_checker.h"
@@ -248,6 +249,69 @@ TEST_F(ContactPlannerNodeTest, HorizonModeAnswersEachWaitWithKStepsFromTheMeasur
   state.joint_position[1] += 0.6;  // LF_HFE: the foot swings forward and up
   reason = ExpectFailed(channels::kRobotState, state);
   EXPECT_NE(reason.find("measured stance: LF foot"), std::string::npos) << reason;
+}
+
+/// The state of a robot waiting after it walked `walked` steps of `plan` (plan_seq `seq`), on
+/// that plan's footholds with its base `offset_W` off the planned pose.
+rbcp_msgs::robot_state_t WaitingOnPlan(int64_t utime, const ContactPlan& plan, int walked, int64_t seq,
+                                       const Eigen::Vector3d& offset_W) {
+  const WholeBodyState& s = plan.states[static_cast<std::size_t>(walked)];
+  rbcp_msgs::robot_state_t state = WaitingState(utime, 0.0, 0.0);
+  const Eigen::Vector3d p = s.base_position + offset_W;
+  const Eigen::Quaterniond orientation(RotationFromRpy(s.base_rpy));
+  const Eigen::Isometry3d base_W = Eigen::Translation3d(p) * orientation;
+  for (int i = 0; i < 3; ++i) state.base_position[i] = p[i];
+  state.base_orientation[0] = orientation.w();
+  state.base_orientation[1] = orientation.x();
+  state.base_orientation[2] = orientation.y();
+  state.base_orientation[3] = orientation.z();
+  for (Leg leg : kAllLegs) {
+    const IkResult ik = Robot().SolveLegIk(leg, base_W.inverse() * s.feet[static_cast<std::size_t>(Index(leg))].position);
+    EXPECT_TRUE(ik.ok()) << LegName(leg);
+    for (int j = 0; j < 3; ++j) state.joint_position[3 * Index(leg) + j] = ik.q[j];
+  }
+  state.plan_seq = seq;
+  state.steps_done = walked;
+  return state;
+}
+
+TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPutIt) {
+  // The controller holds the trunk a few centimetres off its plan at a step boundary (clearance,
+  // torque): with every foot on the plan's footholds, the next plan starts from the planned base
+  // pose. Farther off (a push), it starts from the measured one.
+  for (const double offset : {0.04, 0.10}) {
+    SCOPED_TRACE("base offset " + std::to_string(offset));
+    node_ = MakeNode(3);
+    PublishWorld();
+    lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+    Pump();
+    ASSERT_TRUE(node_->Step());
+    const rbcp_msgs::robot_state_t waiting = WaitingState(300, 0.02, 0.01);
+    lcm_.publish(channels::kRobotState, &waiting);
+    Pump();
+    ASSERT_TRUE(node_->Step());
+    Pump();
+    const auto first = plan_.Take();
+    ASSERT_TRUE(first.has_value()) << status_.Latest()->reason;
+    const ContactPlan plan = transport::FromContactPlanMsg(*first);
+    ASSERT_GE(plan.states.size(), 2u);
+
+    const Eigen::Vector3d offset_W(0.0, offset, 0.0);
+    const rbcp_msgs::robot_state_t after_step = WaitingOnPlan(900, plan, 1, first->plan_seq, offset_W);
+    lcm_.publish(channels::kRobotState, &after_step);
+    Pump();
+    ASSERT_TRUE(node_->Step());
+    Pump();
+    const auto next = plan_.Take();
+    ASSERT_TRUE(next.has_value()) << status_.Latest()->reason;
+    EXPECT_EQ(next->start_utime, 900);
+    const WholeBodyState start = transport::FromContactPlanMsg(*next).states.front();
+    const Eigen::Vector3d expected = plan.states[1].base_position + (offset < 0.08 ? Eigen::Vector3d::Zero() : offset_W);
+    EXPECT_LT((start.base_position - expected).norm(), 1e-9) << start.base_position.transpose();
+    for (std::size_t i = 0; i < start.feet.size(); ++i) {
+      EXPECT_LT((start.feet[i].position - plan.states[1].feet[i].position).norm(), 1e-9) << "the planned footholds";
+    }
+  }
 }
 
 TEST_F(ContactPlannerNodeTest, MalformedWorldFailsWithAReason) {

@@ -66,9 +66,11 @@ struct ContactPlannerNodeOptions {
   bool plan_ahead = true;
   double base_match_m = 0.03;    ///< [m]
   double base_match_rad = 0.05;  ///< [rad] roll, pitch and yaw
-  /// Horizon mode: a stance foot farther than this from its foothold during a step has slid;
-  /// the plan made ahead is then dropped [m].
-  double slip_m = 0.03;
+  /// Horizon mode: with every foot on a foothold of the plan the robot walks, a measured base
+  /// within planned_base_m and planned_base_rad (roll, pitch, yaw) of that plan's base pose at the
+  /// step walked stands at the planned pose (the controller's own base offsets are no new stance).
+  double planned_base_m = 0.08;    ///< [m]
+  double planned_base_rad = 0.1;   ///< [rad]
   /// A ROOT_PATH lasting longer than this is rejected [s] (the search walks the path in time).
   double max_path_duration_s = 3600.0;
 };
@@ -108,8 +110,6 @@ class ContactPlannerNode {
   void Replan(const rbcp_msgs::robot_state_t& state);
   /// Horizon mode: plans from the stance the published plan's first step leads to.
   void PlanAhead();
-  /// Horizon mode: drops the plan made ahead when a stance foot slides during the step.
-  void WatchStep(const rbcp_msgs::robot_state_t& state);
   /// Path sample nearest to a base pose, not behind path_progress_; its horizontal distance in
   /// *offset_xy.
   std::size_t PathProgress(const Eigen::Vector3d& base_W, double yaw, double* offset_xy) const;
@@ -152,7 +152,6 @@ class ContactPlannerNode {
   std::optional<Speculation> next_;
   int64_t plan_seq_ = 0;
   int32_t plan_start_steps_ = 0;  ///< ROBOT_STATE.steps_done when the last plan went out
-  int64_t watched_utime_ = -1;    ///< utime of the last ROBOT_STATE WatchStep looked at
   std::optional<ContactPlanResult> last_result_;
   int64_t latest_utime_ = 0;
   bool verbose_ = true;
