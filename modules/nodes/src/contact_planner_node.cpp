@@ -75,6 +75,10 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
     throw InputError("contact planner node: foothold_match_m expected >= 0, got " +
                      std::to_string(options_.foothold_match_m));
   }
+  if (options_.reuse_margin_steps < 0) {
+    throw InputError("contact planner node: reuse_margin_steps expected >= 0, got " +
+                     std::to_string(options_.reuse_margin_steps));
+  }
   if (!(options_.planned_base_m >= 0.0) || !(options_.planned_base_rad >= 0.0)) {
     throw InputError("contact planner node: planned_base_m and planned_base_rad expected >= 0");
   }
@@ -339,7 +343,10 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
     status_.Failed(Now(), msg.utime, ms, reason);
     return;
   }
-  // Publish the first K steps; the look-ahead beyond them only showed they lead on.
+  // Publish the first K steps; the look-ahead beyond them only showed they lead on. The whole
+  // search is kept: while the robot walks it as planned, its continuation is the next answer.
+  searched_ = r.plan;
+  searched_.reaches_goal = r.reached_goal;
   const std::size_t keep = static_cast<std::size_t>(k) + 1;
   r.plan.reaches_goal = r.reached_goal && r.plan.states.size() <= keep;
   if (r.plan.states.size() > keep) {
@@ -365,6 +372,25 @@ void ContactPlannerNode::PlanAhead() {
   next.expected = last_plan_->states[1];
   double offset_xy = 0.0;
   next.progress = PathProgress(next.expected.base_position, next.expected.base_rpy.z(), &offset_xy);
+  // The search the plan came from goes on beyond its first step: while it holds K steps and
+  // reuse_margin_steps more (or reaches the goal), its continuation is the plan made ahead. A new
+  // search at every step could choose differently each time and re-place the feet back and forth
+  // without the trunk getting anywhere.
+  const int continuation_steps = static_cast<int>(searched_.states.size()) - 2;
+  if (searched_.reaches_goal || continuation_steps >= options_.horizon_steps + options_.reuse_margin_steps) {
+    next.result.ok = true;
+    next.result.status = ContactPlanStatus::kOk;
+    next.result.plan.states.assign(searched_.states.begin() + 1, searched_.states.end());
+    next.result.plan.states.front().moving_leg = -1;
+    next.result.reached_goal = searched_.reaches_goal;
+    next.result.steps = continuation_steps;
+    if (verbose_) {
+      std::fprintf(stderr, "[%s] planned ahead: the search goes on for %d steps after the next one\n", kProcessName,
+                   continuation_steps);
+    }
+    next_ = std::move(next);
+    return;
+  }
   const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(next.progress), path_.end());
   try {
     next.result = planner_.PlanHorizon(next.expected, remaining, options_.horizon_steps + options_.lookahead_steps);

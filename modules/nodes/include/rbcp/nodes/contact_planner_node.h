@@ -64,6 +64,10 @@ struct ContactPlannerNodeOptions {
   /// from the stance that step leads to; at the next boundary it is taken at once if the robot
   /// stands there (same footholds, base within base_match_m and base_match_rad).
   bool plan_ahead = true;
+  /// Horizon mode, plan_ahead: the plan made ahead is the continuation of the search the plan
+  /// came from while that holds horizon_steps + reuse_margin_steps steps after the next one (or
+  /// reaches the goal); otherwise a new search from the stance after the next step.
+  int reuse_margin_steps = 4;
   double base_match_m = 0.03;    ///< [m]
   double base_match_rad = 0.05;  ///< [rad] roll, pitch and yaw
   /// Horizon mode: with every foot on a foothold of the plan the robot walks, a measured base
@@ -150,6 +154,7 @@ class ContactPlannerNode {
     ContactPlanResult result;
   };
   std::optional<Speculation> next_;
+  ContactPlan searched_;  ///< the whole last plan searched or continued (K steps and the look-ahead)
   int64_t plan_seq_ = 0;
   int32_t plan_start_steps_ = 0;  ///< ROBOT_STATE.steps_done when the last plan went out
   std::optional<ContactPlanResult> last_result_;
