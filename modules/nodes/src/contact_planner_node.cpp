@@ -49,6 +49,18 @@ std::string Summary(const ContactPlanResult& r, int horizon_steps) {
 
 }  // namespace
 
+bool KeepEarlierSearch(const ContactPlan& continuation, const ContactPlanResult& fresh, int k, int margin,
+                       const std::function<std::size_t(const WholeBodyState&)>& progress) {
+  const int steps = static_cast<int>(continuation.states.size()) - 1;
+  if (steps < 1) return false;
+  if (!fresh.ok) return true;
+  if (!continuation.reaches_goal && steps < k + margin) return false;
+  const auto after_k = [&](const ContactPlan& plan) {
+    return progress(plan.states[std::min(plan.states.size() - 1, static_cast<std::size_t>(std::max(k, 0)))]);
+  };
+  return after_k(continuation) > after_k(fresh.plan);
+}
+
 ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, const LimbDatabase& database,
                                        const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config,
                                        ContactPlannerNodeOptions options)
@@ -263,12 +275,22 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
       planner_.MeasuredStance(measured.base_position_W, rpy, feet_W, options_.max_foot_offset_m, &why);
   if (!stance) return fail("measured stance: " + why);
   if (last_plan_) {
-    // A foot still on a foothold of the previous plan stands exactly there.
+    // A foot still on a foothold of the previous plan stands exactly there: the one of the state
+    // the robot should have reached, else the nearest.
+    const long walked = static_cast<long>(msg.steps_done) - static_cast<long>(plan_start_steps_);
+    const WholeBodyState* reached =
+        msg.plan_seq == plan_seq_ && walked >= 1 && walked < static_cast<long>(last_plan_->states.size())
+            ? &last_plan_->states[static_cast<std::size_t>(walked)]
+            : nullptr;
     int on_plan = 0;
     for (std::size_t i = 0; i < stance->feet.size(); ++i) {
       const FootContact* match = nullptr;
       double best_d = options_.foothold_match_m;
+      if (reached && (reached->feet[i].position - stance->feet[i].position).norm() <= best_d) {
+        match = &reached->feet[i];
+      }
       for (const WholeBodyState& s : last_plan_->states) {
+        if (match) break;
         const double d = (s.feet[i].position - stance->feet[i].position).norm();
         if (d <= best_d) {
           best_d = d;
@@ -281,9 +303,8 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
       }
     }
     // The crawl goes on from the last step the robot walked of that plan.
-    const long walked = static_cast<long>(msg.steps_done) - static_cast<long>(plan_start_steps_);
-    if (msg.plan_seq == plan_seq_ && walked >= 1 && walked < static_cast<long>(last_plan_->states.size())) {
-      const WholeBodyState& planned = last_plan_->states[static_cast<std::size_t>(walked)];
+    if (reached) {
+      const WholeBodyState& planned = *reached;
       stance->moving_leg = planned.moving_leg;
       // On the planned footholds, the base stands where the plan put it: the controller holds the
       // base a few centimetres off its plan where a swing needs clearance or a joint torque
@@ -372,36 +393,56 @@ void ContactPlannerNode::PlanAhead() {
   next.expected = last_plan_->states[1];
   double offset_xy = 0.0;
   next.progress = PathProgress(next.expected.base_position, next.expected.base_rpy.z(), &offset_xy);
-  // The search the plan came from goes on beyond its first step: while it holds K steps and
-  // reuse_margin_steps more (or reaches the goal), its continuation is the plan made ahead. A new
-  // search at every step could choose differently each time and re-place the feet back and forth
-  // without the trunk getting anywhere.
-  const int continuation_steps = static_cast<int>(searched_.states.size()) - 2;
-  if (searched_.reaches_goal || continuation_steps >= options_.horizon_steps + options_.reuse_margin_steps) {
+  // A new search from the stance after the next step (K steps and the look-ahead deep). The
+  // search the plan came from also goes on beyond that step: when the new plan fails, or its K
+  // steps get the trunk less far along the path than the earlier search's, the earlier search
+  // goes on. New searches at every step could otherwise choose differently each time and
+  // re-place the feet back and forth without the trunk getting anywhere.
+  const int depth = options_.horizon_steps + options_.lookahead_steps;
+  ContactPlan continuation;
+  continuation.states.assign(searched_.states.begin() + 1, searched_.states.end());
+  continuation.states.front().moving_leg = -1;
+  continuation.reaches_goal = searched_.reaches_goal;
+  const auto take = [&](ContactPlan plan, const std::string& how) {
+    next.result = ContactPlanResult{};
     next.result.ok = true;
     next.result.status = ContactPlanStatus::kOk;
-    next.result.plan.states.assign(searched_.states.begin() + 1, searched_.states.end());
-    next.result.plan.states.front().moving_leg = -1;
-    next.result.reached_goal = searched_.reaches_goal;
-    next.result.steps = continuation_steps;
+    next.result.reached_goal = plan.reaches_goal;
+    next.result.steps = static_cast<int>(plan.states.size()) - 1;
+    next.result.plan = std::move(plan);
     if (verbose_) {
-      std::fprintf(stderr, "[%s] planned ahead: the search goes on for %d steps after the next one\n", kProcessName,
-                   continuation_steps);
+      std::fprintf(stderr, "[%s] planned ahead: %s (%d steps after the next one)\n", kProcessName, how.c_str(),
+                   next.result.steps);
     }
     next_ = std::move(next);
-    return;
-  }
-  const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(next.progress), path_.end());
-  try {
-    next.result = planner_.PlanHorizon(next.expected, remaining, options_.horizon_steps + options_.lookahead_steps);
-  } catch (const std::exception& e) {
-    if (verbose_) std::fprintf(stderr, "[%s] planning ahead failed: %s\n", kProcessName, e.what());
-    return;
-  }
+  };
+  const auto search = [&](const WholeBodyState& from, int steps) -> std::optional<ContactPlanResult> {
+    double offset = 0.0;
+    const std::size_t at = PathProgress(from.base_position, from.base_rpy.z(), &offset);
+    const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
+    try {
+      return planner_.PlanHorizon(from, remaining, steps);
+    } catch (const std::exception& e) {
+      if (verbose_) std::fprintf(stderr, "[%s] planning ahead failed: %s\n", kProcessName, e.what());
+      return std::nullopt;
+    }
+  };
+  std::optional<ContactPlanResult> fresh = search(next.expected, depth);
+  if (!fresh) return;
   if (verbose_) {
     std::fprintf(stderr, "[%s] planned ahead from the stance after the next step: %s in %.3f s\n", kProcessName,
-                 next.result.ok ? "ok" : next.result.reason.c_str(), next.result.planning_time_s);
+                 fresh->ok ? "ok" : fresh->reason.c_str(), fresh->planning_time_s);
   }
+  const auto progress = [&](const WholeBodyState& s) {
+    double offset = 0.0;
+    return PathProgress(s.base_position, s.base_rpy.z(), &offset);
+  };
+  if (KeepEarlierSearch(continuation, *fresh, options_.horizon_steps, options_.reuse_margin_steps, progress)) {
+    return take(std::move(continuation), fresh->ok ? "the new plan gets less far; the search before goes on"
+                                                   : "no new plan; the search before goes on");
+  }
+  if (!fresh->ok) return;
+  next.result = std::move(*fresh);
   next_ = std::move(next);
 }
 

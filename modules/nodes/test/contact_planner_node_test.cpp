@@ -314,47 +314,37 @@ TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPut
   }
 }
 
-TEST_F(ContactPlannerNodeTest, WhileTheRobotWalksAsPlannedTheSearchGoesOn) {
-  // Each answer of a robot standing where the plan expected continues the search the previous
-  // answer came from: consecutive plans agree on every step they share. With K = 3 and the
-  // look-ahead of 8, the first search holds 11 steps: it is continued four times (10, 9, 8 and 7
-  // steps after the one walked, at least K + 4) before the next search.
-  node_ = MakeNode(3);
-  PublishWorld();
-  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
-  Pump();
-  ASSERT_TRUE(node_->Step());
-  rbcp_msgs::robot_state_t state = WaitingState(300, 0.02, 0.01);
-  int64_t seq = 0;
-  std::optional<ContactPlan> previous;
-  for (int boundary = 0; boundary < 5; ++boundary) {
-    SCOPED_TRACE("boundary " + std::to_string(boundary));
-    lcm_.publish(channels::kRobotState, &state);
-    Pump();
-    ASSERT_TRUE(node_->Step());
-    Pump();
-    const auto msg = plan_.Take();
-    ASSERT_TRUE(msg.has_value()) << status_.Latest()->reason;
-    const ContactPlan plan = transport::FromContactPlanMsg(*msg);
-    ASSERT_EQ(plan.states.size(), 4u);
-    if (previous) {
-      for (std::size_t j = 0; j + 1 < previous->states.size(); ++j) {
-        const WholeBodyState& a = previous->states[j + 1];
-        const WholeBodyState& b = plan.states[j];
-        EXPECT_LT((a.base_position - b.base_position).norm(), 1e-9) << "state " << j;
-        for (std::size_t i = 0; i < a.feet.size(); ++i) {
-          EXPECT_LT((a.feet[i].position - b.feet[i].position).norm(), 1e-9) << "state " << j << ", foot " << i;
-        }
-        if (j > 0) {
-          EXPECT_EQ(a.moving_leg, b.moving_leg) << "state " << j;
-        }
-      }
-    }
-    seq = msg->plan_seq;
-    state = WaitingOnPlan(1000 * (boundary + 1), plan, 1, seq, Eigen::Vector3d::Zero());
-    state.steps_done = boundary + 1;
-    previous = plan;
+/// A plan whose base advances along x by `dx` per step, `steps` steps.
+ContactPlan StraightPlan(int steps, double dx, bool reaches_goal = false) {
+  ContactPlan plan;
+  for (int i = 0; i <= steps; ++i) {
+    WholeBodyState s;
+    s.base_position = Eigen::Vector3d(dx * i, 0.0, 0.45);
+    plan.states.push_back(s);
   }
+  plan.reaches_goal = reaches_goal;
+  return plan;
+}
+
+TEST(KeepEarlierSearch, TheEarlierSearchGoesOnWhenTheNewPlanGetsLessFarOrFails) {
+  // Progress: centimetres along x.
+  const auto progress = [](const WholeBodyState& s) { return static_cast<std::size_t>(std::lround(100.0 * s.base_position.x())); };
+  constexpr int kK = 3, kMargin = 4;
+  ContactPlanResult fresh;
+  fresh.ok = true;
+  fresh.plan = StraightPlan(11, 0.05);
+  // A long continuation that gets further in K steps goes on; one that gets as far or less does not.
+  EXPECT_TRUE(KeepEarlierSearch(StraightPlan(10, 0.08), fresh, kK, kMargin, progress));
+  EXPECT_FALSE(KeepEarlierSearch(StraightPlan(10, 0.05), fresh, kK, kMargin, progress));
+  EXPECT_FALSE(KeepEarlierSearch(StraightPlan(10, 0.02), fresh, kK, kMargin, progress));
+  // Too short to hold K steps and the margin: the new plan, unless the continuation reaches the goal.
+  EXPECT_FALSE(KeepEarlierSearch(StraightPlan(6, 0.08), fresh, kK, kMargin, progress));
+  EXPECT_TRUE(KeepEarlierSearch(StraightPlan(6, 0.08, true), fresh, kK, kMargin, progress));
+  EXPECT_TRUE(KeepEarlierSearch(StraightPlan(2, 0.08, true), fresh, kK, kMargin, progress)) << "the state after K: its end";
+  // A failed new search: any step left of the earlier one goes on.
+  fresh.ok = false;
+  EXPECT_TRUE(KeepEarlierSearch(StraightPlan(1, 0.0), fresh, kK, kMargin, progress));
+  EXPECT_FALSE(KeepEarlierSearch(StraightPlan(0, 0.0), fresh, kK, kMargin, progress));
 }
 
 TEST_F(ContactPlannerNodeTest, MalformedWorldFailsWithAReason) {

@@ -24,6 +24,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -64,9 +65,9 @@ struct ContactPlannerNodeOptions {
   /// from the stance that step leads to; at the next boundary it is taken at once if the robot
   /// stands there (same footholds, base within base_match_m and base_match_rad).
   bool plan_ahead = true;
-  /// Horizon mode, plan_ahead: the plan made ahead is the continuation of the search the plan
-  /// came from while that holds horizon_steps + reuse_margin_steps steps after the next one (or
-  /// reaches the goal); otherwise a new search from the stance after the next step.
+  /// Horizon mode, plan_ahead: the earlier search goes on instead of a new plan whose K steps get
+  /// the trunk less far, while it holds horizon_steps + reuse_margin_steps steps after the next
+  /// one (or reaches the goal).
   int reuse_margin_steps = 4;
   double base_match_m = 0.03;    ///< [m]
   double base_match_rad = 0.05;  ///< [rad] roll, pitch and yaw
@@ -78,6 +79,14 @@ struct ContactPlannerNodeOptions {
   /// A ROOT_PATH lasting longer than this is rejected [s] (the search walks the path in time).
   double max_path_duration_s = 3600.0;
 };
+
+/// Horizon mode's choice of the plan made ahead between a new search and `continuation`, the
+/// steps of the earlier search after the one being walked: true when the earlier search goes on,
+/// because the new search failed (and the continuation holds a step), or because the
+/// continuation reaches the goal or holds k + margin steps and its state k lies further along the
+/// path (progress: path sample index of a state's base) than the new plan's.
+bool KeepEarlierSearch(const ContactPlan& continuation, const ContactPlanResult& fresh, int k, int margin,
+                       const std::function<std::size_t(const WholeBodyState&)>& progress);
 
 class ContactPlannerNode {
  public:
@@ -100,6 +109,8 @@ class ContactPlannerNode {
   transport::StatusReporter& status() { return status_; }
   /// The latest answer (not ok when the latest path failed); empty before the first plan.
   const std::optional<ContactPlanResult>& last_result() const { return last_result_; }
+  /// Horizon mode: the whole plan of the latest answer's search (its K steps and the look-ahead).
+  const ContactPlan& last_search() const { return searched_; }
 
  private:
   /// Takes new terrain / surfaces / path; returns a reason if an input was rejected.
