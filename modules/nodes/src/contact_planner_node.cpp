@@ -94,6 +94,9 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
   if (!(options_.planned_base_m >= 0.0) || !(options_.planned_base_rad >= 0.0)) {
     throw InputError("contact planner node: planned_base_m and planned_base_rad expected >= 0");
   }
+  if (!(options_.resend_period_s >= 0.0)) {
+    throw InputError("contact planner node: resend_period_s expected >= 0");
+  }
   if (!(options_.max_path_offset_m > 0.0)) {
     throw InputError("contact planner node: max_path_offset_m expected > 0, got " +
                      std::to_string(options_.max_path_offset_m));
@@ -172,7 +175,7 @@ bool ContactPlannerNode::Step() {
       logged_stale_ = true;
       return worked;
     }
-    if (answered_since_ == state->awaiting_since) return worked;
+    if (answered_since_ == state->awaiting_since) return ResendIfStillAwaited(*state) || worked;
     answered_since_ = state->awaiting_since;
     Replan(*state);
     return true;
@@ -200,13 +203,17 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   }
   if (IsRepeat(msg.request_id, samples)) return;  // the root planner repeats its path for late processes
   if (!path_.empty() && msg.request_id < path_request_id_) return;  // a path for a goal given up since
+  // An older path of the same goal, come late (the network reordered it): superseded.
+  if (!path_.empty() && msg.request_id == path_request_id_ && msg.utime < path_utime_) return;
   path_stale_ = false;
   logged_stale_ = false;
   path_ = std::move(samples);
   path_request_id_ = msg.request_id;
+  path_utime_ = msg.utime;
   path_progress_ = 0;
   answered_since_.reset();  // a wait already answered on the old path gets a plan on the new one
   last_plan_.reset();
+  answer_.reset();
   next_.reset();
   if (verbose_) {
     std::fprintf(stderr, "[%s] following the root path of request %lld: %zu points, %.2f s\n", kProcessName,
@@ -379,10 +386,24 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   plan_start_steps_ = msg.steps_done;
   // After a restart the sequence goes on from the plan the robot walks.
   plan_seq_ = std::max(plan_seq_, msg.plan_seq) + 1;
-  const auto out = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, plan_seq_, msg.utime);
-  lcm_.publish(options_.contact_plan_channel, &out);
+  answer_ = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, plan_seq_, msg.utime);
+  answer_wall_ = std::chrono::steady_clock::now();
+  lcm_.publish(options_.contact_plan_channel, &*answer_);
   status_.Ok(Now(), msg.utime, ms, "plan " + std::to_string(plan_seq_) + ": " + Summary(r, k));
   PlanAhead();
+}
+
+bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::robot_state_t& state) {
+  if (!(options_.resend_period_s > 0.0) || !answer_ || answer_->start_utime < state.awaiting_since) return false;
+  const auto now = std::chrono::steady_clock::now();
+  if (std::chrono::duration<double>(now - answer_wall_).count() < options_.resend_period_s) return false;
+  answer_wall_ = now;
+  lcm_.publish(options_.contact_plan_channel, &*answer_);
+  if (verbose_) {
+    std::fprintf(stderr, "[%s] plan %lld sent again: the robot still waits at utime %lld\n", kProcessName,
+                 static_cast<long long>(answer_->plan_seq), static_cast<long long>(state.awaiting_since));
+  }
+  return true;
 }
 
 void ContactPlannerNode::PlanAhead() {

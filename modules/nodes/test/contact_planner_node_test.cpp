@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <limits>
+#include <thread>
 
 #include "rbcp/core/pose.h"
 #include "rbcp/core/yaml_reader.h"
@@ -59,9 +61,11 @@ class ContactPlannerNodeTest : public ::testing::Test {
     ASSERT_TRUE(lcm_.good());
     node_ = MakeNode(0);
   }
-  std::unique_ptr<ContactPlannerNode> MakeNode(int horizon_steps) {
+  /// resend_period_s 0: a plan is never sent again (the tests answer each wait once).
+  std::unique_ptr<ContactPlannerNode> MakeNode(int horizon_steps, double resend_period_s = 0.0) {
     ContactPlannerNodeOptions options;
     options.horizon_steps = horizon_steps;
+    options.resend_period_s = resend_period_s;
     auto node = std::make_unique<ContactPlannerNode>(
         lcm_, Robot(), Database(), EquilibriumConfig::LoadFile(kConfig + "/equilibrium.yaml"),
         ContactPlannerConfig::LoadFile(kConfig + "/contact_planner.yaml"), options);
@@ -73,6 +77,14 @@ class ContactPlannerNodeTest : public ::testing::Test {
     }
   }
   void PublishWorld() { test::PublishWorld(lcm_, FlatGround(), kConfig); }
+  /// Publishes `state`, steps the node once and returns the CONTACT_PLAN it answered with, if any.
+  std::optional<rbcp_msgs::contact_plan_t> Answer(const rbcp_msgs::robot_state_t& state) {
+    lcm_.publish(channels::kRobotState, &state);
+    Pump();
+    node_->Step();
+    Pump();
+    return plan_.Take();
+  }
   /// Publishes a message on `channel`, steps the node once and expects FAILED with no plan; returns
   /// the reason.
   template <typename Msg>
@@ -251,6 +263,58 @@ TEST_F(ContactPlannerNodeTest, HorizonModeAnswersEachWaitWithKStepsFromTheMeasur
   EXPECT_NE(reason.find("measured stance: LF foot"), std::string::npos) << reason;
 }
 
+TEST_F(ContactPlannerNodeTest, APlanIsSentAgainWhileTheRobotStillWaitsForIt) {
+  // A lossy link lost the plan: the robot goes on waiting at the same stance, and gets the same
+  // plan again instead of waiting out its timeout.
+  node_ = MakeNode(3, 1e-6);
+  PublishWorld();
+  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  rbcp_msgs::robot_state_t state = WaitingState(300, 0.02, 0.01);
+  const auto first = Answer(state);
+  ASSERT_TRUE(first.has_value()) << status_.Latest()->reason;
+  state.utime = 310;  // the same wait, a later state
+  lcm_.publish(channels::kRobotState, &state);
+  Pump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_TRUE(node_->Step());
+  Pump();
+  const auto again = plan_.Take();
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->plan_seq, first->plan_seq);
+  EXPECT_EQ(again->start_utime, 300);
+  EXPECT_EQ(again->num_states, first->num_states);
+  // Walking (no wait), nothing is sent.
+  state.utime = 320;
+  state.awaiting_plan = false;
+  lcm_.publish(channels::kRobotState, &state);
+  Pump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_FALSE(node_->Step());
+  Pump();
+  EXPECT_FALSE(plan_.Take().has_value());
+}
+
+TEST_F(ContactPlannerNodeTest, AnOlderPathOfTheSameGoalComingLateIsIgnored) {
+  node_ = MakeNode(3);
+  PublishWorld();
+  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  // The same goal's path from before (the network reordered it), one metre to the side: were it
+  // followed, the robot would stand too far from it to plan.
+  rbcp_msgs::root_path_t older = FlatGroundRootPath();
+  older.utime -= 100;
+  for (auto& p : older.points) p.position[1] += 1.0;
+  lcm_.publish(channels::kRootPath, &older);
+  Pump();
+  node_->Step();
+  const auto plan = Answer(WaitingState(300, 0.02, 0.01));
+  ASSERT_TRUE(plan.has_value()) << status_.Latest()->reason;
+  EXPECT_EQ(plan->start_utime, 300);
+}
+
 /// The state of a robot waiting after it walked `walked` steps of `plan` (plan_seq `seq`), on
 /// that plan's footholds with its base `offset_W` off the planned pose.
 rbcp_msgs::robot_state_t WaitingOnPlan(int64_t utime, const ContactPlan& plan, int walked, int64_t seq,
@@ -286,12 +350,7 @@ TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPut
     lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
     Pump();
     ASSERT_TRUE(node_->Step());
-    const rbcp_msgs::robot_state_t waiting = WaitingState(300, 0.02, 0.01);
-    lcm_.publish(channels::kRobotState, &waiting);
-    Pump();
-    ASSERT_TRUE(node_->Step());
-    Pump();
-    const auto first = plan_.Take();
+    const auto first = Answer(WaitingState(300, 0.02, 0.01));
     ASSERT_TRUE(first.has_value()) << status_.Latest()->reason;
     const ContactPlan plan = transport::FromContactPlanMsg(*first);
     ASSERT_GE(plan.states.size(), 2u);

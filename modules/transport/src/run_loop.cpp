@@ -1,8 +1,11 @@
 #include "rbcp/transport/run_loop.h"
 
 #include <chrono>
+#include <cstdio>
 #include <csignal>
 #include <stdexcept>
+
+#include "rbcp/transport/message_faults.h"
 
 namespace rbcp::transport {
 namespace {
@@ -18,6 +21,12 @@ void InstallStopHandlers() {
 }
 
 std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url) {
+  // Malformed fault rates stop the process here, before it hears anything.
+  if (const auto& faults = ProcessMessageFaults()) {
+    std::fprintf(stderr, "%s: received messages dropped %.3g, duplicated %.3g, reordered %.3g (seed %llu)\n",
+                 kMessageFaultsEnv, faults->drop, faults->duplicate, faults->reorder,
+                 static_cast<unsigned long long>(faults->seed));
+  }
   auto lcm = std::make_unique<lcm::LCM>(url);
   if (!lcm->good()) {
     const std::string shown = url.empty() ? "the default URL (LCM_DEFAULT_URL or udpm://239.255.76.67:7667)" : url;

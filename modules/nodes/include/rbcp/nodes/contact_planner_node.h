@@ -24,6 +24,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <string>
@@ -76,6 +77,10 @@ struct ContactPlannerNodeOptions {
   /// step walked stands at the planned pose (the controller's own base offsets are no new stance).
   double planned_base_m = 0.08;    ///< [m]
   double planned_base_rad = 0.1;   ///< [rad]
+  /// Horizon mode: while the robot still waits at the stance the last plan answered, that plan
+  /// is sent again this often [s, wall clock], so a lost message costs a resend, not the
+  /// simulator's whole wait; 0: never.
+  double resend_period_s = 1.0;
   /// A ROOT_PATH lasting longer than this is rejected [s] (the search walks the path in time).
   double max_path_duration_s = 3600.0;
 };
@@ -123,6 +128,9 @@ class ContactPlannerNode {
   /// Horizon mode: plans from the measured stance of a waiting robot (or takes the plan made
   /// ahead when the robot stands where it starts), then plans ahead.
   void Replan(const rbcp_msgs::robot_state_t& state);
+  /// Horizon mode: sends the last plan again when the robot still waits for it after
+  /// resend_period_s; true if it did.
+  bool ResendIfStillAwaited(const rbcp_msgs::robot_state_t& state);
   /// Horizon mode: plans from the stance the published plan's first step leads to.
   void PlanAhead();
   /// Path sample nearest to a base pose, not behind path_progress_; its horizontal distance in
@@ -152,10 +160,14 @@ class ContactPlannerNode {
   // Horizon mode: the path followed, its request, how far along it the robot is, the wait answered last.
   std::vector<RootPathSample> path_;
   int64_t path_request_id_ = 0;
+  int64_t path_utime_ = 0;  ///< ROOT_PATH.utime of the path followed
   std::size_t path_progress_ = 0;
   bool path_stale_ = false;   ///< the terrain changed since the path came: no answer until a new path
   bool logged_stale_ = false;
   std::optional<int64_t> answered_since_;
+  /// The last CONTACT_PLAN published in horizon mode and when it went out (wall clock).
+  std::optional<rbcp_msgs::contact_plan_t> answer_;
+  std::chrono::steady_clock::time_point answer_wall_;
   std::optional<ContactPlan> last_plan_;
   /// The plan made ahead from the stance the robot stands in after the first step of a plan.
   struct Speculation {

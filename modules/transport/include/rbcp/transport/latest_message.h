@@ -2,7 +2,8 @@
 /// Subscription that keeps only the latest message of a channel. Messages are decoded with
 /// DecodeMessage, so a malformed one (bad fingerprint, truncated, a negative array count or one
 /// the bytes do not hold) becomes an error string naming the channel, for the node's status,
-/// instead of a crash or a huge allocation.
+/// instead of a crash or a huge allocation. Both subscriptions receive through the process's
+/// message faults (message_faults.h), none unless RBCP_MESSAGE_FAULTS asks for them.
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -11,6 +12,7 @@
 #include <string>
 #include <utility>
 
+#include "rbcp/transport/message_faults.h"
 #include "rbcp/transport/wire_check.h"
 
 namespace rbcp::transport {
@@ -20,7 +22,7 @@ class LatestMessage {
  public:
   /// With `keep`, decoded messages it rejects are ignored (e.g. one process's on a shared channel).
   LatestMessage(lcm::LCM& lcm, const std::string& channel, std::function<bool(const Msg&)> keep = {})
-      : channel_(channel), keep_(std::move(keep)) {
+      : channel_(channel), keep_(std::move(keep)), faults_(channel, ProcessMessageFaults()) {
     subscription_ = lcm.subscribe(channel, &LatestMessage::OnMessage, this);
     lcm_ = &lcm;
   }
@@ -45,11 +47,14 @@ class LatestMessage {
   const std::string& channel() const { return channel_; }
 
  private:
-  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    faults_.Receive(rbuf->data, rbuf->data_size, [this](const void* data, std::size_t size) { Handle(data, size); });
+  }
+  void Handle(const void* data, std::size_t size) {
     Msg msg;
-    const std::string problem = DecodeMessage(rbuf->data, rbuf->data_size, msg);
+    const std::string problem = DecodeMessage(data, size, msg);
     if (!problem.empty()) {
-      decode_error_ = "cannot decode " + channel + " (" + std::to_string(rbuf->data_size) + " bytes): " + problem;
+      decode_error_ = "cannot decode " + channel_ + " (" + std::to_string(size) + " bytes): " + problem;
       return;
     }
     if (keep_ && !keep_(msg)) return;
@@ -60,6 +65,7 @@ class LatestMessage {
 
   std::string channel_;
   std::function<bool(const Msg&)> keep_;
+  ReceiveFaults faults_;
   lcm::LCM* lcm_ = nullptr;
   lcm::Subscription* subscription_ = nullptr;
   std::optional<Msg> latest_;
@@ -76,7 +82,8 @@ class EveryMessage {
  public:
   EveryMessage(lcm::LCM& lcm, const std::string& channel, std::function<void(const Msg&)> handle,
                std::function<void(const std::string&)> reject)
-      : lcm_(lcm), handle_(std::move(handle)), reject_(std::move(reject)) {
+      : lcm_(lcm), channel_(channel), handle_(std::move(handle)), reject_(std::move(reject)),
+        faults_(channel, ProcessMessageFaults()) {
     subscription_ = lcm.subscribe(channel, &EveryMessage::OnMessage, this);
   }
   ~EveryMessage() {
@@ -87,20 +94,25 @@ class EveryMessage {
   long rejected() const { return rejected_; }
 
  private:
-  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    faults_.Receive(rbuf->data, rbuf->data_size, [this](const void* data, std::size_t size) { Handle(data, size); });
+  }
+  void Handle(const void* data, std::size_t size) {
     Msg msg;
-    const std::string problem = DecodeMessage(rbuf->data, rbuf->data_size, msg);
+    const std::string problem = DecodeMessage(data, size, msg);
     if (problem.empty()) {
       handle_(msg);
       return;
     }
     ++rejected_;
-    if (reject_) reject_("cannot decode " + channel + " (" + std::to_string(rbuf->data_size) + " bytes): " + problem);
+    if (reject_) reject_("cannot decode " + channel_ + " (" + std::to_string(size) + " bytes): " + problem);
   }
 
   lcm::LCM& lcm_;
+  std::string channel_;
   std::function<void(const Msg&)> handle_;
   std::function<void(const std::string&)> reject_;
+  ReceiveFaults faults_;
   lcm::Subscription* subscription_ = nullptr;
   long rejected_ = 0;
 };
