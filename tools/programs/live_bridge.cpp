@@ -12,12 +12,16 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include <fcntl.h>
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
+#include <sched.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdint>
+#include <cstring>
 #include <deque>
 #include <fstream>
 #include <functional>
@@ -390,6 +394,21 @@ class LogTail {
   std::vector<unsigned char> data_;
 };
 
+/// Moves this process (single-threaded so far) into the named network namespace (`ip netns`):
+/// sockets made from here on are in it, those made before stay where they were.
+void EnterNetworkNamespace(const std::string& name) {
+  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..") {
+    throw rbcp::InputError("--lcm-netns: expected the name of a network namespace (ip netns list), got '" + name + "'");
+  }
+  const std::string path = "/run/netns/" + name;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw rbcp::InputError("--lcm-netns: no network namespace '" + name + "' (" + path + ": " + std::strerror(errno) + ")");
+  const int rc = ::setns(fd, CLONE_NEWNET);
+  const int error = errno;
+  ::close(fd);
+  if (rc != 0) throw rbcp::InputError("--lcm-netns: cannot enter the network namespace '" + name + "': " + std::strerror(error) + " (needs root)");
+}
+
 int64_t NowUs() {
   return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -407,12 +426,17 @@ int main(int argc, char** argv) {
   nodes::CommonOptions common;
   nodes::AddCommonOptions(app, common);
   int port = 8765;
-  std::string page_path, follow_log;
+  std::string page_path, follow_log, lcm_netns;
   app.add_option("--port", port, "TCP port on 127.0.0.1 (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
   app.add_option("--page", page_path, "the page GET / returns (tools/view --live writes it)")->check(CLI::ExistingFile);
   app.add_option("--follow-log", follow_log,
                  "read the messages from this LCM log as it grows (e.g. build/logs/RUN/run.lcmlog while tools/launch "
                  "runs, from another network namespace) instead of subscribing on --lcm-url");
+  app.add_option("--lcm-netns", lcm_netns,
+                 "subscribe on --lcm-url inside this named network namespace (ip netns) while the page is served on\n"
+                 "127.0.0.1 where the bridge started: a pipeline in a namespace followed from a browser outside it\n"
+                 "(needs root)")
+      ->excludes("--follow-log");
   return nodes::GuardedMain("live_bridge", app, argc, argv, [&]() -> int {
     std::string page;
     if (!page_path.empty()) {
@@ -432,6 +456,7 @@ int main(int argc, char** argv) {
       throw InputError("cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + e.code().message());
     }
     listener->Accept();
+    if (!lcm_netns.empty()) EnterNetworkNamespace(lcm_netns);
 
     std::unique_ptr<lcm::LCM> lcm;
     std::unique_ptr<net::posix::stream_descriptor> lcm_fd;
@@ -483,7 +508,8 @@ int main(int argc, char** argv) {
     }
     std::cerr << "live_bridge: listening on http://127.0.0.1:" << listener->Port() << "/ (websocket ws://127.0.0.1:"
               << listener->Port() << "/ws), "
-              << (follow_log.empty() ? "LCM on '" + common.lcm_url + "'" : "following " + follow_log) << std::endl;
+              << (follow_log.empty() ? "LCM on '" + common.lcm_url + "'" + (lcm_netns.empty() ? "" : " in the network namespace " + lcm_netns)
+                                  : "following " + follow_log) << std::endl;
     io.run();
     std::cerr << "live_bridge: stopped (" << hub.Malformed() << " malformed messages dropped)" << std::endl;
     return 0;

@@ -26,6 +26,7 @@
 #include "rbcp/core/format.h"
 #include "rbcp/nodes/process.h"
 #include "rbcp/nodes/run_record.h"
+#include "rbcp/nodes/supervisor_process.h"
 #include "rbcp/plan_checker/plan_checker.h"
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/transport/channels.h"
@@ -110,7 +111,7 @@ class StatusBoard {
       it->second.handled = 0;
     }
     if (msg->handled <= it->second.handled) return;  // nothing new handled
-    if (msg->process == "supervisor") {
+    if (nodes::IsSupervisorName(msg->process)) {
       it->second.handled = msg->handled;
       supervisor_events_.push_back(*msg);
       return;
@@ -210,8 +211,8 @@ int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenar
       lcm.publish(channels::kPlanRequest, &request);
     }
     for (const auto& e : board.TakeSupervisorEvents()) {
-      std::cout << "supervisor: " << e.reason << std::endl;
-      if (e.state == rbcp_msgs::process_status_t::FAILED) return finish(kPlanningFailed, "supervisor: " + e.reason);
+      std::cout << e.process << ": " << e.reason << std::endl;
+      if (e.state == rbcp_msgs::process_status_t::FAILED) return finish(kPlanningFailed, e.process + ": " + e.reason);
       if (e.reason.find(" restarted (pid ") != std::string::npos) restarts += 1;
     }
     while (auto f = board.TakeFailure()) {

@@ -1,4 +1,5 @@
 #include "rbcp/nodes/supervisor.h"
+#include "rbcp/nodes/supervisor_process.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -242,6 +243,20 @@ TEST(SupervisorSpec, LoadsStrictlyWithClearErrors) {
   text = ok;
   text.replace(text.find("processes: ["), 12, "processes: [{name: sim, command: [a], log: b}, ");
   EXPECT_EQ(error(text), "spec.yaml: processes[1]: 'name': process 'sim' is listed twice");
+}
+
+// Each host of a split pipeline runs its own supervisor; their STATUS names tell them apart, and
+// the operator takes any of them for a supervisor.
+TEST(SupervisorName, NamesTheHostAndIsRecognised) {
+  EXPECT_EQ(SupervisorName(""), "supervisor");
+  EXPECT_EQ(SupervisorName("robot"), "supervisor@robot");
+  EXPECT_TRUE(IsSupervisorName("supervisor"));
+  EXPECT_TRUE(IsSupervisorName("supervisor@operator"));
+  EXPECT_FALSE(IsSupervisorName("supervisor@"));
+  EXPECT_FALSE(IsSupervisorName("supervisors"));
+  EXPECT_FALSE(IsSupervisorName("contact_planner"));
+  EXPECT_EQ(ErrorOf([] { SupervisorName("robot 1"); }),
+            "supervisor: expected a host name of letters, digits, _ and -, got 'robot 1'");
 }
 
 // Real processes: a child that ignores SIGTERM is killed, a stopped one is stopped, nothing is
