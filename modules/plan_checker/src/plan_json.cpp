@@ -211,6 +211,10 @@ ContactPlan LoadContactPlanFile(const std::string& path) {
     if (in.bad()) throw InputError(name + ": cannot read the file");
     text = buffer.str();
   }
+  return ParseContactPlanJson(text, name);
+}
+
+ContactPlan ParseContactPlanJson(const std::string& text, const std::string& name) {
   json document;
   try {
     document = json::parse(text);

@@ -1,4 +1,5 @@
-#include <assimp/DefaultIOSystem.h>
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -20,19 +21,15 @@
 namespace rbcp {
 namespace {
 
-/// The file system as the importer sees it: the mesh file named and nothing else. An OBJ's
-/// mtllib line, for one, may name any file; a missing material leaves the default one.
-class OnlyTheMeshFile : public Assimp::DefaultIOSystem {
+/// The file system as the importer sees it: nothing but the mesh's bytes, which the importer reads
+/// from memory. An OBJ's mtllib line, for one, may name any file; a missing material leaves the
+/// default one.
+class NoFiles : public Assimp::IOSystem {
  public:
-  explicit OnlyTheMeshFile(std::string path) : path_(std::move(path)) {}
-  bool Exists(const char* file) const override { return file && path_ == file && DefaultIOSystem::Exists(file); }
-  Assimp::IOStream* Open(const char* file, const char* mode) override {
-    if (!file || path_ != file) return nullptr;
-    return DefaultIOSystem::Open(file, mode);
-  }
-
- private:
-  std::string path_;
+  bool Exists(const char*) const override { return false; }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char*, const char*) override { return nullptr; }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
 };
 
 /// Bytes of one value of a PLY scalar type, 0 for an unknown type.
@@ -49,8 +46,9 @@ std::uint64_t PlyTypeBytes(const std::string& type) {
 /// Throws InputError when the element counts a PLY header declares need more bytes than the file
 /// holds (the importer would allocate them first): every element instance takes at least its
 /// properties' sizes (binary; an empty list its count) or two characters a property (ASCII).
-void CheckPlyCounts(const std::string& path, std::uint64_t file_size) {
-  std::ifstream in(path, std::ios::binary);
+void CheckPlyCounts(const std::string& path, const std::string& bytes) {
+  const std::uint64_t file_size = bytes.size();
+  std::istringstream in(bytes);
   std::string line, format;
   std::uint64_t header_bytes = 0;
   struct Element {
@@ -100,10 +98,11 @@ void CheckPlyCounts(const std::string& path, std::uint64_t file_size) {
 
 /// Throws InputError when a binary STL declares more triangles than the file holds (50 bytes
 /// each after the 84-byte header).
-void CheckStlCount(const std::string& path, std::uint64_t file_size) {
-  std::ifstream in(path, std::ios::binary);
+void CheckStlCount(const std::string& path, const std::string& bytes) {
+  const std::uint64_t file_size = bytes.size();
+  if (file_size < 84) return;  // too short for binary: ASCII or invalid
   char head[84] = {};
-  if (file_size < 84 || !in.read(head, sizeof(head))) return;  // too short for binary: ASCII or invalid
+  std::memcpy(head, bytes.data(), sizeof(head));
   if (std::strncmp(head, "solid", 5) == 0) {
     // "solid" starts an ASCII STL, but also some binary headers: binary only if the size matches.
     std::uint32_t n = 0;
@@ -119,29 +118,48 @@ void CheckStlCount(const std::string& path, std::uint64_t file_size) {
   }
 }
 
-}  // namespace
-
-TriangleMesh LoadMeshFile(const std::string& path, double scale) {
-  if (!(scale > 0.0) || !std::isfinite(scale)) {
-    std::ostringstream os;
-    os << path << ": expected a positive finite mesh scale, got " << scale;
-    throw InputError(os.str());
-  }
+/// The extension of `path` in lower case, after checking that it names a format the loader reads.
+std::string MeshFormat(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext != ".stl" && ext != ".obj" && ext != ".ply") {
     throw InputError(path + ": expected an .stl, .obj or .ply mesh file, got extension '" + ext + "'");
   }
+  return ext;
+}
+
+void CheckScale(const std::string& path, double scale) {
+  if (!(scale > 0.0) || !std::isfinite(scale)) {
+    std::ostringstream os;
+    os << path << ": expected a positive finite mesh scale, got " << scale;
+    throw InputError(os.str());
+  }
+}
+
+}  // namespace
+
+TriangleMesh LoadMeshFile(const std::string& path, double scale) {
+  CheckScale(path, scale);
+  MeshFormat(path);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": mesh file not found");
-  const std::uint64_t file_size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path + ": cannot read the mesh file's size: " + ec.message());
-  if (ext == ".ply") CheckPlyCounts(path, file_size);
-  if (ext == ".stl") CheckStlCount(path, file_size);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the mesh file");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (in.bad()) throw InputError(path + ": cannot read the mesh file");
+  return ParseMeshFile(bytes.str(), path, scale);
+}
+
+TriangleMesh ParseMeshFile(const std::string& bytes, const std::string& path, double scale) {
+  CheckScale(path, scale);
+  const std::string ext = MeshFormat(path);
+  if (ext == ".ply") CheckPlyCounts(path, bytes);
+  if (ext == ".stl") CheckStlCount(path, bytes);
 
   Assimp::Importer importer;
-  importer.SetIOHandler(new OnlyTheMeshFile(path));  // the importer owns it
+  importer.SetIOHandler(new NoFiles);  // the importer owns it
   // Points and lines carry no surface: drop them instead of passing them on as triangles.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // Only positions matter; without the per-face normals of STL, vertices at one place are joined.
@@ -150,7 +168,8 @@ TriangleMesh LoadMeshFile(const std::string& path, double scale) {
                                                           aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
                                                           aiComponent_TEXTURES | aiComponent_LIGHTS |
                                                           aiComponent_CAMERAS | aiComponent_MATERIALS);
-  const aiScene* scene = importer.ReadFile(path, 0);
+  // The format hint is the extension: the importer reads the bytes as that format only.
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, ext.c_str() + 1);
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
     throw InputError(path + ": cannot read mesh: " + importer.GetErrorString());
   }
