@@ -218,7 +218,7 @@ ContactPlan ParseContactPlanJson(const std::string& text, const std::string& nam
   json document;
   try {
     document = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number beyond double
     throw InputError(name + ": malformed JSON: " + e.what());
   }
   try {
