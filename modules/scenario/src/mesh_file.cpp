@@ -43,10 +43,15 @@ std::uint64_t PlyTypeBytes(const std::string& type) {
   return 0;
 }
 
-/// Throws InputError when the element counts a PLY header declares need more bytes than the file
-/// holds (the importer would allocate them first): every element instance takes at least its
-/// properties' sizes (binary; an empty list its count) or two characters a property (ASCII).
-void CheckPlyCounts(const std::string& path, const std::string& bytes) {
+/// Bytes of a PLY header at most.
+constexpr std::uint64_t kMaxPlyHeaderBytes = 65536;
+
+/// Throws InputError when the PLY header is not lines of text ending with a line "end_header" (the
+/// importer reads a header without one for ever), or when the element counts it declares need more
+/// bytes than the file holds (the importer would allocate them first): every element instance
+/// takes at least its properties' sizes (binary; an empty list its count) or two characters a
+/// property (ASCII).
+void CheckPlyHeader(const std::string& path, const std::string& bytes) {
   const std::uint64_t file_size = bytes.size();
   std::istringstream in(bytes);
   std::string line, format;
@@ -57,12 +62,23 @@ void CheckPlyCounts(const std::string& path, const std::string& bytes) {
     std::uint64_t min_bytes = 0;
   };
   std::vector<Element> elements;
-  while (std::getline(in, line) && header_bytes < 65536) {
+  bool ended = false;
+  for (int number = 1; header_bytes < kMaxPlyHeaderBytes && std::getline(in, line); ++number) {
     header_bytes += line.size() + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    for (const unsigned char c : line) {
+      if ((c < 0x20 && c != '\t') || c > 0x7e) {
+        throw InputError(path + ": the PLY header's line " + std::to_string(number) + " holds the byte " +
+                         std::to_string(c) + ", expected printable text");
+      }
+    }
+    if (line == "end_header") {
+      ended = true;
+      break;
+    }
     std::istringstream words(line);
     std::string keyword;
     words >> keyword;
-    if (keyword == "end_header") break;
     if (keyword == "format") words >> format;
     if (keyword == "element") {
       Element e;
@@ -83,6 +99,10 @@ void CheckPlyCounts(const std::string& path, const std::string& bytes) {
         elements.back().min_bytes += std::max<std::uint64_t>(1, PlyTypeBytes(type));
       }
     }
+  }
+  if (!ended) {
+    throw InputError(path + ": the PLY header has no line 'end_header' in its first " +
+                     std::to_string(kMaxPlyHeaderBytes) + " bytes");
   }
   const std::uint64_t body = file_size > header_bytes ? file_size - header_bytes : 0;
   std::uint64_t needed = 0;
@@ -155,7 +175,7 @@ TriangleMesh LoadMeshFile(const std::string& path, double scale) {
 TriangleMesh ParseMeshFile(const std::string& bytes, const std::string& path, double scale) {
   CheckScale(path, scale);
   const std::string ext = MeshFormat(path);
-  if (ext == ".ply") CheckPlyCounts(path, bytes);
+  if (ext == ".ply") CheckPlyHeader(path, bytes);
   if (ext == ".stl") CheckStlCount(path, bytes);
 
   Assimp::Importer importer;
