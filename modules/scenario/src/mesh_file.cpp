@@ -193,10 +193,29 @@ TriangleMesh ParseMeshFile(const std::string& bytes, const std::string& path, do
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
     throw InputError(path + ": cannot read mesh: " + importer.GetErrorString());
   }
+  // The importers pass on what the file says, and the post-processing trusts it: a face of a PLY
+  // may name a vertex the file does not have, or have no vertex, and a mesh's primitive types (which
+  // decide what is triangulated) may disagree with its faces.
   bool has_polygons = false;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* in = scene->mMeshes[m];
-    for (unsigned f = 0; f < in->mNumFaces; ++f) has_polygons |= in->mFaces[f].mNumIndices >= 3;
+    aiMesh* in = scene->mMeshes[m];  // the importer's scene, which the post-processing changes too
+    unsigned types = 0;
+    for (unsigned f = 0; f < in->mNumFaces; ++f) {
+      const aiFace& face = in->mFaces[f];
+      if (face.mNumIndices == 0) throw InputError(path + ": face " + std::to_string(f) + " has no vertex");
+      has_polygons |= face.mNumIndices >= 3;
+      types |= face.mNumIndices == 1   ? aiPrimitiveType_POINT
+               : face.mNumIndices == 2 ? aiPrimitiveType_LINE
+               : face.mNumIndices == 3 ? aiPrimitiveType_TRIANGLE
+                                       : aiPrimitiveType_POLYGON;
+      for (unsigned k = 0; k < face.mNumIndices; ++k) {
+        if (face.mIndices[k] >= in->mNumVertices) {
+          throw InputError(path + ": face " + std::to_string(f) + " refers to vertex " +
+                           std::to_string(face.mIndices[k]) + ", the mesh has " + std::to_string(in->mNumVertices));
+        }
+      }
+    }
+    in->mPrimitiveTypes = types;
   }
   if (!has_polygons) throw InputError(path + ": degenerate mesh: mesh has no triangles");
   scene =
