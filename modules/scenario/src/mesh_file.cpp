@@ -43,6 +43,9 @@ std::uint64_t PlyTypeBytes(const std::string& type) {
   return 0;
 }
 
+/// Vertices of one polygon at most: the triangulation takes time quadratic in them.
+constexpr unsigned kMaxFaceVertices = 1000;
+
 /// Bytes of a PLY header at most.
 constexpr std::uint64_t kMaxPlyHeaderBytes = 65536;
 
@@ -194,8 +197,9 @@ TriangleMesh ParseMeshFile(const std::string& bytes, const std::string& path, do
     throw InputError(path + ": cannot read mesh: " + importer.GetErrorString());
   }
   // The importers pass on what the file says, and the post-processing trusts it: a face of a PLY
-  // may name a vertex the file does not have, or have no vertex, and a mesh's primitive types (which
-  // decide what is triangulated) may disagree with its faces.
+  // may name a vertex the file does not have, have no vertex or tens of thousands (a list count
+  // the file holds no indices for), and a mesh's primitive types (which decide what is
+  // triangulated) may disagree with its faces.
   bool has_polygons = false;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     aiMesh* in = scene->mMeshes[m];  // the importer's scene, which the post-processing changes too
@@ -203,6 +207,10 @@ TriangleMesh ParseMeshFile(const std::string& bytes, const std::string& path, do
     for (unsigned f = 0; f < in->mNumFaces; ++f) {
       const aiFace& face = in->mFaces[f];
       if (face.mNumIndices == 0) throw InputError(path + ": face " + std::to_string(f) + " has no vertex");
+      if (face.mNumIndices > kMaxFaceVertices) {
+        throw InputError(path + ": face " + std::to_string(f) + " has " + std::to_string(face.mNumIndices) +
+                         " vertices, more than the " + std::to_string(kMaxFaceVertices) + " a face may have");
+      }
       has_polygons |= face.mNumIndices >= 3;
       types |= face.mNumIndices == 1   ? aiPrimitiveType_POINT
                : face.mNumIndices == 2 ? aiPrimitiveType_LINE
