@@ -49,11 +49,11 @@ constexpr unsigned kMaxFaceVertices = 1000;
 /// Bytes of a PLY header at most.
 constexpr std::uint64_t kMaxPlyHeaderBytes = 65536;
 
-/// Throws InputError when the PLY header is not lines of text ending with a line "end_header" (the
-/// importer reads a header without one for ever), or when the element counts it declares need more
-/// bytes than the file holds (the importer would allocate them first): every element instance
-/// takes at least its properties' sizes (binary; an empty list its count) or two characters a
-/// property (ASCII).
+/// Throws InputError when the PLY header is not lines of the format ending with a line "end_header"
+/// (the importer reads a header without one for ever, and grows its memory for ever on some
+/// malformed lines), or when the element counts it declares need more bytes than the file holds
+/// (the importer would allocate them first): every element instance takes at least its
+/// properties' sizes (binary; an empty list its count) or two characters a property (ASCII).
 void CheckPlyHeader(const std::string& path, const std::string& bytes) {
   const std::uint64_t file_size = bytes.size();
   std::istringstream in(bytes);
@@ -79,28 +79,42 @@ void CheckPlyHeader(const std::string& path, const std::string& bytes) {
       ended = true;
       break;
     }
+    // Only the lines of the PLY format, each complete: assimp's reader skips what it does not know,
+    // and some such headers sent it growing its memory for ever.
+    const auto malformed = [&](const std::string& expected) {
+      throw InputError(path + ": the PLY header's line " + std::to_string(number) + " '" + line + "': expected " +
+                       expected);
+    };
     std::istringstream words(line);
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "format") words >> format;
-    if (keyword == "element") {
-      Element e;
-      words >> e.name >> e.count;
-      if (!words) throw InputError(path + ": malformed PLY element line '" + line + "'");
-      elements.push_back(e);
-    }
-    if (keyword == "property" && !elements.empty()) {
-      std::string type;
-      words >> type;
+    std::vector<std::string> w;
+    for (std::string word; words >> word;) w.push_back(word);
+    const std::string keyword = w.empty() ? "" : w[0];
+    if (number == 1) {
+      if (line != "ply") malformed("'ply'");
+    } else if (keyword == "comment" || keyword == "obj_info") {
+      // free text
+    } else if (keyword == "format") {
+      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian")) {
+        malformed("'format ascii|binary_little_endian|binary_big_endian VERSION'");
+      }
+      format = w[1];
+    } else if (keyword == "element") {
+      if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18) {
+        malformed("'element NAME COUNT'");
+      }
+      elements.push_back({w[1], std::stoull(w[2]), 0});
+    } else if (keyword == "property") {
+      const bool list = w.size() == 5 && w[1] == "list" && PlyTypeBytes(w[2]) > 0 && PlyTypeBytes(w[3]) > 0;
+      if (elements.empty() || format.empty() || !(list || (w.size() == 3 && PlyTypeBytes(w[1]) > 0))) {
+        malformed("'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME' of an element, after the format");
+      }
       if (format == "ascii") {
         elements.back().min_bytes += 2;
-      } else if (type == "list") {
-        std::string count_type;
-        words >> count_type;
-        elements.back().min_bytes += std::max<std::uint64_t>(1, PlyTypeBytes(count_type));
       } else {
-        elements.back().min_bytes += std::max<std::uint64_t>(1, PlyTypeBytes(type));
+        elements.back().min_bytes += PlyTypeBytes(list ? w[2] : w[1]);
       }
+    } else {
+      malformed("a line of the PLY header (format, element, property, comment, end_header)");
     }
   }
   if (!ended) {
