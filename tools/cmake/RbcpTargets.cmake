@@ -8,6 +8,13 @@ if(RBCP_SANITIZE)
   target_compile_options(rbcp_warnings INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer)
   target_link_options(rbcp_warnings INTERFACE -fsanitize=address,undefined)
 endif()
+if(RBCP_FUZZ)
+  # Coverage for libFuzzer in every project target (the fuzz targets link -fsanitize=fuzzer), and
+  # the sanitizers' reports end the process, so that the fuzzer sees them.
+  target_compile_options(rbcp_warnings INTERFACE -fsanitize=fuzzer-no-link,address,undefined
+                                                 -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  target_link_options(rbcp_warnings INTERFACE -fsanitize=address,undefined)
+endif()
 add_library(rbcp::warnings ALIAS rbcp_warnings)
 
 # The pure C++ libraries that `cmake --install` puts in the prefix, with their headers, as the

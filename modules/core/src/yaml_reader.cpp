@@ -136,7 +136,11 @@ std::vector<YamlMap> YamlMap::MapList(const std::string& key) const {
 
 std::vector<std::string> YamlMap::Keys() const {
   std::vector<std::string> keys;
-  for (const auto& kv : node_) keys.push_back(kv.first.as<std::string>());
+  for (const auto& kv : node_) {
+    // A key may be any YAML value ({[1, 2]: x}, or none at all: "&a : x"); the readers name keys.
+    if (!kv.first.IsScalar()) Fail("", "expected keys that are strings, got a key that is " + Describe(kv.first));
+    keys.push_back(kv.first.Scalar());
+  }
   return keys;
 }
 

@@ -211,10 +211,14 @@ ContactPlan LoadContactPlanFile(const std::string& path) {
     if (in.bad()) throw InputError(name + ": cannot read the file");
     text = buffer.str();
   }
+  return ParseContactPlanJson(text, name);
+}
+
+ContactPlan ParseContactPlanJson(const std::string& text, const std::string& name) {
   json document;
   try {
     document = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number beyond double
     throw InputError(name + ": malformed JSON: " + e.what());
   }
   try {

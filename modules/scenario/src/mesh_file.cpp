@@ -1,4 +1,5 @@
-#include <assimp/DefaultIOSystem.h>
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -20,19 +21,15 @@
 namespace rbcp {
 namespace {
 
-/// The file system as the importer sees it: the mesh file named and nothing else. An OBJ's
-/// mtllib line, for one, may name any file; a missing material leaves the default one.
-class OnlyTheMeshFile : public Assimp::DefaultIOSystem {
+/// The file system as the importer sees it: nothing but the mesh's bytes, which the importer reads
+/// from memory. An OBJ's mtllib line, for one, may name any file; a missing material leaves the
+/// default one.
+class NoFiles : public Assimp::IOSystem {
  public:
-  explicit OnlyTheMeshFile(std::string path) : path_(std::move(path)) {}
-  bool Exists(const char* file) const override { return file && path_ == file && DefaultIOSystem::Exists(file); }
-  Assimp::IOStream* Open(const char* file, const char* mode) override {
-    if (!file || path_ != file) return nullptr;
-    return DefaultIOSystem::Open(file, mode);
-  }
-
- private:
-  std::string path_;
+  bool Exists(const char*) const override { return false; }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char*, const char*) override { return nullptr; }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
 };
 
 /// Bytes of one value of a PLY scalar type, 0 for an unknown type.
@@ -46,11 +43,20 @@ std::uint64_t PlyTypeBytes(const std::string& type) {
   return 0;
 }
 
-/// Throws InputError when the element counts a PLY header declares need more bytes than the file
-/// holds (the importer would allocate them first): every element instance takes at least its
+/// Vertices of one polygon at most: the triangulation takes time quadratic in them.
+constexpr unsigned kMaxFaceVertices = 1000;
+
+/// Bytes of a PLY header at most.
+constexpr std::uint64_t kMaxPlyHeaderBytes = 65536;
+
+/// Throws InputError when the PLY header is not lines of the format ending with a line "end_header"
+/// (the importer reads a header without one for ever, and grows its memory for ever on some
+/// malformed lines), or when the element counts it declares need more bytes than the file holds
+/// (the importer would allocate them first): every element instance takes at least its
 /// properties' sizes (binary; an empty list its count) or two characters a property (ASCII).
-void CheckPlyCounts(const std::string& path, std::uint64_t file_size) {
-  std::ifstream in(path, std::ios::binary);
+void CheckPlyHeader(const std::string& path, const std::string& bytes) {
+  const std::uint64_t file_size = bytes.size();
+  std::istringstream in(bytes);
   std::string line, format;
   std::uint64_t header_bytes = 0;
   struct Element {
@@ -59,32 +65,61 @@ void CheckPlyCounts(const std::string& path, std::uint64_t file_size) {
     std::uint64_t min_bytes = 0;
   };
   std::vector<Element> elements;
-  while (std::getline(in, line) && header_bytes < 65536) {
+  bool ended = false;
+  for (int number = 1; header_bytes < kMaxPlyHeaderBytes && std::getline(in, line); ++number) {
     header_bytes += line.size() + 1;
-    std::istringstream words(line);
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "end_header") break;
-    if (keyword == "format") words >> format;
-    if (keyword == "element") {
-      Element e;
-      words >> e.name >> e.count;
-      if (!words) throw InputError(path + ": malformed PLY element line '" + line + "'");
-      elements.push_back(e);
-    }
-    if (keyword == "property" && !elements.empty()) {
-      std::string type;
-      words >> type;
-      if (format == "ascii") {
-        elements.back().min_bytes += 2;
-      } else if (type == "list") {
-        std::string count_type;
-        words >> count_type;
-        elements.back().min_bytes += std::max<std::uint64_t>(1, PlyTypeBytes(count_type));
-      } else {
-        elements.back().min_bytes += std::max<std::uint64_t>(1, PlyTypeBytes(type));
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    for (const unsigned char c : line) {
+      if ((c < 0x20 && c != '\t') || c > 0x7e) {
+        throw InputError(path + ": the PLY header's line " + std::to_string(number) + " holds the byte " +
+                         std::to_string(c) + ", expected printable text");
       }
     }
+    if (line == "end_header") {
+      ended = true;
+      break;
+    }
+    // Only the lines of the PLY format, each complete: assimp's reader skips what it does not know,
+    // and some such headers sent it growing its memory for ever.
+    const auto malformed = [&](const std::string& expected) {
+      throw InputError(path + ": the PLY header's line " + std::to_string(number) + " '" + line + "': expected " +
+                       expected);
+    };
+    std::istringstream words(line);
+    std::vector<std::string> w;
+    for (std::string word; words >> word;) w.push_back(word);
+    const std::string keyword = w.empty() ? "" : w[0];
+    if (number == 1) {
+      if (line != "ply") malformed("'ply'");
+    } else if (keyword == "comment" || keyword == "obj_info") {
+      // free text
+    } else if (keyword == "format") {
+      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian")) {
+        malformed("'format ascii|binary_little_endian|binary_big_endian VERSION'");
+      }
+      format = w[1];
+    } else if (keyword == "element") {
+      if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18) {
+        malformed("'element NAME COUNT'");
+      }
+      elements.push_back({w[1], std::stoull(w[2]), 0});
+    } else if (keyword == "property") {
+      const bool list = w.size() == 5 && w[1] == "list" && PlyTypeBytes(w[2]) > 0 && PlyTypeBytes(w[3]) > 0;
+      if (elements.empty() || format.empty() || !(list || (w.size() == 3 && PlyTypeBytes(w[1]) > 0))) {
+        malformed("'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME' of an element, after the format");
+      }
+      if (format == "ascii") {
+        elements.back().min_bytes += 2;
+      } else {
+        elements.back().min_bytes += PlyTypeBytes(list ? w[2] : w[1]);
+      }
+    } else {
+      malformed("a line of the PLY header (format, element, property, comment, end_header)");
+    }
+  }
+  if (!ended) {
+    throw InputError(path + ": the PLY header has no line 'end_header' in its first " +
+                     std::to_string(kMaxPlyHeaderBytes) + " bytes");
   }
   const std::uint64_t body = file_size > header_bytes ? file_size - header_bytes : 0;
   std::uint64_t needed = 0;
@@ -100,10 +135,11 @@ void CheckPlyCounts(const std::string& path, std::uint64_t file_size) {
 
 /// Throws InputError when a binary STL declares more triangles than the file holds (50 bytes
 /// each after the 84-byte header).
-void CheckStlCount(const std::string& path, std::uint64_t file_size) {
-  std::ifstream in(path, std::ios::binary);
+void CheckStlCount(const std::string& path, const std::string& bytes) {
+  const std::uint64_t file_size = bytes.size();
+  if (file_size < 84) return;  // too short for binary: ASCII or invalid
   char head[84] = {};
-  if (file_size < 84 || !in.read(head, sizeof(head))) return;  // too short for binary: ASCII or invalid
+  std::memcpy(head, bytes.data(), sizeof(head));
   if (std::strncmp(head, "solid", 5) == 0) {
     // "solid" starts an ASCII STL, but also some binary headers: binary only if the size matches.
     std::uint32_t n = 0;
@@ -119,29 +155,48 @@ void CheckStlCount(const std::string& path, std::uint64_t file_size) {
   }
 }
 
-}  // namespace
-
-TriangleMesh LoadMeshFile(const std::string& path, double scale) {
-  if (!(scale > 0.0) || !std::isfinite(scale)) {
-    std::ostringstream os;
-    os << path << ": expected a positive finite mesh scale, got " << scale;
-    throw InputError(os.str());
-  }
+/// The extension of `path` in lower case, after checking that it names a format the loader reads.
+std::string MeshFormat(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext != ".stl" && ext != ".obj" && ext != ".ply") {
     throw InputError(path + ": expected an .stl, .obj or .ply mesh file, got extension '" + ext + "'");
   }
+  return ext;
+}
+
+void CheckScale(const std::string& path, double scale) {
+  if (!(scale > 0.0) || !std::isfinite(scale)) {
+    std::ostringstream os;
+    os << path << ": expected a positive finite mesh scale, got " << scale;
+    throw InputError(os.str());
+  }
+}
+
+}  // namespace
+
+TriangleMesh LoadMeshFile(const std::string& path, double scale) {
+  CheckScale(path, scale);
+  MeshFormat(path);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": mesh file not found");
-  const std::uint64_t file_size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path + ": cannot read the mesh file's size: " + ec.message());
-  if (ext == ".ply") CheckPlyCounts(path, file_size);
-  if (ext == ".stl") CheckStlCount(path, file_size);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the mesh file");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (in.bad()) throw InputError(path + ": cannot read the mesh file");
+  return ParseMeshFile(bytes.str(), path, scale);
+}
+
+TriangleMesh ParseMeshFile(const std::string& bytes, const std::string& path, double scale) {
+  CheckScale(path, scale);
+  const std::string ext = MeshFormat(path);
+  if (ext == ".ply") CheckPlyHeader(path, bytes);
+  if (ext == ".stl") CheckStlCount(path, bytes);
 
   Assimp::Importer importer;
-  importer.SetIOHandler(new OnlyTheMeshFile(path));  // the importer owns it
+  importer.SetIOHandler(new NoFiles);  // the importer owns it
   // Points and lines carry no surface: drop them instead of passing them on as triangles.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // Only positions matter; without the per-face normals of STL, vertices at one place are joined.
@@ -150,14 +205,39 @@ TriangleMesh LoadMeshFile(const std::string& path, double scale) {
                                                           aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
                                                           aiComponent_TEXTURES | aiComponent_LIGHTS |
                                                           aiComponent_CAMERAS | aiComponent_MATERIALS);
-  const aiScene* scene = importer.ReadFile(path, 0);
+  // The format hint is the extension: the importer reads the bytes as that format only.
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, ext.c_str() + 1);
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
     throw InputError(path + ": cannot read mesh: " + importer.GetErrorString());
   }
+  // The importers pass on what the file says, and the post-processing trusts it: a face of a PLY
+  // may name a vertex the file does not have, have no vertex or tens of thousands (a list count
+  // the file holds no indices for), and a mesh's primitive types (which decide what is
+  // triangulated) may disagree with its faces.
   bool has_polygons = false;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* in = scene->mMeshes[m];
-    for (unsigned f = 0; f < in->mNumFaces; ++f) has_polygons |= in->mFaces[f].mNumIndices >= 3;
+    aiMesh* in = scene->mMeshes[m];  // the importer's scene, which the post-processing changes too
+    unsigned types = 0;
+    for (unsigned f = 0; f < in->mNumFaces; ++f) {
+      const aiFace& face = in->mFaces[f];
+      if (face.mNumIndices == 0) throw InputError(path + ": face " + std::to_string(f) + " has no vertex");
+      if (face.mNumIndices > kMaxFaceVertices) {
+        throw InputError(path + ": face " + std::to_string(f) + " has " + std::to_string(face.mNumIndices) +
+                         " vertices, more than the " + std::to_string(kMaxFaceVertices) + " a face may have");
+      }
+      has_polygons |= face.mNumIndices >= 3;
+      types |= face.mNumIndices == 1   ? aiPrimitiveType_POINT
+               : face.mNumIndices == 2 ? aiPrimitiveType_LINE
+               : face.mNumIndices == 3 ? aiPrimitiveType_TRIANGLE
+                                       : aiPrimitiveType_POLYGON;
+      for (unsigned k = 0; k < face.mNumIndices; ++k) {
+        if (face.mIndices[k] >= in->mNumVertices) {
+          throw InputError(path + ": face " + std::to_string(f) + " refers to vertex " +
+                           std::to_string(face.mIndices[k]) + ", the mesh has " + std::to_string(in->mNumVertices));
+        }
+      }
+    }
+    in->mPrimitiveTypes = types;
   }
   if (!has_polygons) throw InputError(path + ": degenerate mesh: mesh has no triangles");
   scene =

@@ -43,8 +43,12 @@ ContactPlan ContactPlanFromJson(const nlohmann::json& states);
 /// output of plan_scenario; its other keys are ignored).
 ContactPlan ContactPlanFromJsonDocument(const nlohmann::json& document);
 
-/// Reads a JSON file ("-" = standard input) with ContactPlanFromJsonDocument. Throws InputError
-/// naming the file for an unreadable file, malformed JSON or a malformed plan.
+/// Reads a JSON file ("-" = standard input) with ParseContactPlanJson. Throws InputError naming
+/// the file for an unreadable file, malformed JSON or a malformed plan.
 ContactPlan LoadContactPlanFile(const std::string& path);
+
+/// Parses JSON text with ContactPlanFromJsonDocument. Throws InputError starting with `name` for
+/// malformed JSON or a malformed plan.
+ContactPlan ParseContactPlanJson(const std::string& text, const std::string& name);
 
 }  // namespace rbcp

@@ -79,6 +79,10 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& path);
 /// file are ignored. Throws InputError naming the file.
 TriangleMesh LoadMeshFile(const std::string& path, double scale);
 
+/// LoadMeshFile on the bytes of a mesh file read from `path` (whose extension names the format;
+/// used in messages). Opens no file.
+TriangleMesh ParseMeshFile(const std::string& bytes, const std::string& path, double scale);
+
 /// The world-frame mesh of one element (reads mesh files).
 TriangleMesh ElementMesh(const TerrainElement& element);
 

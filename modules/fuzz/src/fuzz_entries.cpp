@@ -1,0 +1,126 @@
+#include "rbcp/fuzz/fuzz_entries.h"
+
+#include <functional>
+
+#include "rbcp/core/error.h"
+#include "rbcp/plan_checker/plan_json.h"
+#include "rbcp/scenario/scenario.h"
+#include "rbcp/transport/convert.h"
+#include "rbcp/transport/wire_check.h"
+
+namespace rbcp::fuzz {
+namespace {
+
+// The limits the nodes apply by default (RootPlannerNodeOptions::max_time_budget_s,
+// ContactPlannerNodeOptions::max_path_duration_s).
+constexpr double kMaxTimeBudget_s = 60.0;
+constexpr double kMaxPathDuration_s = 3600.0;
+
+/// A scenario is read as if from a file in this folder: its relative mesh paths resolve against
+/// the scenario tests' data (meshes/ramp.stl and the others).
+const std::string kScenarioPath = std::string(RBCP_FUZZ_SCENARIO_DIR) + "/fuzz_input.yaml";
+
+std::string Text(const std::uint8_t* data, std::size_t size) {
+  return std::string(reinterpret_cast<const char*>(data), size);
+}
+
+/// Runs `read`: accepted when it returns, rejected when it throws InputError.
+Outcome Guard(const std::function<void()>& read) {
+  try {
+    read();
+  } catch (const InputError& e) {
+    return {false, e.what()};
+  }
+  return {true, ""};
+}
+
+Outcome ReadScenario(const std::uint8_t* data, std::size_t size) {
+  return Guard([&] { ParseScenario(Text(data, size), kScenarioPath); });
+}
+
+Outcome Mesh(const std::uint8_t* data, std::size_t size, const char* path) {
+  return Guard([&] { ParseMeshFile(Text(data, size), path, 1.0); });
+}
+Outcome ReadMeshStl(const std::uint8_t* data, std::size_t size) { return Mesh(data, size, "fuzz_input.stl"); }
+Outcome ReadMeshObj(const std::uint8_t* data, std::size_t size) { return Mesh(data, size, "fuzz_input.obj"); }
+Outcome ReadMeshPly(const std::uint8_t* data, std::size_t size) { return Mesh(data, size, "fuzz_input.ply"); }
+
+Outcome ReadPlanJson(const std::uint8_t* data, std::size_t size) {
+  return Guard([&] { ParseContactPlanJson(Text(data, size), "fuzz_input.json"); });
+}
+
+/// A message as a node's subscription decodes it (transport::DecodeMessage), then `validate`d as
+/// the node does before using it.
+template <typename Msg>
+Outcome Message(const std::uint8_t* data, std::size_t size, const std::function<void(const Msg&)>& validate) {
+  Msg msg;
+  const std::string problem = transport::DecodeMessage(data, size, msg);
+  if (!problem.empty()) return {false, problem};
+  return Guard([&] { validate(msg); });
+}
+
+Outcome ReadTerrainMesh(const std::uint8_t* data, std::size_t size) {
+  return Message<rbcp_msgs::terrain_mesh_t>(data, size, [](const auto& m) { transport::FromTerrainMsg(m); });
+}
+
+Outcome ReadAffordanceSet(const std::uint8_t* data, std::size_t size) {
+  return Message<rbcp_msgs::affordance_set_t>(data, size, [](const auto& m) { transport::FromAffordanceMsg(m); });
+}
+
+Outcome ReadPlanRequest(const std::uint8_t* data, std::size_t size) {
+  return Message<rbcp_msgs::plan_request_t>(data, size, [](const auto& m) {
+    const std::string problem = transport::CheckPlanRequest(m, kMaxTimeBudget_s);
+    if (!problem.empty()) throw InputError(problem);
+  });
+}
+
+Outcome ReadRobotState(const std::uint8_t* data, std::size_t size) {
+  return Message<rbcp_msgs::robot_state_t>(data, size, [](const auto& m) {
+    transport::FromRobotStateMsg(m);
+    transport::ProgressFromRobotStateMsg(m);
+  });
+}
+
+Outcome ReadRootPath(const std::uint8_t* data, std::size_t size) {
+  return Message<rbcp_msgs::root_path_t>(data, size,
+                                         [](const auto& m) { transport::FromRootPathMsg(m, kMaxPathDuration_s); });
+}
+
+Outcome ReadContactPlan(const std::uint8_t* data, std::size_t size) {
+  return Message<rbcp_msgs::contact_plan_t>(data, size, [](const auto& m) { transport::FromContactPlanMsg(m); });
+}
+
+Outcome ReadProcessStatus(const std::uint8_t* data, std::size_t size) {
+  // The supervisor and the operator read the process name, pid and state as they come.
+  return Message<rbcp_msgs::process_status_t>(data, size, [](const auto&) {});
+}
+
+}  // namespace
+
+const std::vector<Entry>& Entries() {
+  static const std::vector<Entry> entries = {
+      {"scenario", "scenario YAML text: ParseScenario (LoadScenario without the file)", ReadScenario},
+      {"mesh_stl", "STL bytes: ParseMeshFile (LoadMeshFile without the file)", ReadMeshStl},
+      {"mesh_obj", "OBJ bytes: ParseMeshFile (LoadMeshFile without the file)", ReadMeshObj},
+      {"mesh_ply", "PLY bytes: ParseMeshFile (LoadMeshFile without the file)", ReadMeshPly},
+      {"plan_json", "plan JSON text: ParseContactPlanJson (LoadContactPlanFile without the file)", ReadPlanJson},
+      {"lcm_terrain_mesh", "TERRAIN message: DecodeMessage, FromTerrainMsg", ReadTerrainMesh},
+      {"lcm_affordance_set", "AFFORDANCES message: DecodeMessage, FromAffordanceMsg", ReadAffordanceSet},
+      {"lcm_plan_request", "PLAN_REQUEST message: DecodeMessage, CheckPlanRequest", ReadPlanRequest},
+      {"lcm_robot_state", "ROBOT_STATE message: DecodeMessage, FromRobotStateMsg, ProgressFromRobotStateMsg",
+       ReadRobotState},
+      {"lcm_root_path", "ROOT_PATH message: DecodeMessage, FromRootPathMsg", ReadRootPath},
+      {"lcm_contact_plan", "CONTACT_PLAN message: DecodeMessage, FromContactPlanMsg", ReadContactPlan},
+      {"lcm_process_status", "STATUS message: DecodeMessage", ReadProcessStatus},
+  };
+  return entries;
+}
+
+const Entry* FindEntry(const std::string& name) {
+  for (const Entry& e : Entries()) {
+    if (name == e.name) return &e;
+  }
+  return nullptr;
+}
+
+}  // namespace rbcp::fuzz
