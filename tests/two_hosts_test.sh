@@ -89,7 +89,8 @@ else
   grep -q "launch-hosts: both hosts stopped" "$dir/hosts.txt" || fail "no orderly stop"
   # The operator recorded what the robot said across the link: its verdict.
   "$bin/run_log" --log "$dir/run.lcmlog" >"$dir/run.json"
-  grep -q '"sim_ok":true' "$dir/run.json" || fail "the operator's recording lacks the simulator's verdict"
+  grep -q '"sim_ok":true' "$dir/run.json" \
+    || fail "the operator's recording lacks the simulator's verdict (run_log: $(grep -o '"outcome":"[^"]*"' "$dir/run.json" || true))"
 fi
 cat "$dir/hosts.txt"
 
