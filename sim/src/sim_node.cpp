@@ -36,6 +36,7 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
       scenario_(scenario),
       config_(config),
       status_(lcm, kProcessName, channels::kStatus),
+      publisher_(lcm),
       options_(std::move(options)),
       plans_in_(lcm, channels::kContactPlan),
       planner_failures_(lcm, channels::kStatus, [this](const rbcp_msgs::process_status_t& s) {
@@ -55,7 +56,8 @@ int64_t SimNode::Utime() const { return static_cast<int64_t>(std::llround(execut
 void SimNode::PublishTerrain() {
   last_terrain_wall_ = std::chrono::steady_clock::now();
   const auto msg = transport::ToTerrainMsg(execution_.CurrentWorld().terrain_mesh, Utime(), scenario_.name);
-  lcm_.publish(channels::kTerrain, &msg);
+  const std::string problem = publisher_.Publish(channels::kTerrain, msg);
+  if (!problem.empty()) status_.Failed(Utime(), Utime(), 0.0, problem);
 }
 
 void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {

@@ -9,7 +9,7 @@ bin="${RBCP_BUILD_DIR:-$root/build}/bin"
 out="$root/tests/data/affordances_darpa_rubble.lcmlog"
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=2097152"
 rm -f "$out"
-lcm-logger --lcm-url="$url" --channel="TERRAIN|AFFORDANCES" --quiet --force "$out" &
+lcm-logger --lcm-url="$url" --channel="TERRAIN(/PART)?|AFFORDANCES(/PART)?" --quiet --force "$out" &
 logger=$!
 "$bin/affordance_extractor" --lcm-url "$url" --quiet &
 extractor=$!

@@ -1,7 +1,8 @@
 // live_bridge: follows a running pipeline and forwards what it does to web pages over a local
 // websocket (Boost.Beast), for the live viewer page (tools/view --live). It reads the processes'
 // LCM messages (subscribing on --lcm-url, or reading a growing LCM log with --follow-log, such as
-// the run.lcmlog tools/launch records) and sends each as one compact JSON object (see "Live
+// the run.lcmlog tools/launch records; a message sent in parts once it is whole) and sends each as
+// one compact JSON object (see "Live
 // messages" in docs/json_schema.md): the terrain, contact surfaces, plan request, root path, each
 // contact plan, the steps walked so far, the robot's state every 50 ms of simulated time (with
 // joints, torques and the CoM's support margin), the replans' latency and every process's status.
@@ -40,6 +41,7 @@
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/channels.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/run_loop.h"
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/plan_request_t.hpp"
@@ -119,8 +121,21 @@ class Hub {
     if (sessions_.erase(session)) Log("a page left (" + std::to_string(sessions_.size()) + " now)");
   }
 
-  /// One LCM message, received at `receive_us` (any clock, the same for every message).
+  /// One LCM message, received at `receive_us` (any clock, the same for every message). A part of
+  /// a message sent in parts (TERRAIN/PART) is kept until its message is whole.
   void OnMessage(const std::string& channel, int64_t receive_us, const void* data, unsigned size) {
+    const std::string problem =
+        joiner_.Add(channel, data, size, [&](const std::string& whole, const void* bytes, std::size_t n) {
+          OnWhole(whole, receive_us, bytes, static_cast<unsigned>(n));
+        });
+    if (!problem.empty()) {
+      ++malformed_;
+      Log("dropped " + problem);
+    }
+  }
+
+  /// One whole LCM message.
+  void OnWhole(const std::string& channel, int64_t receive_us, const void* data, unsigned size) {
     namespace ch = rbcp::channels;
     try {
       if (channel == ch::kRobotState) {
@@ -242,6 +257,7 @@ class Hub {
   int64_t walked_seq_ = -1;
   int walked_steps_ = -1;
   long malformed_ = 0;
+  rbcp::transport::PartJoiner joiner_;
 };
 
 void Session::Start(http::request<http::string_body> request) {

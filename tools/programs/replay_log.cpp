@@ -49,6 +49,8 @@
 #include "rbcp/core/format.h"
 #include "rbcp/nodes/process.h"
 #include "rbcp/transport/channels.h"
+#include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/run_loop.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
@@ -188,22 +190,22 @@ struct Answers {
   }
 };
 
-/// The replayed planners' answers, as they come over LCM.
+/// The replayed planners' answers, as they come over LCM (AFFORDANCES whole or in parts).
 class Listener {
  public:
-  explicit Listener(lcm::LCM& lcm) {
-    lcm.subscribe(channels::kAffordances, &Listener::Surfaces, this);
-    lcm.subscribe(channels::kRootPath, &Listener::Path, this);
-    lcm.subscribe(channels::kContactPlan, &Listener::Plan, this);
-    lcm.subscribe(channels::kStatus, &Listener::Status, this);
-  }
+  explicit Listener(lcm::LCM& lcm)
+      : surfaces_(lcm, channels::kAffordances, [this](const rbcp_msgs::affordance_set_t& m) { answers.OnSurfaces(m); }, Malformed),
+        paths_(lcm, channels::kRootPath, [this](const rbcp_msgs::root_path_t& m) { answers.OnPath(m); }, Malformed),
+        plans_(lcm, channels::kContactPlan, [this](const rbcp_msgs::contact_plan_t& m) { answers.OnPlan(m); }, Malformed),
+        statuses_(lcm, channels::kStatus, [this](const rbcp_msgs::process_status_t& m) { answers.OnStatus(m); }, Malformed) {}
   Answers answers;
 
  private:
-  void Surfaces(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::affordance_set_t* m) { answers.OnSurfaces(*m); }
-  void Path(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::root_path_t* m) { answers.OnPath(*m); }
-  void Plan(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::contact_plan_t* m) { answers.OnPlan(*m); }
-  void Status(const lcm::ReceiveBuffer*, const std::string&, const rbcp_msgs::process_status_t* m) { answers.OnStatus(*m); }
+  static void Malformed(const std::string& why) { std::cerr << "replay_log: " << why << "\n"; }
+  transport::EveryMessage<rbcp_msgs::affordance_set_t> surfaces_;
+  transport::EveryMessage<rbcp_msgs::root_path_t> paths_;
+  transport::EveryMessage<rbcp_msgs::contact_plan_t> plans_;
+  transport::EveryMessage<rbcp_msgs::process_status_t> statuses_;
 };
 
 struct Event {
@@ -319,9 +321,17 @@ int main(int argc, char** argv) {
     {
       lcm::LogFile log(log_path, "r");
       if (!log.good()) throw InputError("cannot read the LCM log " + log_path);
+      // A message sent in parts (TERRAIN/PART) is one event once whole, at its last part's time.
+      transport::PartJoiner joiner;
       while (const lcm::LogEvent* e = log.readNextEvent()) {
-        const auto* bytes = static_cast<const uint8_t*>(e->data);
-        events.push_back({e->timestamp, e->channel, std::vector<uint8_t>(bytes, bytes + e->datalen)});
+        const int64_t timestamp = e->timestamp;
+        const std::string problem = joiner.Add(
+            e->channel, e->data, static_cast<std::size_t>(e->datalen),
+            [&](const std::string& channel, const void* data, std::size_t size) {
+              const auto* bytes = static_cast<const uint8_t*>(data);
+              events.push_back({timestamp, channel, std::vector<uint8_t>(bytes, bytes + size)});
+            });
+        if (!problem.empty()) say("skipped " + problem);
       }
     }
     if (!thin_path.empty()) return WriteThinned(events, thin_path, walking_state_hz, say);
@@ -364,6 +374,11 @@ int main(int argc, char** argv) {
 
     auto lcm = transport::OpenLcm(common.lcm_url);
     Listener listener(*lcm);
+    transport::MessagePublisher publisher(*lcm);  // a large TERRAIN goes in parts, as the simulator sent it
+    const auto publish = [&](const Event& e) {
+      const std::string problem = publisher.PublishEncoded(e.channel, e.data.data(), e.data.size());
+      if (!problem.empty()) throw InputError("cannot replay " + e.channel + ": " + problem);
+    };
     transport::InstallStopHandlers();
     const auto program_start = Clock::now();
     // SIGINT, SIGTERM or --max-runtime end the replay (exit 3: the answers were not all heard).
@@ -403,7 +418,7 @@ int main(int argc, char** argv) {
           if (wait.Done(listener.answers)) return true;
           if (i > 0 && waiting[i - 1] && Clock::now() >= next_repeat) {
             next_repeat += std::chrono::milliseconds(5);
-            lcm->publish(schedule[i - 1].channel, schedule[i - 1].data.data(), static_cast<unsigned>(schedule[i - 1].data.size()));
+            publish(schedule[i - 1]);
           }
           return false;
         };
@@ -419,7 +434,7 @@ int main(int argc, char** argv) {
       while (Clock::now() < due) {
         lcm->handleTimeout(std::max(1, static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(due - Clock::now()).count())));
       }
-      lcm->publish(schedule[i].channel, schedule[i].data.data(), static_cast<unsigned>(schedule[i].data.size()));
+      publish(schedule[i]);
     }
     // The answers to the last inputs.
     pump_until([] { return false; }, 1.0);

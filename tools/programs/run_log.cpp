@@ -23,6 +23,7 @@
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
@@ -33,9 +34,16 @@ namespace {
 
 using namespace rbcp;
 
+/// One message of the log, whole: as logged, or put back together from its parts.
+struct Event {
+  int64_t timestamp;
+  const void* data;
+  std::size_t size;
+};
+
 template <typename Msg>
-bool Decode(const lcm::LogEvent& e, Msg* msg) {
-  return transport::DecodeMessage(e.data, static_cast<std::size_t>(e.datalen), *msg).empty();
+bool Decode(const Event& e, Msg* msg) {
+  return transport::DecodeMessage(e.data, e.size, *msg).empty();
 }
 
 /// The answers of one planning process: the wall time of each input it handled (OK) and how many
@@ -95,24 +103,22 @@ int main(int argc, char** argv) {
     std::set<std::tuple<std::string, int32_t, int64_t>> answered;
     std::map<std::string, Answers> answers = {{"affordance_extractor", {}}, {"root_planner", {}}, {"contact_planner", {}}};
     std::vector<double> plan_steps;
-    while (const lcm::LogEvent* e = log.readNextEvent()) {
-      ++events;
-      const std::string channel = e->channel;
+    const auto handle = [&](const std::string& channel, const Event& e) {
       if (channel == channels::kRobotState) {
         rbcp_msgs::robot_state_t msg;
-        if (Decode(*e, &msg)) record.OnRobotState(e->timestamp, msg); else ++malformed;
+        if (Decode(e, &msg)) record.OnRobotState(e.timestamp, msg); else ++malformed;
       } else if (channel == channels::kContactPlan) {
         rbcp_msgs::contact_plan_t msg;
-        if (!Decode(*e, &msg)) { ++malformed; continue; }
+        if (!Decode(e, &msg)) { ++malformed; return; }
         try {
-          record.OnContactPlan(e->timestamp, msg);
+          record.OnContactPlan(e.timestamp, msg);
           plan_steps.push_back(std::max(0, msg.num_states - 1));
         } catch (const InputError&) {
           ++malformed;
         }
       } else if (channel == channels::kStatus) {
         rbcp_msgs::process_status_t msg;
-        if (!Decode(*e, &msg)) { ++malformed; continue; }
+        if (!Decode(e, &msg)) { ++malformed; return; }
         const bool decided = msg.state == rbcp_msgs::process_status_t::OK || msg.state == rbcp_msgs::process_status_t::FAILED;
         if (msg.process == "anymal_sim" && decided) verdict = msg;
         const auto planner = answers.find(msg.process);
@@ -122,21 +128,31 @@ int main(int argc, char** argv) {
         }
       } else if (channel == channels::kTerrain) {
         rbcp_msgs::terrain_mesh_t msg;
-        if (!Decode(*e, &msg)) { ++malformed; continue; }
+        if (!Decode(e, &msg)) { ++malformed; return; }
         if (scenario.empty()) scenario = msg.scenario_name;
         terrain = std::move(msg);  // the newest terrain
       } else if (channel == channels::kAffordances) {
         rbcp_msgs::affordance_set_t msg;
-        if (Decode(*e, &msg)) surfaces = std::move(msg); else ++malformed;
+        if (Decode(e, &msg)) surfaces = std::move(msg); else ++malformed;
       } else if (channel == channels::kRootPath) {
         rbcp_msgs::root_path_t msg;
-        if (!Decode(*e, &msg)) { ++malformed; continue; }
+        if (!Decode(e, &msg)) { ++malformed; return; }
         if (!root_path) root_path = std::move(msg);  // the first: the path from the start to the goal
         ++root_paths;
       } else if (channel == channels::kPlanRequest && !request) {
         rbcp_msgs::plan_request_t msg;
-        if (Decode(*e, &msg)) request = msg; else ++malformed;
+        if (Decode(e, &msg)) request = msg; else ++malformed;
       }
+    };
+    // A message sent in parts (TERRAIN/PART) counts once it is whole, at its last part's time.
+    transport::PartJoiner joiner;
+    while (const lcm::LogEvent* e = log.readNextEvent()) {
+      ++events;
+      const int64_t timestamp = e->timestamp;
+      const std::string problem = joiner.Add(
+          e->channel, e->data, static_cast<std::size_t>(e->datalen),
+          [&](const std::string& channel, const void* data, std::size_t size) { handle(channel, {timestamp, data, size}); });
+      if (!problem.empty()) ++malformed;
     }
     if (!record.Latest()) throw InputError(log_path + ": no ROBOT_STATE in " + std::to_string(events) + " events");
     // A plan the logger missed (UDP drops it under load) leaves a gap, named in missing_plans.

@@ -1,6 +1,7 @@
 // scenario_publisher: drives a scenario through the pipeline's processes as the operator does.
 // It waits until every process it needs reports on STATUS. Without the simulator it stands in for
-// the world and publishes the scenario's terrain on TERRAIN until AFFORDANCES answers; with
+// the world and publishes the scenario's terrain on TERRAIN (in parts when large) every period
+// while the run lasts; with
 // --until sim the simulator (anymal_sim) is the world and publishes it. Then a PLAN_REQUEST from
 // the scenario's start to its goal; it waits for ROOT_PATH and CONTACT_PLAN, checks the plan with
 // the plan checker, with --until sim waits for the simulator's verdict on the walked plan, and
@@ -32,6 +33,7 @@
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/convert.h"
 #include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/run_loop.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
@@ -274,7 +276,7 @@ int main(int argc, char** argv) {
   nodes::CommonOptions common;
   nodes::AddCommonOptions(app, common);
   std::string scenario_path, until = "contact";
-  double timeout_s = 10.0, period_s = 0.5, budget_s = 5.0, sim_timeout_s = 900.0;
+  double timeout_s = 10.0, period_s = 1.0, budget_s = 5.0, sim_timeout_s = 900.0;
   int seed = 1;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
   app.add_option("--until", until,
@@ -285,7 +287,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--timeout", timeout_s, "give up after this many seconds without the awaited answer")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--period", period_s, "republish the terrain this often until answered [s]")
+  app.add_option("--period", period_s, "without the simulator: publish the terrain this often while the run lasts [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--time-budget", budget_s, "root planning time budget of the request [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
@@ -330,19 +332,37 @@ int main(int argc, char** argv) {
       if (w != Waited::kDone) return stopped_or_failed(w, "startup");
     }
 
-    // TERRAIN (from the simulator, or published here) until AFFORDANCES.
+    // TERRAIN, from the simulator or, without it, from here: every period while the run lasts, as
+    // the simulator sends it, so a process that lost it hears it again (a large terrain goes in
+    // parts, on TERRAIN/PART).
     int64_t utime = 0;
     auto next = Clock::now();
+    transport::MessagePublisher publisher(*lcm);
+    rbcp_msgs::terrain_mesh_t terrain_msg;
+    if (!simulated) terrain_msg = transport::ToTerrainMsg(scenario.terrain_mesh, utime, scenario.name);
+    std::string terrain_problem;
+    const auto publish_terrain = [&] {
+      if (simulated || Clock::now() < next) return;
+      terrain_msg.utime = utime;
+      const std::string problem = publisher.Publish(channels::kTerrain, terrain_msg);
+      if (!problem.empty() && problem != terrain_problem) std::cerr << "scenario_publisher: " << problem << "\n";
+      terrain_problem = problem;
+      utime += static_cast<int64_t>(period_s * 1e6);
+      next = Clock::now() + std::chrono::milliseconds(static_cast<int>(period_s * 1000));
+    };
+    publish_terrain();
+    if (!terrain_problem.empty()) return finish(kPlanningFailed, "the terrain cannot be sent: " + terrain_problem);
+    if (!simulated) {
+      std::cout << "terrain: " << terrain_msg.num_triangles << " triangles, "
+                << FixedNumber(terrain_msg.getEncodedSize() / (1024.0 * 1024.0), 1) << " MB on " << channels::kTerrain;
+      if (publisher.parted_messages() > 0) {
+        std::cout << " in " << publisher.parts_sent() << " parts (" << transport::PartChannel(channels::kTerrain) << ")";
+      }
+      std::cout << ", every " << period_s << " s" << std::endl;
+    }
     std::optional<rbcp_msgs::affordance_set_t> surfaces_msg;
     Waited w = WaitUntil(
-        *lcm, board, timeout_s, [&] { return (surfaces_msg = affordances.Take()).has_value(); },
-        [&] {
-          if (simulated || Clock::now() < next) return;
-          const auto msg = transport::ToTerrainMsg(scenario.terrain_mesh, utime, scenario.name);
-          lcm->publish(channels::kTerrain, &msg);
-          utime += static_cast<int64_t>(period_s * 1e6);
-          next = Clock::now() + std::chrono::milliseconds(static_cast<int>(period_s * 1000));
-        });
+        *lcm, board, timeout_s, [&] { return (surfaces_msg = affordances.Take()).has_value(); }, publish_terrain);
     if (w == Waited::kTimeout) return no_answer("AFFORDANCES", "affordance_extractor");
     if (w != Waited::kDone) return stopped_or_failed(w, "affordance extraction");
     // The extractor's OK status follows its AFFORDANCES.
@@ -371,11 +391,14 @@ int main(int argc, char** argv) {
               << request.start_position[1] << ") -> (" << request.goal_position[0] << ", " << request.goal_position[1]
               << "), seed " << seed << "\n";
     std::optional<rbcp_msgs::root_path_t> path;
-    w = WaitUntil(*lcm, board, timeout_s, [&] {
-      auto p = root_path.Take();
-      if (p && p->request_id == request.request_id) path = std::move(p);
-      return path.has_value();
-    });
+    w = WaitUntil(
+        *lcm, board, timeout_s,
+        [&] {
+          auto p = root_path.Take();
+          if (p && p->request_id == request.request_id) path = std::move(p);
+          return path.has_value();
+        },
+        publish_terrain);
     if (w == Waited::kTimeout) return no_answer("ROOT_PATH", "root_planner");
     if (w != Waited::kDone) return stopped_or_failed(w, "root planning");
     Pump(*lcm, 0.2, [&] { return board.NewOk("root_planner").has_value(); });
@@ -392,11 +415,14 @@ int main(int argc, char** argv) {
 
     // CONTACT_PLAN along the path, then the independent check.
     std::optional<rbcp_msgs::contact_plan_t> plan_msg;
-    w = WaitUntil(*lcm, board, timeout_s, [&] {
-      auto p = contact_plan.Take();
-      if (p && p->request_id == request.request_id) plan_msg = std::move(p);
-      return plan_msg.has_value();
-    });
+    w = WaitUntil(
+        *lcm, board, timeout_s,
+        [&] {
+          auto p = contact_plan.Take();
+          if (p && p->request_id == request.request_id) plan_msg = std::move(p);
+          return plan_msg.has_value();
+        },
+        publish_terrain);
     if (w == Waited::kTimeout) return no_answer("CONTACT_PLAN", "contact_planner");
     if (w != Waited::kDone) return stopped_or_failed(w, "contact planning");
     Pump(*lcm, 0.2, [&] { return board.NewOk("contact_planner").has_value(); });

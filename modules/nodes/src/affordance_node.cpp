@@ -8,8 +8,8 @@
 namespace rbcp::nodes {
 
 AffordanceNode::AffordanceNode(lcm::LCM& lcm, const AffordanceConfig& config, AffordanceNodeChannels channels)
-    : lcm_(lcm),
-      channels_(std::move(channels)),
+    : channels_(std::move(channels)),
+      publisher_(lcm),
       extractor_(config),
       terrain_(lcm, channels_.terrain),
       status_(lcm, kProcessName, channels_.status) {}
@@ -35,7 +35,11 @@ bool AffordanceNode::Step() {
   }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   const auto out = transport::ToAffordanceMsg(surfaces_, msg->utime);
-  lcm_.publish(channels_.affordances, &out);
+  const std::string problem = publisher_.Publish(channels_.affordances, out);
+  if (!problem.empty()) {
+    status_.Failed(msg->utime, msg->utime, ms, problem);
+    return true;
+  }
   status_.Ok(msg->utime, msg->utime, ms);
   return true;
 }

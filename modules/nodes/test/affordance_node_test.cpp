@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "rbcp/transport/convert.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
 
@@ -107,6 +108,41 @@ TEST_F(AffordanceNodeTest, GarbageOnTheTerrainChannelFailsWithReason) {
   Pump();
   ASSERT_TRUE(node_.Step());
   Pump();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
+}
+
+TEST_F(AffordanceNodeTest, ATerrainSentInPartsIsExtractedWhole) {
+  // A 2 m x 1 m floor of 300 x 150 cells (90,000 triangles): about 2.2 MB, above the 1 MB that
+  // goes whole.
+  TriangleMesh grid;
+  const int nx = 300, ny = 150;
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) grid.vertices.emplace_back(-1.0 + 2.0 * i / nx, -0.5 + 1.0 * j / ny, 0.1);
+  }
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i, b = a + 1, d = a + nx + 1, c = d + 1;
+      grid.triangles.push_back({a, b, c});
+      grid.triangles.push_back({a, c, d});
+    }
+  }
+  const auto terrain = transport::ToTerrainMsg(grid, 77, "grid");
+  ASSERT_GT(terrain.getEncodedSize(), 2000000);
+  transport::PartOptions options;
+  options.pause_s = 0.0;
+  transport::MessagePublisher publisher(lcm_, options);
+  ASSERT_EQ(publisher.Publish(channels::kTerrain, terrain), "");
+  EXPECT_EQ(publisher.parted_messages(), 1);
+  EXPECT_GE(publisher.parts_sent(), 8);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  const auto out = affordances_.Take();
+  ASSERT_TRUE(out.has_value()) << (status_.Latest() ? status_.Latest()->reason : "no status");
+  EXPECT_EQ(out->utime, 77);
+  ASSERT_EQ(out->num_surfaces, 1);
+  const double m = AffordanceConfig{}.edge_margin;
+  EXPECT_NEAR(out->surfaces[0].area, (2.0 - 2 * m) * (1.0 - 2 * m), 1e-9);
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
 }
 

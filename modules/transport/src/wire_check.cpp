@@ -91,6 +91,11 @@ const WireLayout kProcessStatus{"process_status_t",
                                  Bytes("state", kInt8), String("reason"), Bytes("input_utime", kInt64),
                                  Bytes("compute_ms", kDouble), Bytes("handled", kInt64)}};
 
+const WireLayout kMessagePart{"message_part_t",
+                               {Bytes("utime", kInt64), Bytes("sender", kInt64), Bytes("sequence", kInt64),
+                                Bytes("checksum", kInt64), Bytes("total_size", kInt32), Bytes("part_count", kInt32),
+                                Bytes("index", kInt32), Count("num_bytes"), Array("bytes", "num_bytes", kInt8)}};
+
 int32_t ReadInt32(const uint8_t* p) {
   const uint32_t v = (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
   int32_t out;
@@ -191,6 +196,7 @@ const WireLayout& LayoutOf(const rbcp_msgs::robot_state_t*) { return kRobotState
 const WireLayout& LayoutOf(const rbcp_msgs::root_path_t*) { return kRootPath; }
 const WireLayout& LayoutOf(const rbcp_msgs::contact_plan_t*) { return kContactPlan; }
 const WireLayout& LayoutOf(const rbcp_msgs::process_status_t*) { return kProcessStatus; }
+const WireLayout& LayoutOf(const rbcp_msgs::message_part_t*) { return kMessagePart; }
 
 std::string CheckEncoded(const void* data, std::size_t size, const WireLayout& layout, int64_t hash) {
   if (size > static_cast<std::size_t>(INT_MAX)) {

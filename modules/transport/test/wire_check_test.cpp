@@ -70,6 +70,13 @@ TEST(WireCheck, EveryLayoutMatchesTheGeneratedEncoding) {
   status.process = "root_planner";
   status.reason = "no path";
   ExpectLayoutMatches(status);
+
+  rbcp_msgs::message_part_t part{};
+  part.total_size = 3;
+  part.part_count = 1;
+  part.num_bytes = 3;
+  part.bytes = {1, 2, 3};
+  ExpectLayoutMatches(part);
 }
 
 /// A terrain of a few bytes whose vertex count claims 2^31 - 1 vertices (48 GB as lcm-gen decodes it).

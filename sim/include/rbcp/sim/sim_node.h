@@ -38,6 +38,7 @@
 #include "rbcp/sim/sim_config.h"
 #include "rbcp/sim/world_events.h"
 #include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/contact_plan_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
@@ -69,7 +70,9 @@ class SimNode {
           SimNodeOptions options = {});
 
   /// One control tick of simulated time: takes the newest CONTACT_PLAN, advances the world,
-  /// publishes ROBOT_STATE and, when due, TERRAIN; reports a decided outcome once on STATUS.
+  /// publishes ROBOT_STATE and, when due, TERRAIN (in parts when large; a terrain too large to
+  /// send is reported FAILED on STATUS with its size and the bound); reports a decided outcome
+  /// once on STATUS.
   void Tick();
   /// Republishes the current STATUS.
   void Heartbeat();
@@ -99,6 +102,7 @@ class SimNode {
   Scenario scenario_;
   SimConfig config_;
   transport::StatusReporter status_;
+  transport::MessagePublisher publisher_;  ///< TERRAIN, in parts when large
   SimNodeOptions options_;
   transport::LatestMessage<rbcp_msgs::contact_plan_t> plans_in_;
   transport::LatestMessage<rbcp_msgs::process_status_t> planner_failures_;

@@ -1,5 +1,6 @@
 #pragma once
-/// The affordance extraction process: TERRAIN in, AFFORDANCES and STATUS out.
+/// The affordance extraction process: TERRAIN in (whole or in parts), AFFORDANCES (in parts when
+/// large) and STATUS out.
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -9,6 +10,7 @@
 #include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
@@ -37,8 +39,8 @@ class AffordanceNode {
   transport::StatusReporter& status() { return status_; }
 
  private:
-  lcm::LCM& lcm_;
   AffordanceNodeChannels channels_;
+  transport::MessagePublisher publisher_;
   AffordanceExtractor extractor_;
   transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_;
   transport::StatusReporter status_;

@@ -2,8 +2,9 @@
 /// Subscription that keeps only the latest message of a channel. Messages are decoded with
 /// DecodeMessage, so a malformed one (bad fingerprint, truncated, a negative array count or one
 /// the bytes do not hold) becomes an error string naming the channel, for the node's status,
-/// instead of a crash or a huge allocation. Both subscriptions receive through the process's
-/// message faults (message_faults.h), none unless RBCP_MESSAGE_FAULTS asks for them.
+/// instead of a crash or a huge allocation. Both subscriptions hear the channel's messages whole
+/// or in parts on CHANNEL/PART (message_parts.h), through the process's message faults
+/// (message_faults.h), none unless RBCP_MESSAGE_FAULTS asks for them.
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -12,7 +13,7 @@
 #include <string>
 #include <utility>
 
-#include "rbcp/transport/message_faults.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/wire_check.h"
 
 namespace rbcp::transport {
@@ -22,13 +23,11 @@ class LatestMessage {
  public:
   /// With `keep`, decoded messages it rejects are ignored (e.g. one process's on a shared channel).
   LatestMessage(lcm::LCM& lcm, const std::string& channel, std::function<bool(const Msg&)> keep = {})
-      : channel_(channel), keep_(std::move(keep)), faults_(channel, ProcessMessageFaults()) {
-    subscription_ = lcm.subscribe(channel, &LatestMessage::OnMessage, this);
-    lcm_ = &lcm;
-  }
-  ~LatestMessage() {
-    if (lcm_ && subscription_) lcm_->unsubscribe(subscription_);
-  }
+      : channel_(channel),
+        keep_(std::move(keep)),
+        receiver_(
+            lcm, channel, [this](const void* data, std::size_t size) { Handle(data, size); },
+            [this](const std::string& problem) { decode_error_ = problem; }) {}
   LatestMessage(const LatestMessage&) = delete;
   LatestMessage& operator=(const LatestMessage&) = delete;
 
@@ -47,9 +46,6 @@ class LatestMessage {
   const std::string& channel() const { return channel_; }
 
  private:
-  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-    faults_.Receive(rbuf->data, rbuf->data_size, [this](const void* data, std::size_t size) { Handle(data, size); });
-  }
   void Handle(const void* data, std::size_t size) {
     Msg msg;
     const std::string problem = DecodeMessage(data, size, msg);
@@ -65,38 +61,36 @@ class LatestMessage {
 
   std::string channel_;
   std::function<bool(const Msg&)> keep_;
-  ReceiveFaults faults_;
-  lcm::LCM* lcm_ = nullptr;
-  lcm::Subscription* subscription_ = nullptr;
   std::optional<Msg> latest_;
   std::optional<std::string> decode_error_;
   bool fresh_ = false;
   long received_ = 0;
+  ChannelReceiver receiver_;  // last: it calls back into the members above
 };
 
 /// Subscription that hands every message of a channel to `handle` (for channels several processes
-/// share, where the newest alone is not enough). A message DecodeMessage rejects goes to `reject`
-/// with the reason, naming the channel, and is otherwise ignored.
+/// share, where the newest alone is not enough). A message DecodeMessage rejects, or a part that
+/// cannot belong to a whole message, goes to `reject` with the reason, naming the channel, and is
+/// otherwise ignored.
 template <typename Msg>
 class EveryMessage {
  public:
   EveryMessage(lcm::LCM& lcm, const std::string& channel, std::function<void(const Msg&)> handle,
                std::function<void(const std::string&)> reject)
-      : lcm_(lcm), channel_(channel), handle_(std::move(handle)), reject_(std::move(reject)),
-        faults_(channel, ProcessMessageFaults()) {
-    subscription_ = lcm.subscribe(channel, &EveryMessage::OnMessage, this);
-  }
-  ~EveryMessage() {
-    if (subscription_) lcm_.unsubscribe(subscription_);
-  }
+      : channel_(channel),
+        handle_(std::move(handle)),
+        reject_(std::move(reject)),
+        receiver_(
+            lcm, channel, [this](const void* data, std::size_t size) { Handle(data, size); },
+            [this](const std::string& problem) {
+              ++rejected_;
+              if (reject_) reject_(problem);
+            }) {}
   EveryMessage(const EveryMessage&) = delete;
   EveryMessage& operator=(const EveryMessage&) = delete;
   long rejected() const { return rejected_; }
 
  private:
-  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-    faults_.Receive(rbuf->data, rbuf->data_size, [this](const void* data, std::size_t size) { Handle(data, size); });
-  }
   void Handle(const void* data, std::size_t size) {
     Msg msg;
     const std::string problem = DecodeMessage(data, size, msg);
@@ -108,13 +102,11 @@ class EveryMessage {
     if (reject_) reject_("cannot decode " + channel_ + " (" + std::to_string(size) + " bytes): " + problem);
   }
 
-  lcm::LCM& lcm_;
   std::string channel_;
   std::function<void(const Msg&)> handle_;
   std::function<void(const std::string&)> reject_;
-  ReceiveFaults faults_;
-  lcm::Subscription* subscription_ = nullptr;
   long rejected_ = 0;
+  ChannelReceiver receiver_;  // last: it calls back into the members above
 };
 
 }  // namespace rbcp::transport

@@ -1,0 +1,264 @@
+#include "rbcp/transport/message_parts.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+#include "rbcp/transport/wire_check.h"
+#include "rbcp_msgs/message_part_t.hpp"
+
+namespace rbcp::transport {
+namespace {
+
+std::string Megabytes(std::size_t bytes) {
+  const double mb = static_cast<double>(bytes) / (1024.0 * 1024.0);
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MB", mb);
+  return text;
+}
+
+int64_t RandomSender() {
+  std::random_device device;
+  uint64_t s = 0;
+  while (s == 0) s = (uint64_t{device()} << 32) ^ device();
+  int64_t out;
+  std::memcpy(&out, &s, sizeof out);
+  return out;
+}
+
+/// The utime of an encoded rbcp_msgs message: its first field, after the 8-byte fingerprint.
+int64_t EncodedUtime(const uint8_t* data, std::size_t size) {
+  if (size < 16) return 0;
+  uint64_t v = 0;
+  for (std::size_t i = 8; i < 16; ++i) v = (v << 8) | data[i];
+  int64_t out;
+  std::memcpy(&out, &v, sizeof out);
+  return out;
+}
+
+/// Bytes of every part but the last, for a message of `total` bytes in `count` parts.
+int64_t Stride(int64_t total, int64_t count) { return (total + count - 1) / count; }
+
+}  // namespace
+
+std::string PartChannel(const std::string& channel) { return channel + kPartSuffix; }
+
+std::optional<std::string> WholeChannelOf(const std::string& channel) {
+  const std::size_t n = std::strlen(kPartSuffix);
+  if (channel.size() <= n || channel.compare(channel.size() - n, n, kPartSuffix) != 0) return std::nullopt;
+  return channel.substr(0, channel.size() - n);
+}
+
+int64_t PartChecksum(const void* data, std::size_t size) {
+  const auto* p = static_cast<const uint8_t*>(data);
+  uint64_t h = 0xcbf29ce484222325ULL;
+  for (std::size_t i = 0; i < size; ++i) {
+    h ^= p[i];
+    h *= 0x100000001b3ULL;
+  }
+  int64_t out;
+  std::memcpy(&out, &h, sizeof out);
+  return out;
+}
+
+std::string PartOptions::Problem() const {
+  if (part_bytes == 0) return "part_bytes expected > 0";
+  if (max_message_bytes == 0 || max_message_bytes > kMaxPartedMessageBytes) {
+    return "max_message_bytes expected in (0, " + std::to_string(kMaxPartedMessageBytes) + "], got " +
+           std::to_string(max_message_bytes);
+  }
+  if (!(pause_s >= 0.0) || pause_s > 1.0) return "pause_s expected in [0, 1] s, got " + std::to_string(pause_s);
+  return "";
+}
+
+MessagePublisher::MessagePublisher(lcm::LCM& lcm, PartOptions options) : lcm_(lcm), options_(options) {
+  const std::string problem = options_.Problem();
+  if (!problem.empty()) throw std::invalid_argument("message parts: " + problem);
+  if (options_.sender == 0) options_.sender = RandomSender();
+}
+
+std::string MessagePublisher::TooLarge(const std::string& channel, long long size) const {
+  return channel + ": the message is " + std::to_string(size) + " bytes (" + Megabytes(static_cast<std::size_t>(std::max(0LL, size))) +
+         "), above the bound of " + std::to_string(options_.max_message_bytes) + " bytes (" +
+         Megabytes(options_.max_message_bytes) + ") of a message sent in parts: not sent";
+}
+
+std::string MessagePublisher::PublishEncoded(const std::string& channel, const void* data, std::size_t size) {
+  if (size <= options_.threshold_bytes) {
+    return lcm_.publish(channel, data, static_cast<unsigned>(size)) == 0 ? ""
+                                                                          : "LCM could not send the " + channel + " message";
+  }
+  if (size > options_.max_message_bytes) return TooLarge(channel, static_cast<long long>(size));
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  const auto total = static_cast<int64_t>(size);
+  const int64_t count = (total + static_cast<int64_t>(options_.part_bytes) - 1) / static_cast<int64_t>(options_.part_bytes);
+  const int64_t stride = Stride(total, count);
+  rbcp_msgs::message_part_t part{};
+  part.utime = EncodedUtime(bytes, size);
+  part.sender = options_.sender;
+  part.sequence = ++sequence_;
+  part.checksum = PartChecksum(bytes, size);
+  part.total_size = static_cast<int32_t>(total);
+  part.part_count = static_cast<int32_t>(count);
+  const std::string part_channel = PartChannel(channel);
+  ++parted_messages_;
+  for (int64_t i = 0; i < count; ++i) {
+    if (i > 0 && options_.pause_s > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(options_.pause_s));
+    const int64_t begin = i * stride;
+    const int64_t end = std::min(total, begin + stride);
+    part.index = static_cast<int32_t>(i);
+    part.num_bytes = static_cast<int32_t>(end - begin);
+    part.bytes.assign(bytes + begin, bytes + end);
+    if (lcm_.publish(part_channel, &part) != 0) {
+      return "LCM could not send part " + std::to_string(i + 1) + " of " + std::to_string(count) + " of the " + channel +
+             " message";
+    }
+    ++parts_sent_;
+  }
+  return "";
+}
+
+PartAssembler::PartAssembler(std::string channel, std::size_t max_message_bytes)
+    : channel_(std::move(channel)), max_message_bytes_(std::min(max_message_bytes, kMaxPartedMessageBytes)) {}
+
+std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::size_t size, std::string& problem) {
+  problem.clear();
+  const std::string where = "a part of " + channel_ + " on " + PartChannel(channel_) + " (" + std::to_string(size) + " bytes)";
+  rbcp_msgs::message_part_t part;
+  const std::string undecodable = DecodeMessage(data, size, part);
+  if (!undecodable.empty()) {
+    problem = "cannot decode " + where + ": " + undecodable;
+    return std::nullopt;
+  }
+  const int64_t total = part.total_size;
+  const int64_t count = part.part_count;
+  const auto fail = [&](const std::string& why) -> std::optional<std::vector<uint8_t>> {
+    problem = "rejected " + where + ": " + why;
+    return std::nullopt;
+  };
+  if (total < 1 || static_cast<uint64_t>(total) > max_message_bytes_) {
+    return fail("the whole message would be " + std::to_string(total) + " bytes, expected 1 to " +
+                std::to_string(max_message_bytes_) + " (" + Megabytes(max_message_bytes_) + ")");
+  }
+  if (count < 1 || count > total) {
+    return fail("part_count " + std::to_string(count) + ", expected 1 to the message's " + std::to_string(total) + " bytes");
+  }
+  const int64_t stride = Stride(total, count);
+  if ((count - 1) * stride >= total) {
+    return fail(std::to_string(count) + " parts of " + std::to_string(stride) + " bytes do not make " +
+                std::to_string(total) + " bytes");
+  }
+  if (part.index < 0 || part.index >= count) {
+    return fail("index " + std::to_string(part.index) + ", expected 0 to " + std::to_string(count - 1));
+  }
+  const int64_t begin = part.index * stride;
+  const int64_t expected = std::min(total, begin + stride) - begin;
+  if (part.num_bytes != expected) {
+    return fail("part " + std::to_string(part.index) + " holds " + std::to_string(part.num_bytes) + " bytes, expected " +
+                std::to_string(expected));
+  }
+
+  const bool same_message = current_ && current_->sender == part.sender && current_->sequence == part.sequence;
+  if (!same_message) {
+    if (any_ && part.sender == last_sender_ && part.sequence <= last_sequence_) {
+      ++ignored_;  // a late part of an older message, or of the one just finished or dropped
+      return std::nullopt;
+    }
+    if (current_) ++abandoned_;
+    current_.emplace();
+    current_->sender = part.sender;
+    current_->sequence = part.sequence;
+    current_->checksum = part.checksum;
+    current_->part_count = part.part_count;
+    current_->bytes.assign(static_cast<std::size_t>(total), 0);
+    current_->have.assign(static_cast<std::size_t>(count), 0);
+    any_ = true;
+    last_sender_ = part.sender;
+    last_sequence_ = part.sequence;
+  }
+  Assembly& a = *current_;
+  if (static_cast<int64_t>(a.bytes.size()) != total || a.part_count != part.part_count || a.checksum != part.checksum) {
+    current_.reset();
+    ++abandoned_;
+    return fail("it disagrees with the earlier parts of message " + std::to_string(part.sequence) +
+                " (size, part count or checksum): the message is dropped");
+  }
+  if (a.have[static_cast<std::size_t>(part.index)]) {
+    ++ignored_;  // a repeat
+    return std::nullopt;
+  }
+  a.have[static_cast<std::size_t>(part.index)] = 1;
+  if (expected > 0) std::memcpy(a.bytes.data() + begin, part.bytes.data(), static_cast<std::size_t>(expected));
+  if (++a.received < a.part_count) return std::nullopt;
+
+  std::vector<uint8_t> whole = std::move(a.bytes);
+  const int64_t checksum = a.checksum;
+  const int64_t sequence = a.sequence;
+  current_.reset();
+  if (PartChecksum(whole.data(), whole.size()) != checksum) {
+    ++abandoned_;
+    return fail("the " + std::to_string(count) + " parts of message " + std::to_string(sequence) +
+                " do not match its checksum: the message is dropped");
+  }
+  ++completed_;
+  return whole;
+}
+
+ChannelReceiver::ChannelReceiver(lcm::LCM& lcm, const std::string& channel, Deliver deliver, Reject reject)
+    : lcm_(lcm),
+      channel_(channel),
+      deliver_(std::move(deliver)),
+      reject_(std::move(reject)),
+      whole_faults_(channel, ProcessMessageFaults()),
+      part_faults_(PartChannel(channel), ProcessMessageFaults()),
+      assembler_(channel) {
+  whole_subscription_ = lcm.subscribe(channel, &ChannelReceiver::OnWhole, this);
+  part_subscription_ = lcm.subscribe(PartChannel(channel), &ChannelReceiver::OnPart, this);
+}
+
+ChannelReceiver::~ChannelReceiver() {
+  if (whole_subscription_) lcm_.unsubscribe(whole_subscription_);
+  if (part_subscription_) lcm_.unsubscribe(part_subscription_);
+}
+
+void ChannelReceiver::OnWhole(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  whole_faults_.Receive(rbuf->data, rbuf->data_size, deliver_);
+}
+
+void ChannelReceiver::OnPart(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  part_faults_.Receive(rbuf->data, rbuf->data_size, [this](const void* data, std::size_t size) {
+    std::string problem;
+    const auto whole = assembler_.Add(data, size, problem);
+    if (!problem.empty()) {
+      if (reject_) reject_(problem);
+      return;
+    }
+    if (whole) deliver_(whole->data(), whole->size());
+  });
+}
+
+std::string PartJoiner::Add(const std::string& channel, const void* data, std::size_t size, const Whole& whole) {
+  const auto base = WholeChannelOf(channel);
+  if (!base) {
+    whole(channel, data, size);
+    return "";
+  }
+  auto it = assemblers_.find(*base);
+  if (it == assemblers_.end()) it = assemblers_.emplace(*base, PartAssembler(*base, max_message_bytes_)).first;
+  std::string problem;
+  const auto bytes = it->second.Add(data, size, problem);
+  if (bytes) whole(*base, bytes->data(), bytes->size());
+  return problem;
+}
+
+long PartJoiner::abandoned() const {
+  long n = 0;
+  for (const auto& [channel, assembler] : assemblers_) n += assembler.abandoned();
+  return n;
+}
+
+}  // namespace rbcp::transport
