@@ -43,6 +43,132 @@ std::uint64_t PlyTypeBytes(const std::string& type) {
   return 0;
 }
 
+/// An integer PLY type, as a list's count must be.
+bool PlyIntegerType(const std::string& type) {
+  return PlyTypeBytes(type) > 0 && type != "float" && type != "float32" && type != "double" && type != "float64";
+}
+
+bool PlySignedType(const std::string& type) {
+  return type == "char" || type == "int8" || type == "short" || type == "int16" || type == "int" || type == "int32";
+}
+
+/// One property of a PLY element: a scalar of `type`, or a list whose count is of `type` and whose
+/// values take `value_bytes` each (binary).
+struct PlyProperty {
+  bool list = false;
+  std::string type;
+  std::uint64_t value_bytes = 0;
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::uint64_t min_bytes = 0;
+  std::vector<PlyProperty> properties;
+};
+
+/// Throws InputError unless the binary body holds every element the header declares, each list
+/// with as many values as its count says (the importer reserves a list's count before reading it).
+void CheckPlyBinaryBody(const std::string& path, const std::string& bytes, std::uint64_t at,
+                        const std::vector<PlyElement>& elements, bool big_endian) {
+  const std::uint64_t size = bytes.size();
+  at = std::min(at, size);
+  const auto short_of = [&](const PlyElement& e, std::uint64_t i) {
+    throw InputError(path + ": the PLY body ends inside " + e.name + " element " + std::to_string(i) + " of " +
+                     std::to_string(e.count) + " the header declares");
+  };
+  for (const PlyElement& e : elements) {
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        const std::uint64_t n = PlyTypeBytes(p.type);
+        if (size - at < n) short_of(e, i);
+        if (!p.list) {
+          at += n;
+          continue;
+        }
+        std::uint64_t count = 0;
+        for (std::uint64_t b = 0; b < n; ++b) {
+          const auto byte = static_cast<unsigned char>(bytes[at + (big_endian ? b : n - 1 - b)]);
+          count = (count << 8) | byte;
+        }
+        at += n;
+        if (PlySignedType(p.type) && (count >> (8 * n - 1)) != 0) {
+          throw InputError(path + ": " + e.name + " element " + std::to_string(i) + " has a list of negative length");
+        }
+        if (count > (size - at) / p.value_bytes) {
+          throw InputError(path + ": " + e.name + " element " + std::to_string(i) + " has a list of " +
+                           std::to_string(count) + " values, more than the file's remaining " +
+                           std::to_string(size - at) + " bytes hold");
+        }
+        at += count * p.value_bytes;
+      }
+    }
+  }
+}
+
+/// Throws InputError unless the ASCII body is printable text holding every element the header
+/// declares, one instance a line, each line exactly the values its properties take (a list: its
+/// count, then that many values).
+void CheckPlyAsciiBody(const std::string& path, const std::string& bytes, std::uint64_t at,
+                       const std::vector<PlyElement>& elements) {
+  std::uint64_t line_number = 0;
+  std::vector<std::string> words;
+  // The next non-blank line's words; false at the end of the body.
+  const auto next_line = [&]() {
+    while (at < bytes.size()) {
+      const std::size_t end = std::min(bytes.find('\n', at), bytes.size());
+      ++line_number;
+      words.clear();
+      std::string word;
+      for (std::size_t k = at; k < end; ++k) {
+        const auto c = static_cast<unsigned char>(bytes[k]);
+        if (c == ' ' || c == '\t' || c == '\r') {
+          if (!word.empty()) words.push_back(std::move(word));
+          word.clear();
+        } else if (c < 0x20 || c > 0x7e) {
+          throw InputError(path + ": the PLY body's line " + std::to_string(line_number) + " holds the byte " +
+                           std::to_string(c) + ", expected printable text");
+        } else {
+          word.push_back(static_cast<char>(c));
+        }
+      }
+      if (!word.empty()) words.push_back(std::move(word));
+      at = end + 1;
+      if (!words.empty()) return true;
+    }
+    return false;
+  };
+  for (const PlyElement& e : elements) {
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      const auto bad = [&](const std::string& what) {
+        throw InputError(path + ": the PLY body's line " + std::to_string(line_number) + " (" + e.name +
+                         " element " + std::to_string(i) + "): " + what);
+      };
+      if (!next_line()) {
+        throw InputError(path + ": the PLY body ends after " + std::to_string(i) + " of the " +
+                         std::to_string(e.count) + " " + e.name + " elements the header declares");
+      }
+      std::size_t w = 0;
+      for (const PlyProperty& p : e.properties) {
+        if (w >= words.size()) bad("fewer values than the element's properties");
+        if (!p.list) {
+          ++w;
+          continue;
+        }
+        const std::string& count = words[w++];
+        if (count.empty() || count.size() > 18 || count.find_first_not_of("0123456789") != std::string::npos) {
+          bad("a list count '" + count + "', expected a number of values");
+        }
+        if (std::stoull(count) > words.size() - w) {
+          bad("a list of " + count + " values holds " + std::to_string(words.size() - w));
+        }
+        w += std::stoull(count);
+      }
+      if (w != words.size()) bad(std::to_string(words.size()) + " values, the element's properties take " + std::to_string(w));
+    }
+  }
+}
+
 /// Vertices of one polygon at most: the triangulation takes time quadratic in them.
 constexpr unsigned kMaxFaceVertices = 1000;
 
@@ -59,12 +185,7 @@ void CheckPlyHeader(const std::string& path, const std::string& bytes) {
   std::istringstream in(bytes);
   std::string line, format;
   std::uint64_t header_bytes = 0;
-  struct Element {
-    std::string name;
-    std::uint64_t count = 0;
-    std::uint64_t min_bytes = 0;
-  };
-  std::vector<Element> elements;
+  std::vector<PlyElement> elements;
   bool ended = false;
   for (int number = 1; header_bytes < kMaxPlyHeaderBytes && std::getline(in, line); ++number) {
     header_bytes += line.size() + 1;
@@ -102,12 +223,14 @@ void CheckPlyHeader(const std::string& path, const std::string& bytes) {
       if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18) {
         malformed("'element NAME COUNT'");
       }
-      elements.push_back({w[1], std::stoull(w[2]), 0});
+      elements.push_back({w[1], std::stoull(w[2]), 0, {}});
     } else if (keyword == "property") {
-      const bool list = w.size() == 5 && w[1] == "list" && PlyTypeBytes(w[2]) > 0 && PlyTypeBytes(w[3]) > 0;
+      const bool list = w.size() == 5 && w[1] == "list" && PlyIntegerType(w[2]) && PlyTypeBytes(w[3]) > 0;
       if (elements.empty() || format.empty() || !(list || (w.size() == 3 && PlyTypeBytes(w[1]) > 0))) {
-        malformed("'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME' of an element, after the format");
+        malformed("'property TYPE NAME' or 'property list INTEGER_TYPE TYPE NAME' of an element, after the format");
       }
+      elements.back().properties.push_back(list ? PlyProperty{true, w[2], PlyTypeBytes(w[3])}
+                                                : PlyProperty{false, w[1], PlyTypeBytes(w[1])});
       if (format == "ascii") {
         elements.back().min_bytes += 2;
       } else {
@@ -123,13 +246,22 @@ void CheckPlyHeader(const std::string& path, const std::string& bytes) {
   }
   const std::uint64_t body = file_size > header_bytes ? file_size - header_bytes : 0;
   std::uint64_t needed = 0;
-  for (const Element& e : elements) {
-    if (e.min_bytes == 0) continue;
+  for (const PlyElement& e : elements) {
+    if (e.properties.empty()) {
+      if (e.count == 0) continue;
+      throw InputError(path + ": the PLY header declares " + std::to_string(e.count) + " " + e.name +
+                       " elements without a property");
+    }
     if (e.count > (body - std::min(needed, body)) / e.min_bytes) {
       throw InputError(path + ": the PLY header declares " + std::to_string(e.count) + " " + e.name +
                        " elements, more than the file's " + std::to_string(body) + " bytes after the header hold");
     }
     needed += e.count * e.min_bytes;
+  }
+  if (format == "ascii") {
+    CheckPlyAsciiBody(path, bytes, header_bytes, elements);
+  } else {
+    CheckPlyBinaryBody(path, bytes, header_bytes, elements, format == "binary_big_endian");
   }
 }
 

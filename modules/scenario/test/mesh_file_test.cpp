@@ -62,6 +62,46 @@ TEST(LoadMeshFile, DeclaredCountsBeyondTheFileAreRejectedBeforeAllocating) {
                                                   "bytes), the file has 134");
 }
 
+TEST(LoadMeshFile, APlyListLongerThanTheFileHoldsIsRejectedBeforeAllocating) {
+  test::ScratchDir dir;
+  const std::string header = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                             "element face 1\nproperty list int int vertex_indices\nend_header\n";
+  // Binary: a face whose int count claims two billion indices, three in the file.
+  std::string body(3 * 12, '\0');
+  body += std::string("\x7f\xff\xff\xff", 4) + std::string(12, '\0');
+  const auto binary = dir.path() / "long_list.ply";
+  WriteFile(binary, "ply\nformat binary_big_endian 1.0\n" + header + body);
+  EXPECT_EQ(LoadError(binary.string(), 1.0),
+            binary.string() + ": face element 0 has a list of 2147483647 values, more than the file's remaining 12 "
+                              "bytes hold");
+  // A signed count with its top bit set is a negative length.
+  body[36] = '\xff';
+  WriteFile(binary, "ply\nformat binary_big_endian 1.0\n" + header + body);
+  EXPECT_EQ(LoadError(binary.string(), 1.0), binary.string() + ": face element 0 has a list of negative length");
+  // ASCII: the count must be the number of values on its line.
+  const auto ascii = dir.path() / "long_list_ascii.ply";
+  WriteFile(ascii, "ply\nformat ascii 1.0\n" + header + "0 0 0\n1 0 0\n0 1 0\n555555555 0 1 2\n");
+  EXPECT_EQ(LoadError(ascii.string(), 1.0), ascii.string() + ": the PLY body's line 4 (face element 0): a list of "
+                                                             "555555555 values holds 3");
+  WriteFile(ascii, "ply\nformat ascii 1.0\n" + header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2 7\n");
+  EXPECT_EQ(LoadError(ascii.string(), 1.0), ascii.string() + ": the PLY body's line 4 (face element 0): 5 values, "
+                                                             "the element's properties take 4");
+  WriteFile(ascii, "ply\nformat ascii 1.0\n" + header + "0 0 0\n1 0 0\n" + std::string(20, ' ') + "\n");
+  EXPECT_EQ(LoadError(ascii.string(), 1.0),
+            ascii.string() + ": the PLY body ends after 2 of the 3 vertex elements the header declares");
+  WriteFile(ascii, "ply\nformat ascii 1.0\n" + header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 " + std::string(1, '\0') +
+                       "2\n");
+  EXPECT_EQ(LoadError(ascii.string(), 1.0), ascii.string() + ": the PLY body's line 4 holds the byte 0, expected "
+                                                             "printable text");
+  // The same file, well formed, loads.
+  WriteFile(ascii, "ply\nformat ascii 1.0\n" + header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(LoadError(ascii.string(), 1.0), "no error");
+  // An element without properties cannot be read at all.
+  WriteFile(ascii, "ply\nformat ascii 1.0\nelement nothing 100000000000\n" + header + "0 0 0\n");
+  EXPECT_EQ(LoadError(ascii.string(), 1.0),
+            ascii.string() + ": the PLY header declares 100000000000 nothing elements without a property");
+}
+
 TEST(LoadMeshFile, AnObjMaterialLineOpensNoOtherFile) {
   test::ScratchDir dir;
   const auto secret = dir.path() / "secret.mtl";
