@@ -127,6 +127,19 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
       return;
     }
   }
+  if (!request.use_start) {
+    // The measured base is where the robot is: one inside the terrain is not lifted onto its top.
+    const auto& state = *robot_state_.Latest();
+    const Eigen::Vector3d base(state.base_position[0], state.base_position[1], state.base_position[2]);
+    const std::string problem = std::isfinite(base.z()) ? planner_.MeasuredBaseProblem(*world_.terrain(), base)
+                                                        : "robot state: base pose is not finite";
+    if (!problem.empty()) {
+      last_result_.reset();
+      published_.reset();
+      status_.Failed(Now(), request.utime, 0.0, "start_invalid: " + problem);
+      return;
+    }
+  }
   try {
     const auto start = planner_.StandingPosition(*world_.terrain(), start_xy);
     const auto goal = planner_.StandingPosition(*world_.terrain(), {request.goal_position[0], request.goal_position[1]});

@@ -96,6 +96,43 @@ TEST_F(RootPlannerNodeTest, ReplansFromTheMeasuredRobotState) {
   EXPECT_EQ(path->utime, 300);
 }
 
+TEST_F(RootPlannerNodeTest, AMeasuredBaseInsideABoxFailsInsteadOfStandingOnItsTop) {
+  // flat_ground with a 0.8 m box where the robot stands.
+  test::PublishWorld(lcm_, ParseScenario(R"(name: box_on_robot
+terrain:
+  - box: {size: [8.5, 3, 0.5], position: [2.5, 0, -0.25], rpy: [0, 0, 0]}
+  - box: {size: [1, 1, 0.8], position: [0.5, 0, 0.4], rpy: [0, 0, 0]}
+start: {position: [0, 0], yaw: 0}
+goal: {position: [3, 0], yaw: 0}
+)",
+                                                 ""),
+                     kConfig);
+  auto request = Request(0.0, 3.0, 9);
+  request.use_start = false;
+  lcm_.publish(channels::kPlanRequest, &request);
+  rbcp_msgs::robot_state_t state{};
+  state.utime = 300;
+  state.base_position[0] = 0.5;
+  state.base_position[2] = 0.45;
+  state.base_orientation[0] = 1.0;
+  lcm_.publish(channels::kRobotState, &state);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_FALSE(path_.Take().has_value()) << "no path from the top of the box";
+  ASSERT_TRUE(status_.Latest().has_value());
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_EQ(status_.Latest()->reason,
+            "start_invalid: the measured base at (0.50, 0.00, 0.45) is inside the terrain, which rises to z 0.80 there");
+  // Standing beside the box, the same request is planned.
+  state.utime = 400;
+  state.base_position[0] = -0.5;
+  auto again = Request(0.0, 3.0, 10);
+  again.use_start = false;
+  lcm_.publish(channels::kPlanRequest, &again);
+  EXPECT_TRUE(PathAfter(state).has_value());
+}
+
 TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges) {
   PublishWorld("flat_ground");
   const auto request = Request(0.0, 1.5, 9);

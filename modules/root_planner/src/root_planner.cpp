@@ -16,6 +16,7 @@
 #include "rbcp/core/angle.h"
 #include "rbcp/core/config_checks.h"
 #include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/root_planner/rom.h"
 #include "rbcp/scenario/scenario.h"
@@ -311,6 +312,14 @@ std::optional<Eigen::Vector3d> RootPlanner::StandingPosition(const TriangleMesh&
   const std::optional<double> height = TerrainHeightAt(terrain, xy);
   if (!height) return std::nullopt;
   return Eigen::Vector3d(xy.x(), xy.y(), *height + nominal_base_height_);
+}
+
+std::string RootPlanner::MeasuredBaseProblem(const TriangleMesh& terrain, const Eigen::Vector3d& base_W) const {
+  const std::optional<double> height = TerrainHeightAt(terrain, base_W.head<2>());
+  if (!height) return "no terrain under the measured base";
+  if (*height <= base_W.z()) return "";
+  return "the measured base at (" + FixedNumber(base_W.x(), 2) + ", " + FixedNumber(base_W.y(), 2) + ", " +
+         FixedNumber(base_W.z(), 2) + ") is inside the terrain, which rises to z " + FixedNumber(*height, 2) + " there";
 }
 
 ReachabilityChecker RootPlanner::MakeChecker(const TriangleMesh& terrain,

@@ -136,6 +136,11 @@ class RootPlanner {
   /// robot's nominal base height; nullopt when there is no terrain at xy.
   std::optional<Eigen::Vector3d> StandingPosition(const TriangleMesh& terrain, const Eigen::Vector2d& xy) const;
 
+  /// Why a measured base at `base_W` cannot be planned from, or empty: terrain at its xy rising
+  /// above the base means the robot is inside it (a box added where it stands, a terrain that
+  /// changed under it), and StandingPosition would silently lift it onto the top.
+  std::string MeasuredBaseProblem(const TriangleMesh& terrain, const Eigen::Vector3d& base_W) const;
+
   /// Plans from the request's start to its goal over `terrain` with the given contact surfaces.
   RootPlanResult Plan(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
                       const RootPlanRequest& request) const;
