@@ -15,6 +15,7 @@
 #include "rbcp/core/error.h"
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/wire_check.h"
 
 namespace {
@@ -71,14 +72,40 @@ std::vector<std::string> PlanJsonSeeds(const Bytes& data) {
   }
 }
 
+/// The lcm_message_part seed of an encoded TERRAIN message: its parts (of at most 512 bytes, as
+/// a MessagePublisher cuts them), each after its 2-byte little-endian length.
+std::string PartSeed(const Bytes& terrain) {
+  lcm::LCM lcm("memq://");
+  std::string records;
+  lcm::Subscription* sub = lcm.subscribeFunction(
+      rbcp::transport::PartChannel("TERRAIN"),
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::string* out) {
+        out->push_back(static_cast<char>(rbuf->data_size & 0xff));
+        out->push_back(static_cast<char>((rbuf->data_size >> 8) & 0xff));
+        out->append(static_cast<const char*>(rbuf->data), rbuf->data_size);
+      },
+      &records);
+  rbcp::transport::PartOptions options;
+  options.threshold_bytes = 0;
+  options.part_bytes = 512;
+  options.pause_s = 0.0;
+  options.sender = 1;
+  rbcp::transport::MessagePublisher publisher(lcm, options);
+  if (!publisher.PublishEncoded("TERRAIN", terrain.data(), terrain.size()).empty()) return "";
+  while (lcm.handleTimeout(0) > 0) {
+  }
+  lcm.unsubscribe(sub);
+  return records;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string usage = "Usage: fuzz_seeds OUT_DIR LOG.lcmlog...";
   if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     std::cout << "Writes seed inputs of the fuzz targets from recorded LCM logs: up to " << kMaxSeeds
-              << " messages of each type\n(OUT_DIR/lcm_TYPE/) and the recorded contact plans as plan JSON "
-                 "(OUT_DIR/plan_json/).\nReads files; talks no LCM.\n"
+              << " messages of each type\n(OUT_DIR/lcm_TYPE/), the small terrains in parts (OUT_DIR/lcm_message_part/) and "
+                 "the recorded contact plans\nas plan JSON (OUT_DIR/plan_json/).\nReads files; talks no LCM.\n"
               << usage << "\n";
     return 0;
   }
@@ -112,6 +139,10 @@ int main(int argc, char** argv) {
       for (std::size_t k = 0; k < n; ++k) {
         const auto& [name, data] = list[k * list.size() / n];
         Write(out_dir / target / name, std::string(data.begin(), data.end()));
+        if (target == "lcm_terrain_mesh" && data.size() <= 8192) {
+          const std::string parts = PartSeed(data);
+          if (!parts.empty()) Write(out_dir / "lcm_message_part" / name, parts);
+        }
         if (target != "lcm_contact_plan") continue;
         const std::vector<std::string> plans = PlanJsonSeeds(data);
         for (std::size_t p = 0; p < plans.size(); ++p) {

@@ -6,6 +6,7 @@
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/wire_check.h"
 
 namespace rbcp::fuzz {
@@ -95,6 +96,20 @@ Outcome ReadProcessStatus(const std::uint8_t* data, std::size_t size) {
   return Message<rbcp_msgs::process_status_t>(data, size, [](const auto&) {});
 }
 
+/// A sequence of TERRAIN/PART messages (SplitPartRecords) put back together as a subscription
+/// does (PartAssembler with the nodes' bound), and each whole message read as TERRAIN.
+Outcome ReadMessageParts(const std::uint8_t* data, std::size_t size) {
+  transport::PartAssembler assembler("TERRAIN");
+  Outcome outcome{false, "no whole message"};
+  for (const auto& [begin, length] : SplitPartRecords(data, size)) {
+    std::string problem;
+    const auto whole = assembler.Add(data + begin, length, problem);
+    if (!problem.empty()) outcome = {false, problem};
+    if (whole) outcome = ReadTerrainMesh(whole->data(), whole->size());
+  }
+  return outcome;
+}
+
 }  // namespace
 
 const std::vector<Entry>& Entries() {
@@ -112,8 +127,21 @@ const std::vector<Entry>& Entries() {
       {"lcm_root_path", "ROOT_PATH message: DecodeMessage, FromRootPathMsg", ReadRootPath},
       {"lcm_contact_plan", "CONTACT_PLAN message: DecodeMessage, FromContactPlanMsg", ReadContactPlan},
       {"lcm_process_status", "STATUS message: DecodeMessage", ReadProcessStatus},
+      {"lcm_message_part", "TERRAIN/PART messages, each after a 2-byte length: PartAssembler, then as TERRAIN",
+       ReadMessageParts},
   };
   return entries;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> SplitPartRecords(const std::uint8_t* data, std::size_t size) {
+  std::vector<std::pair<std::size_t, std::size_t>> records;
+  std::size_t at = 0;
+  while (size - at >= 2) {
+    const std::size_t length = std::min<std::size_t>(data[at] | (std::size_t{data[at + 1]} << 8), size - at - 2);
+    records.emplace_back(at + 2, length);
+    at += 2 + length;
+  }
+  return records;
 }
 
 const Entry* FindEntry(const std::string& name) {

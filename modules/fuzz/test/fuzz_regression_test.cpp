@@ -75,6 +75,17 @@ TEST(FuzzEntries, RejectionsCarryAReason) {
   }
 }
 
+TEST(FuzzEntries, PartRecordsAreLengthPrefixedAndTheLastIsCutAtTheEnd) {
+  const std::vector<std::uint8_t> input = {3, 0, 'a', 'b', 'c', 0, 0, 9, 1, 'x'};
+  const auto records = SplitPartRecords(input.data(), input.size());
+  const std::vector<std::pair<std::size_t, std::size_t>> expected = {{2, 3}, {7, 0}, {9, 1}};
+  EXPECT_EQ(records, expected);
+  // Bytes that are no part are rejected with the assembler's reason.
+  const Outcome outcome = FindEntry("lcm_message_part")->run(input.data(), input.size());
+  EXPECT_FALSE(outcome.accepted);
+  EXPECT_NE(outcome.reason.find("TERRAIN/PART"), std::string::npos) << outcome.reason;
+}
+
 class FuzzRegression : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FuzzRegression, EveryInputIsAcceptedOrRejectedCleanly) {

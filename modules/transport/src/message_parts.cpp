@@ -169,7 +169,7 @@ std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::si
       return std::nullopt;
     }
     if (current_) ++abandoned_;
-    current_.emplace();
+    current_ = Assembly{};
     current_->sender = part.sender;
     current_->sequence = part.sequence;
     current_->checksum = part.checksum;

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rbcp::fuzz {
@@ -32,6 +33,10 @@ struct Entry {
 
 /// Every entry, in a fixed order.
 const std::vector<Entry>& Entries();
+
+/// The records of a lcm_message_part input: each a 2-byte little-endian length and that many
+/// bytes (the last one cut short by the input's end), as (offset, length) pairs.
+std::vector<std::pair<std::size_t, std::size_t>> SplitPartRecords(const std::uint8_t* data, std::size_t size);
 
 /// The entry called `name`, nullptr if there is none.
 const Entry* FindEntry(const std::string& name);
