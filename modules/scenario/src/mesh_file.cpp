@@ -43,6 +43,14 @@ std::uint64_t PlyTypeBytes(const std::string& type) {
   return 0;
 }
 
+/// A name of a PLY element or property: letters, digits, _ - ., starting with a letter or _.
+bool PlyName(const std::string& name) {
+  if (name.empty() || !(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_')) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+  });
+}
+
 /// An integer PLY type, as a list's count must be.
 bool PlyIntegerType(const std::string& type) {
   return PlyTypeBytes(type) > 0 && type != "float" && type != "float32" && type != "double" && type != "float64";
@@ -220,13 +228,17 @@ void CheckPlyHeader(const std::string& path, const std::string& bytes) {
       }
       format = w[1];
     } else if (keyword == "element") {
-      if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18) {
-        malformed("'element NAME COUNT'");
+      // assimp reads a name that starts with a digit as the count.
+      if (w.size() != 3 || !PlyName(w[1]) || w[2].find_first_not_of("0123456789") != std::string::npos ||
+          w[2].size() > 18) {
+        malformed("'element NAME COUNT' (a name of letters, digits, _ - ., not starting with a digit)");
       }
       elements.push_back({w[1], std::stoull(w[2]), 0, {}});
     } else if (keyword == "property") {
-      const bool list = w.size() == 5 && w[1] == "list" && PlyIntegerType(w[2]) && PlyTypeBytes(w[3]) > 0;
-      if (elements.empty() || format.empty() || !(list || (w.size() == 3 && PlyTypeBytes(w[1]) > 0))) {
+      const bool list = w.size() == 5 && w[1] == "list" && PlyIntegerType(w[2]) && PlyTypeBytes(w[3]) > 0 &&
+                        PlyName(w[4]);
+      if (elements.empty() || format.empty() ||
+          !(list || (w.size() == 3 && PlyTypeBytes(w[1]) > 0 && PlyName(w[2])))) {
         malformed("'property TYPE NAME' or 'property list INTEGER_TYPE TYPE NAME' of an element, after the format");
       }
       elements.back().properties.push_back(list ? PlyProperty{true, w[2], PlyTypeBytes(w[3])}

@@ -96,6 +96,11 @@ TEST(LoadMeshFile, APlyListLongerThanTheFileHoldsIsRejectedBeforeAllocating) {
   // The same file, well formed, loads.
   WriteFile(ascii, "ply\nformat ascii 1.0\n" + header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   EXPECT_EQ(LoadError(ascii.string(), 1.0), "no error");
+  // A name starting with a digit: assimp would read it as the element count.
+  WriteFile(ascii, "ply\nformat ascii 1.0\nelement 22222222i 0\nend_header\n");
+  EXPECT_NE(LoadError(ascii.string(), 1.0).find("line 3 'element 22222222i 0': expected 'element NAME COUNT'"),
+            std::string::npos)
+      << LoadError(ascii.string(), 1.0);
   // An element without properties cannot be read at all.
   WriteFile(ascii, "ply\nformat ascii 1.0\nelement nothing 100000000000\n" + header + "0 0 0\n");
   EXPECT_EQ(LoadError(ascii.string(), 1.0),
