@@ -31,8 +31,13 @@ echo "install_package_test: the installed plan_scenario, moved, plans with its o
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
 cp -r "$root/tests/install_consumer" "$work/consumer"
+# Libraries built with the sanitizers (tools/test --sanitize) need their runtimes in the program.
+sanitize=()
+if grep -q '^RBCP_SANITIZE:BOOL=ON' "$build_dir/CMakeCache.txt" 2>/dev/null; then
+  sanitize=(-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined)
+fi
 cmake -S "$work/consumer" -B "$work/consumer/build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_PREFIX_PATH="$prefix" >"$work/consumer.log" 2>&1 || { cat "$work/consumer.log"; echo "install_package_test: FAILED: configuring the outside project" >&2; exit 1; }
+  -DCMAKE_PREFIX_PATH="$prefix" "${sanitize[@]}" >"$work/consumer.log" 2>&1 || { cat "$work/consumer.log"; echo "install_package_test: FAILED: configuring the outside project" >&2; exit 1; }
 cmake --build "$work/consumer/build" >>"$work/consumer.log" 2>&1 || { cat "$work/consumer.log"; echo "install_package_test: FAILED: building the outside project" >&2; exit 1; }
 "$work/consumer/build/plan_steps"
 echo "install_package_test: an outside project built with find_package(rbcp) and ran rbcp::contact_planner"
