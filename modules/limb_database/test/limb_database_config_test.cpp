@@ -94,7 +94,9 @@ TEST(LimbDatabaseConfig, WithoutHomeTheCacheNeverFallsBackToTheSharedTemporaryFo
   // The home folder of the password database, or no cache at all.
   const std::string temp = std::filesystem::temp_directory_path().string();
   EXPECT_NE(dir.rfind(temp, 0), 0u) << dir;
-  if (!dir.empty()) EXPECT_EQ(dir.front(), '/') << dir;
+  if (!dir.empty()) {
+    EXPECT_EQ(dir.front(), '/') << dir;
+  }
   EXPECT_EQ(relative, dir);
 }
 
