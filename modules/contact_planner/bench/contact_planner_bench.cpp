@@ -4,6 +4,7 @@
 // plan checker, run outside the timed part), mean / median / max planning time [s], mean steps,
 // mean step length (distance the stepping foot moves) [m] and steps per metre of root path.
 // The limb database uses config/limb_database.yaml (50,000 samples per leg, cached on disk).
+// RBCP_BENCH_PATHS=1 also prints each path's outcome, planning time, evaluations and steps to stderr.
 
 #include <benchmark/benchmark.h>
 
@@ -28,6 +29,7 @@ namespace {
 using namespace rbcp;
 
 // RBCP_CONFIG_DIR overrides the configuration folder (to compare parameter sets).
+const bool kPrintPaths = std::getenv("RBCP_BENCH_PATHS") != nullptr;
 const std::string kConfigDir =
     std::getenv("RBCP_CONFIG_DIR") ? std::string(std::getenv("RBCP_CONFIG_DIR")) : std::string(RBCP_SOURCE_DIR) + "/config";
 constexpr unsigned kSeeds = 20;
@@ -95,6 +97,10 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
       const double e = static_cast<double>(r.stats.Evaluations());
       evaluations += e;
       max_evaluations = std::max(max_evaluations, e);
+      if (kPrintPaths) {
+        std::cerr << name << " path " << i << ": " << (r.ok ? "ok" : "failed") << ", " << r.planning_time_s << " s, "
+                  << r.stats.Evaluations() << " evaluations, " << r.steps << " steps\n";
+      }
       if (r.ok) {
         ++successes;
         steps += r.steps;
