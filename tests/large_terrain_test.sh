@@ -51,7 +51,7 @@ EOF
 
 rc=0
 RBCP_LOG_DIR="$dir/logs" "$root/tools/netns-run" "$root/tools/launch" --no-sim --scenario "$dir/large_terrain.yaml" \
-  --timeout 40 >"$dir/launch.txt" 2>&1 || rc=$?
+  --timeout 40 --time-budget 20 >"$dir/launch.txt" 2>&1 || rc=$?
 cat "$dir/launch.txt"
 fail() {
   echo "large_terrain_test: $1" >&2
