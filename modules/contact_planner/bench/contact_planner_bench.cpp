@@ -94,12 +94,13 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
     for (std::size_t i = 0; i < prepared.paths.size(); ++i) {
       const ContactPlanResult r = planner.Plan(prepared.paths[i]);
       times.push_back(r.planning_time_s);
-      const double e = static_cast<double>(r.stats.Evaluations());
+      const auto path_evaluations = r.stats.Evaluations();
+      const double e = static_cast<double>(path_evaluations);
       evaluations += e;
       max_evaluations = std::max(max_evaluations, e);
       if (kPrintPaths) {
         std::cerr << name << " path " << i << ": " << (r.ok ? "ok" : "failed") << ", " << r.planning_time_s << " s, "
-                  << r.stats.Evaluations() << " evaluations, " << r.steps << " steps\n";
+                  << path_evaluations << " evaluations, " << r.steps << " steps\n";
       }
       if (r.ok) {
         ++successes;
