@@ -452,9 +452,9 @@ CollisionReport RobotTerrainCollision::CheckLeg(Leg leg, const Eigen::Isometry3d
   RBCP_CHECK(q_leg.allFinite() && base_W.matrix().allFinite(), "collision query with a non-finite pose or joint vector");
   const Impl& m = *impl_;
   Scratch& scratch = ThreadScratch();
-  JointVector q = m.robot.ReferenceConfiguration();
-  SetLegJoints(q, leg, q_leg);
-  m.robot.LinkPoses(q, &scratch.link_poses);
+  // The other legs stand at the reference configuration.
+  scratch.link_poses = m.reference_link_poses;
+  m.robot.SetLegLinkPoses(leg, q_leg, &scratch.link_poses);
   const std::size_t l = static_cast<std::size_t>(Index(leg));
   CollisionReport report;
   m.ListHitsTerrain(foot_in_contact ? m.stance[l] : m.swing[l], base_W, scratch.link_poses, &report);

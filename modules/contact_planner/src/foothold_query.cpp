@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_set>
+#include <unordered_map>
 
 #include "path_track.h"
 #include "rbcp/limb_database/limb_database.h"
@@ -14,7 +14,6 @@ namespace rbcp::contact_planner_detail {
 std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, const Eigen::Isometry3d& base_W,
                                         const Eigen::Vector3d& target_W, double target_yaw, double near_half) {
   const FootholdConfig& fc = ctx.config.foothold;
-  std::vector<FootholdCandidate> raw;
   // The workspace box (base frame, around the reference foot) seen from above: the rectangle in
   // the base's heading frame that holds its eight corners, widened by the query distance.
   const FootWorkspace& ws = ctx.config.workspace;
@@ -44,6 +43,34 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
   // World-axis bounds of the rectangle, to skip surfaces far from it.
   const Eigen::Vector2d reach(half_extent.x() * std::abs(axis_x.x()) + half_extent.y() * std::abs(axis_y.x()),
                               half_extent.x() * std::abs(axis_x.y()) + half_extent.y() * std::abs(axis_y.y()));
+  // Each candidate is scored as the database hands it over, and only the best of each foothold
+  // cell is kept (of the many samples near a surface, most project into a cell already seen).
+  const Eigen::Matrix3d R_tW = Yaw(target_yaw).transpose();
+  std::vector<Candidate> unique;
+  std::unordered_map<long long, std::size_t> cell_index;
+  int raw = 0;
+  const auto better = [](const Candidate& a, const Candidate& b) {
+    if (a.score != b.score) return a.score > b.score;
+    if (a.surface != b.surface) return a.surface < b.surface;
+    return a.sample < b.sample;
+  };
+  const auto take = [&](const FootholdCandidate& c) {
+    ++raw;
+    Candidate k;
+    k.surface = c.surface;
+    k.sample = c.sample;
+    // The clipped polygon lies inside the surface, so its closest point is a valid foothold.
+    k.foothold = c.closest_W;
+    const Eigen::Vector3d d = R_tW * (k.foothold - target_W);
+    k.score = fc.static_weight * c.static_score -
+              (fc.weight_x * d.x() * d.x() + fc.weight_y * d.y() * d.y() + fc.weight_z * d.z() * d.z());
+    const auto [it, inserted] = cell_index.try_emplace(FootholdCell(k, fc.dedup_cell_m), unique.size());
+    if (inserted) {
+      unique.push_back(k);
+    } else if (better(k, unique[it->second])) {
+      unique[it->second] = k;
+    }
+  };
   for (std::size_t s = 0; s < ctx.surfaces.size(); ++s) {
     const ConvexPolygon3d& surface = ctx.surfaces[s];
     if ((surface.MinXy().array() > (centre + reach).array()).any() ||
@@ -56,41 +83,17 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
       clipped = ConvexPolygon3d(clipped, surface.Normal()).ClipToSquare(target_W.head<2>(), near_half);
       if (clipped.size() < 3) continue;
     }
-    ctx.db.AppendCandidates(leg, base_W, clipped, surface.Normal(), fc.query_distance_m, static_cast<int>(s), &raw);
+    ctx.db.VisitCandidates(leg, base_W, clipped, surface.Normal(), fc.query_distance_m, static_cast<int>(s), take);
   }
-  ctx.stats.candidates += static_cast<int>(raw.size());
-  const Eigen::Matrix3d R_tW = Yaw(target_yaw).transpose();
-  std::vector<Candidate> ranked;
-  ranked.reserve(raw.size());
-  for (const FootholdCandidate& c : raw) {
-    Candidate k;
-    k.surface = c.surface;
-    k.sample = c.sample;
-    // The clipped polygon lies inside the surface, so its closest point is a valid foothold.
-    k.foothold = c.closest_W;
-    const Eigen::Vector3d d = R_tW * (k.foothold - target_W);
-    k.score = fc.static_weight * c.static_score -
-              (fc.weight_x * d.x() * d.x() + fc.weight_y * d.y() * d.y() + fc.weight_z * d.z() * d.z());
-    ranked.push_back(k);
-  }
-  std::sort(ranked.begin(), ranked.end(), [](const Candidate& a, const Candidate& b) {
-    if (a.score != b.score) return a.score > b.score;
-    if (a.surface != b.surface) return a.surface < b.surface;
-    return a.sample < b.sample;
-  });
-  return UniqueFootholds(ranked, fc.dedup_cell_m);
+  ctx.stats.candidates += raw;
+  std::sort(unique.begin(), unique.end(), better);
+  return unique;
 }
 
-std::vector<Candidate> UniqueFootholds(const std::vector<Candidate>& ranked, double cell) {
-  std::vector<Candidate> unique;
-  std::unordered_set<long long> seen;
-  for (const Candidate& c : ranked) {
-    const long long ix = static_cast<long long>(std::floor(c.foothold.x() / cell));
-    const long long iy = static_cast<long long>(std::floor(c.foothold.y() / cell));
-    const long long key = ((ix & 0xFFFFFF) << 36) ^ ((iy & 0xFFFFFF) << 12) ^ static_cast<long long>(c.surface);
-    if (seen.insert(key).second) unique.push_back(c);
-  }
-  return unique;
+long long FootholdCell(const Candidate& c, double cell) {
+  const long long ix = static_cast<long long>(std::floor(c.foothold.x() / cell));
+  const long long iy = static_cast<long long>(std::floor(c.foothold.y() / cell));
+  return ((ix & 0xFFFFFF) << 36) ^ ((iy & 0xFFFFFF) << 12) ^ static_cast<long long>(c.surface);
 }
 
 bool FarEnoughFromFeet(const PlannerContext& ctx, const std::array<FootContact, kNumLegs>& feet,

@@ -23,13 +23,13 @@ struct Candidate {
 /// Database candidates for `leg` with the base at base_W, on the surfaces around the leg's
 /// workspace (with near_half > 0 only within near_half of target_W in x and y), ranked by
 /// distance to target_W (in the heading frame of target_yaw) and offline score, best first, and
-/// deduplicated by projected foothold (UniqueFootholds). Counts the raw candidates in the stats.
+/// deduplicated by projected foothold (the best of each FootholdCell). Counts the raw candidates in the stats.
 std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, const Eigen::Isometry3d& base_W,
                                         const Eigen::Vector3d& target_W, double target_yaw, double near_half = 0.0);
 
-/// The first candidate of each grid cell of size `cell` [m] (foothold x and y) and surface, in
-/// the given order.
-std::vector<Candidate> UniqueFootholds(const std::vector<Candidate>& ranked, double cell);
+/// Key of the candidate's grid cell of size `cell` [m] (foothold x and y) on its surface: the
+/// candidates of one cell are one foothold.
+long long FootholdCell(const Candidate& c, double cell);
 
 /// True when p is at least the minimum foot separation (horizontally) from every foot marked in
 /// `among`.

@@ -238,6 +238,14 @@ void LimbDatabase::AppendCandidates(Leg leg, const Eigen::Isometry3d& base_pose_
                                     double max_distance, int surface_index,
                                     std::vector<FootholdCandidate>* out) const {
   RBCP_CHECK(out != nullptr, "AppendCandidates needs an output vector");
+  VisitCandidates(leg, base_pose_W, vertices_W, normal_W, max_distance, surface_index,
+                  [out](const FootholdCandidate& c) { out->push_back(c); });
+}
+
+void LimbDatabase::VisitCandidates(Leg leg, const Eigen::Isometry3d& base_pose_W,
+                                   const std::vector<Eigen::Vector3d>& vertices_W, const Eigen::Vector3d& normal_W,
+                                   double max_distance, int surface_index,
+                                   const std::function<void(const FootholdCandidate&)>& visit_candidate) const {
   if (!(std::isfinite(max_distance) && max_distance >= 0.0)) {
     std::ostringstream os;
     os << "limb database query: expected a finite non-negative max_distance [m], got " << max_distance;
@@ -264,6 +272,9 @@ void LimbDatabase::AppendCandidates(Leg leg, const Eigen::Isometry3d& base_pose_
   auto near = [&](const Eigen::Vector3d& centre, double half_edge) {
     return polygon.Distance(centre) <= max_distance + sqrt3 * half_edge * (1.0 + 1e-9) + 1e-12;
   };
+  FootholdCandidate cand;
+  cand.leg = leg;
+  cand.surface = surface_index;
   auto visit = [&](std::uint32_t c) {
     RBCP_CHECK(c < d.cells.size(), "octree leaf without a cell");
     const CellRecord& cell = d.cells[c];
@@ -272,15 +283,12 @@ void LimbDatabase::AppendCandidates(Leg leg, const Eigen::Isometry3d& base_pose_
       Eigen::Vector3d closest_B;
       const double dist = polygon.Distance(foot_B, &closest_B);
       if (dist > max_distance) continue;
-      FootholdCandidate cand;
-      cand.leg = leg;
       cand.sample = static_cast<int>(k);
-      cand.surface = surface_index;
       cand.static_score = d.score[k];
       cand.distance = dist;
       cand.foot_W = base_pose_W * foot_B;
       cand.closest_W = base_pose_W * closest_B;
-      out->push_back(cand);
+      visit_candidate(cand);
     }
   };
   d.tree->VisitLeaves(key_lo, key_hi, near, visit);

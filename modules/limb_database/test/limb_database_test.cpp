@@ -237,6 +237,15 @@ TEST(LimbDatabase, HorizontalSquareUnderTheHipAtReferenceHeight) {
                        centre + Eigen::Vector3d(h, h, 0), centre + Eigen::Vector3d(-h, h, 0)};
     const std::vector<FootholdCandidate> candidates = db.Candidates(leg, base, square, max_distance);
     EXPECT_GT(candidates.size(), 20u) << LegName(leg);
+    // The visitor sees the same candidates in the same order.
+    std::vector<int> visited;
+    db.VisitCandidates(leg, base, square.vertices, square.normal, max_distance, 7,
+                       [&](const FootholdCandidate& c) {
+                         EXPECT_EQ(c.surface, 7);
+                         visited.push_back(c.sample);
+                       });
+    ASSERT_EQ(visited.size(), candidates.size()) << LegName(leg);
+    for (std::size_t k = 0; k < visited.size(); ++k) EXPECT_EQ(visited[k], candidates[k].sample);
     auto distance = [&](const Eigen::Vector3d& p) {
       const double dx = std::max(std::abs(p.x() - centre.x()) - h, 0.0);
       const double dy = std::max(std::abs(p.y() - centre.y()) - h, 0.0);

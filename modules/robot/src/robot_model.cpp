@@ -228,22 +228,25 @@ IkResult RobotModel::SolveLegIk(Leg leg, const Eigen::Vector3d& p_base) const {
   return result;
 }
 
+void RobotModel::LegBodyPoses(Leg leg, const Eigen::Vector3d& q_leg,
+                              std::array<Eigen::Isometry3d, kNumBodies>* poses) const {
+  const LegChain& c = legs_[static_cast<std::size_t>(Index(leg))];
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int j = 0; j < kJointsPerLeg; ++j) {
+    const std::size_t k = static_cast<std::size_t>(j);
+    p += R * c.origin_translation[k];
+    R = R * c.origin_rotation[k] * AxisRotation(c.axis[k], q_leg[j]);
+    Eigen::Isometry3d& T = (*poses)[static_cast<std::size_t>(1 + kJointsPerLeg * Index(leg) + j)];
+    T.linear() = R;
+    T.translation() = p;
+    T.makeAffine();
+  }
+}
+
 void RobotModel::BodyPoses(const JointVector& q, std::array<Eigen::Isometry3d, kNumBodies>* poses) const {
   (*poses)[0].setIdentity();
-  for (Leg leg : kAllLegs) {
-    const LegChain& c = legs_[static_cast<std::size_t>(Index(leg))];
-    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    for (int j = 0; j < kJointsPerLeg; ++j) {
-      const std::size_t k = static_cast<std::size_t>(j);
-      p += R * c.origin_translation[k];
-      R = R * c.origin_rotation[k] * AxisRotation(c.axis[k], q[kJointsPerLeg * Index(leg) + j]);
-      Eigen::Isometry3d& T = (*poses)[static_cast<std::size_t>(1 + kJointsPerLeg * Index(leg) + j)];
-      T.linear() = R;
-      T.translation() = p;
-      T.makeAffine();
-    }
-  }
+  for (Leg leg : kAllLegs) LegBodyPoses(leg, q.segment<kJointsPerLeg>(kJointsPerLeg * Index(leg)), poses);
 }
 
 Eigen::Vector3d RobotModel::CenterOfMass(const JointVector& q) const {
@@ -267,6 +270,20 @@ void RobotModel::LinkPoses(const JointVector& q, std::vector<Eigen::Isometry3d>*
   poses_base->resize(placements_.size());
   for (std::size_t i = 0; i < placements_.size(); ++i) {
     (*poses_base)[i] = bodies[static_cast<std::size_t>(placements_[i].body)] * placements_[i].body_to_link;
+  }
+}
+
+void RobotModel::SetLegLinkPoses(Leg leg, const Eigen::Vector3d& q_leg,
+                                 std::vector<Eigen::Isometry3d>* poses_base) const {
+  RBCP_CHECK(poses_base->size() == placements_.size(), "SetLegLinkPoses needs a LinkPoses() vector");
+  std::array<Eigen::Isometry3d, kNumBodies> bodies;
+  LegBodyPoses(leg, q_leg, &bodies);
+  const int first = 1 + kJointsPerLeg * Index(leg);
+  for (std::size_t i = 0; i < placements_.size(); ++i) {
+    const int b = placements_[i].body;
+    if (b >= first && b < first + kJointsPerLeg) {
+      (*poses_base)[i] = bodies[static_cast<std::size_t>(b)] * placements_[i].body_to_link;
+    }
   }
 }
 

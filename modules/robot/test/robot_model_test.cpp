@@ -226,6 +226,28 @@ TEST(RobotModel, LinkPosesAgreeWithLegKinematics) {
   }
 }
 
+TEST(RobotModel, SetLegLinkPosesMatchesTheWholeBodyPoses) {
+  // Changing one leg in a LinkPoses() vector gives exactly the poses of the changed configuration.
+  const RobotModel& m = Anymal();
+  std::mt19937 rng(23);
+  std::vector<Eigen::Isometry3d> updated;
+  for (int i = 0; i < 40; ++i) {
+    JointVector q;
+    for (Leg leg : kAllLegs) SetLegJoints(q, leg, test::SampleLegJoints(m, leg, rng));
+    const Leg leg = kAllLegs[static_cast<std::size_t>(i % kNumLegs)];
+    const Eigen::Vector3d q_leg = test::SampleLegJoints(m, leg, rng);
+    m.LinkPoses(q, &updated);
+    m.SetLegLinkPoses(leg, q_leg, &updated);
+    JointVector q_changed = q;
+    SetLegJoints(q_changed, leg, q_leg);
+    const std::vector<Eigen::Isometry3d> expected = m.LinkPoses(q_changed);
+    ASSERT_EQ(updated.size(), expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      EXPECT_EQ(updated[k].matrix(), expected[k].matrix()) << m.Links()[k].name;
+    }
+  }
+}
+
 TEST(RobotModel, CollisionShapesFollowTheDescription) {
   const RobotModel& m = Anymal();
   const auto& shapes = m.CollisionShapes();

@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -192,6 +193,11 @@ class LimbDatabase {
   void AppendCandidates(Leg leg, const Eigen::Isometry3d& base_pose_W, const std::vector<Eigen::Vector3d>& vertices_W,
                         const Eigen::Vector3d& normal_W, double max_distance, int surface_index,
                         std::vector<FootholdCandidate>* out) const;
+  /// As AppendCandidates(), handing each candidate to `visit` instead of storing it (a caller
+  /// that keeps only a few of many candidates saves the copies), in the same order.
+  void VisitCandidates(Leg leg, const Eigen::Isometry3d& base_pose_W, const std::vector<Eigen::Vector3d>& vertices_W,
+                       const Eigen::Vector3d& normal_W, double max_distance, int surface_index,
+                       const std::function<void(const FootholdCandidate&)>& visit) const;
   /// Indices of the samples whose foot lies in the base-frame box [min_B, max_B] (inclusive).
   std::vector<int> SamplesInBox(Leg leg, const Eigen::Vector3d& min_B, const Eigen::Vector3d& max_B) const;
 

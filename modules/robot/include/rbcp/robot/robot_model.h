@@ -134,6 +134,10 @@ class RobotModel {
   /// Links().size(); reusing the vector avoids allocation.
   void LinkPoses(const JointVector& q, std::vector<Eigen::Isometry3d>* poses_base) const;
   std::vector<Eigen::Isometry3d> LinkPoses(const JointVector& q) const;
+  /// Sets the poses of one leg's links in `poses_base` (a LinkPoses() vector) to those of the leg's
+  /// joints q_leg (HAA, HFE, KFE), leaving the other links as they are: the links of a
+  /// configuration that differs from the vector's only in that leg, at a quarter of the cost.
+  void SetLegLinkPoses(Leg leg, const Eigen::Vector3d& q_leg, std::vector<Eigen::Isometry3d>* poses_base) const;
   /// Collision primitives of all links, in link order then URDF order.
   const std::vector<CollisionShape>& CollisionShapes() const { return collision_shapes_; }
 
@@ -217,6 +221,8 @@ class RobotModel {
   struct Branch;
 
   void BodyPoses(const JointVector& q, std::array<Eigen::Isometry3d, kNumBodies>* poses) const;
+  /// The poses of the three bodies of `leg` (entries 1 + 3 * leg + j) for its joints q_leg.
+  void LegBodyPoses(Leg leg, const Eigen::Vector3d& q_leg, std::array<Eigen::Isometry3d, kNumBodies>* poses) const;
   Branch SolveBranch(Leg leg, double x_hip, double z_hip, double beta) const;
   bool BoundsReason(Leg leg, const Eigen::Vector3d& q_leg, std::string* reason) const;
 
