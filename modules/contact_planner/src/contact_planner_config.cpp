@@ -59,6 +59,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.base_shift.max_base_shift_m = bs.Double("max_base_shift_m");
   c.base_shift.shift_extra_margin_m = bs.Double("shift_extra_margin_m");
   c.base_shift.transit_checks = bs.Int("transit_checks");
+  c.base_shift.keep_fraction = bs.Double("keep_fraction");
   c.base_shift.height_step_m = bs.Double("height_step_m");
   c.base_shift.lateral_offsets_m = bs.Numbers("lateral_offsets_m");
   c.base_shift.height_offsets_m = bs.Numbers("height_offsets_m");
@@ -82,6 +83,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.retry.max_steps_at_one_time = rt.Int("max_steps_at_one_time");
   c.retry.max_children_per_state = rt.Int("max_children_per_state");
   c.retry.gait_advance_s = rt.Numbers("gait_advance_s");
+  c.retry.keep_fraction = rt.Numbers("keep_fraction");
   rt.RejectUnknownKeys();
 
   c.time_budget_s = map.Double("time_budget_s");
@@ -138,6 +140,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   check.NonNegative("base_shift.shift_extra_margin_m", base_shift.shift_extra_margin_m);
   check.NonNegative("base_shift.height_step_m", base_shift.height_step_m);
   check.AtLeast("base_shift.transit_checks", base_shift.transit_checks, 0);
+  check.InRange("base_shift.keep_fraction", base_shift.keep_fraction, 0.0, 1.0);
   for (std::size_t i = 0; i < base_shift.lateral_offsets_m.size(); ++i) {
     if (!(std::abs(base_shift.lateral_offsets_m[i]) <= base_shift.max_base_shift_m)) {
       check.Fail("base_shift.lateral_offsets_m[" + std::to_string(i) + "]", "at most max_base_shift_m in magnitude",
@@ -162,6 +165,9 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   check.AtLeast("retry.max_steps_at_one_time", retry.max_steps_at_one_time, 1);
   for (std::size_t i = 0; i < retry.gait_advance_s.size(); ++i) {
     check.NonNegative("retry.gait_advance_s[" + std::to_string(i) + "]", retry.gait_advance_s[i]);
+  }
+  for (std::size_t i = 0; i < retry.keep_fraction.size(); ++i) {
+    check.InRange("retry.keep_fraction[" + std::to_string(i) + "]", retry.keep_fraction[i], 0.0, 1.0);
   }
   check.Positive("time_budget_s", time_budget_s);
 }

@@ -157,7 +157,7 @@ std::string EvaluationsReason(const PlannerContext& ctx) {
 
 }  // namespace
 
-ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, double gait_advance, Node root,
+ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const CrawlProfile& profile, Node root,
                          int max_steps) {
   const ContactPlannerConfig& config = ctx.config;
   ContactPlanResult result;
@@ -191,7 +191,7 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, doubl
         node.goal = true;
         result.reached_goal = false;
       } else {
-        if (const std::optional<Failure> keep_failure = Expand(ctx, path, gait_advance, node)) {
+        if (const std::optional<Failure> keep_failure = Expand(ctx, path, profile.gait_advance_s, node)) {
           furthest.Note(*keep_failure);
         }
         if (node.goal) result.reached_goal = true;
@@ -203,7 +203,7 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, doubl
       const Node::Option option = node.options[node.next_option++];
       const std::tuple<int, long, int> key{Index(option.leg), TimeKey(option.t), option.variant};
       if (node.exhausted.count(key)) continue;
-      StepAttempt attempt = TryStep(ctx, path, node, option);
+      StepAttempt attempt = TryStep(ctx, path, node, option, profile);
       if (attempt.blocking) {
         // A stance leg hits the terrain (a riser, a wall) when the body shifts for this swing,
         // or narrows the swing's support triangle: re-place that leg first, at the same time,
@@ -251,24 +251,34 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, doubl
 
 ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps) {
   const ContactPlannerConfig& config = ctx.config;
-  ContactPlanResult first = Search(ctx, path, config.gait_advance_s, root, max_steps);
+  std::vector<CrawlProfile> profiles;
+  std::vector<double> timings = {config.gait_advance_s};
+  timings.insert(timings.end(), config.retry.gait_advance_s.begin(), config.retry.gait_advance_s.end());
+  std::vector<double> fractions = {config.base_shift.keep_fraction};
+  fractions.insert(fractions.end(), config.retry.keep_fraction.begin(), config.retry.keep_fraction.end());
+  for (const double advance : timings) {
+    for (const double fraction : fractions) profiles.push_back({advance, fraction});
+  }
+  const auto describe = [](const CrawlProfile& p) {
+    return "gait_advance_s " + FixedNumber(p.gait_advance_s, 2) + " s, keep_fraction " + FixedNumber(p.keep_fraction, 2);
+  };
+  ContactPlanResult first = Search(ctx, path, profiles.front(), root, max_steps);
   if (first.ok || first.status != ContactPlanStatus::kNoFoothold) return first;
   std::string tried;
-  for (const double advance : config.retry.gait_advance_s) {
+  for (std::size_t k = 1; k < profiles.size(); ++k) {
     if (ctx.budget.Exhausted()) {
       // The wall clock is a safety limit: the answer must not depend on how far it let us get.
       first.status = ContactPlanStatus::kTimeout;
-      first.reason = "time budget of " + FixedNumber(config.time_budget_s, 2) +
-                     " s exhausted before the retry with gait_advance_s " + FixedNumber(advance, 2) +
-                     " s; first search: " + first.reason;
+      first.reason = "time budget of " + FixedNumber(config.time_budget_s, 2) + " s exhausted before the retry with " +
+                     describe(profiles[k]) + "; first search: " + first.reason;
       return first;
     }
     if (EvaluationsSpent(ctx)) break;
-    ContactPlanResult again = Search(ctx, path, advance, root, max_steps);
+    ContactPlanResult again = Search(ctx, path, profiles[k], root, max_steps);
     if (again.ok || again.status != ContactPlanStatus::kNoFoothold) return again;
-    tried += (tried.empty() ? "" : ", ") + FixedNumber(advance, 2);
+    tried += (tried.empty() ? "" : "; ") + describe(profiles[k]);
   }
-  if (!tried.empty()) first.reason += " (also with gait_advance_s " + tried + " s)";
+  if (!tried.empty()) first.reason += " (also with " + tried + ")";
   return first;
 }
 

@@ -27,16 +27,17 @@ struct Failure {
   std::string Describe() const;
 };
 
-/// Searches for steps from `root` along `path` with the crawl timing `gait_advance` [s] (0: none),
-/// to the goal or, with max_steps >= 0, for at most max_steps steps. The result's plan, status,
-/// reason, failure time and leg; the caller sets the planning time and the stats.
-ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, double gait_advance, Node root,
+/// Searches for steps from `root` along `path` with the crawl `profile`, to the goal or, with
+/// max_steps >= 0, for at most max_steps steps. The result's plan, status, reason, failure time
+/// and leg; the caller sets the planning time and the stats.
+ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const CrawlProfile& profile, Node root,
                          int max_steps);
 
-/// Search() with gait_advance_s; when that fails for want of footholds (not time), again from
-/// the same root with each of retry.gait_advance_s in turn while the evaluation bound and the time
-/// budget last. The crawl timing
-/// decides where every foot stands when the terrain gets hard, so a dead end under one timing is
+/// Search() with gait_advance_s and base_shift.keep_fraction; when that fails for want of
+/// footholds (not time), again from the same root with each of retry.keep_fraction, then with
+/// each of retry.gait_advance_s (each with the kept fractions in the same order), while the
+/// evaluation bound and the time budget last. The crawl timing and the body's path between swings
+/// decide where every foot stands when the terrain gets hard, so a dead end under one profile is
 /// rarely one under another.
 ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps);
 

@@ -43,7 +43,8 @@ std::optional<StepAttempt> LiftOffFailure(const PlannerContext& ctx, const Node&
 }
 
 /// The node after `parent` steps option.leg to `feet` with the base at `base` and the joints q.
-Node ChildNode(const Node& parent, const Node::Option& option, const StanceBase& base, const JointVector& q,
+Node ChildNode(const CrawlProfile& profile, const Node& parent, const Node::Option& option,
+               const StanceBase& base, const JointVector& q,
                const std::array<FootContact, kNumLegs>& feet, const Eigen::Vector3d& shift) {
   const int j = Index(option.leg);
   Node child;
@@ -53,7 +54,10 @@ Node ChildNode(const Node& parent, const Node::Option& option, const StanceBase&
   child.state.feet = feet;
   child.state.moving_leg = j;
   child.t = option.t;
+  // The body moves back towards the path once the swing's foot is down: a body kept shifted
+  // sideways and back drags the other feet out of their workspace as the trunk advances.
   child.shift = shift;
+  child.shift.head<2>() *= profile.keep_fraction;
   const bool advanced = option.t > parent.t + 1e-9;
   child.steps_at_time = advanced ? 1 : parent.steps_at_time + 1;
   if (advanced) child.stepped_at_time.fill(false);
@@ -167,7 +171,8 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
   return result;
 }
 
-StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node& parent, const Node::Option& option) {
+StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node& parent, const Node::Option& option,
+                    const CrawlProfile& profile) {
   const FootholdConfig& fc = ctx.config.foothold;
   ++ctx.stats.step_attempts;
   const Leg leg = option.leg;
@@ -282,7 +287,7 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
         last_reject = "three-foot stance at touch-down: " + three;
         continue;
       }
-      return {StepOutcome::kFound, "", std::nullopt, ChildNode(parent, option, step_base, q_post, feet, shift)};
+      return {StepOutcome::kFound, "", std::nullopt, ChildNode(profile, parent, option, step_base, q_post, feet, shift)};
     }
   }
   if (candidates_seen == 0) last_reject = "no database sample near a contact surface";

@@ -60,6 +60,7 @@ struct StepAttempt {
 /// target (the reference foot at the lead pose, or at the path end for a goal step), nearest
 /// first, until one passes kinematics, support, collision, the look-ahead, equilibrium and
 /// torques.
-StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node& parent, const Node::Option& option);
+StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node& parent, const Node::Option& option,
+                    const CrawlProfile& profile);
 
 }  // namespace rbcp::contact_planner_detail

@@ -85,6 +85,16 @@ TEST(ContactPlannerConfigTest, RejectsUnknownMissingAndOutOfRangeKeys) {
   }
   {
     YAML::Node n = YAML::LoadFile(kFile);
+    n["base_shift"]["keep_fraction"] = 1.2;
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["retry"]["keep_fraction"] = std::vector<double>{1.0, -0.5};
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
     n["base_shift"]["lateral_offsets_m"] = std::vector<double>{0.5, -0.1};  // beyond max_base_shift_m
     try {
       LoadNode(n);

@@ -243,6 +243,30 @@ TEST(ContactPlannerTest, NarrowGapIsSteppedOver) {
   }
 }
 
+TEST(ContactPlannerTest, ABodyMovedBackAfterEachSwingStaysNearerThePath) {
+  // With none of the swing's shift kept after touch-down, each swing's shift search starts on the
+  // path: the planned bodies stand nearer to it (sideways) than with the whole shift kept.
+  const World world = BoxWorld("floor", {{-3.0, 3.0}});
+  const RootPath path = StraightPath({-1.0, 0.0}, {1.0, 0.0}, 0.0);
+  const auto samples = path.SampleEvery(0.01);
+  const auto mean_offset = [&](double keep_fraction) {
+    ContactPlannerConfig config = PlannerConfig();
+    config.base_shift.keep_fraction = keep_fraction;
+    config.retry.keep_fraction.clear();
+    ContactPlanner planner = MakePlanner(world, config);
+    const ContactPlanResult result = planner.Plan(samples);
+    EXPECT_TRUE(result.ok) << result.reason;
+    ExpectValidPlan(result.plan, world, samples);
+    double sum = 0.0;
+    for (const auto& s : result.plan.states) sum += std::abs(s.base_position.y());
+    return sum / static_cast<double>(std::max<std::size_t>(1, result.plan.states.size()));
+  };
+  const double kept = mean_offset(1.0);
+  const double moved_back = mean_offset(0.0);
+  std::cout << "mean lateral base offset: " << kept << " m kept, " << moved_back << " m moved back\n";
+  EXPECT_LT(moved_back, kept);
+}
+
 TEST(ContactPlannerTest, NoStartStanceOverNothing) {
   const World world = BoxWorld("far", {{5.0, 6.0}});
   ContactPlanner planner = MakePlanner(world);

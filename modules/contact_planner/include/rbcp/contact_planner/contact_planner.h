@@ -24,7 +24,8 @@
 ///  * during the swing, the CoM's ground projection at least support_margin_m inside the triangle
 ///    of the three stance feet, with the swing leg both at lift-off and at touch-down.
 /// To meet the last test the base may be shifted horizontally off the path (at most
-/// max_base_shift_m); the shift is kept while the trunk advances. The shift search of a step
+/// max_base_shift_m); base_shift.keep_fraction of it is kept while the trunk advances to the
+/// next step. The shift search of a step
 /// starts from the current shift (the body stays where it is); when the step fails from there it
 /// is retried from the path pose, from lateral offsets and with the base raised or lowered
 /// (base_shift.lateral_offsets_m, height_offsets_m).

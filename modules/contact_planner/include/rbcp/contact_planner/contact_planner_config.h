@@ -51,6 +51,9 @@ struct BaseShiftConfig {
   double max_base_shift_m = 0.12;      ///< [m] horizontal offset of the base from the path
   double shift_extra_margin_m = 0.01;  ///< [m] aimed beyond the required support margin
   int transit_checks = 6;              ///< intermediate poses checked between consecutive states
+  /// [-] fraction of a swing's horizontal shift the base keeps after touch-down, while the trunk
+  /// advances to the next step (1: all of it, 0: back onto the path).
+  double keep_fraction = 0.5;
   /// [m] a shift update that puts a stance foot out of reach is also tried with the base this
   /// much lower and higher (0: height kept).
   double height_step_m = 0.03;
@@ -90,6 +93,9 @@ struct RetryConfig {
   /// [s] when the search fails for want of footholds, it restarts with the crawl timing
   /// gait_advance_s replaced by each of these in turn (within max_evaluations and the time budget).
   std::vector<double> gait_advance_s = {0.3, 0.4};
+  /// [-] after a crawl timing fails with base_shift.keep_fraction, it is tried again with each
+  /// of these kept fractions of the swing shift before the next timing.
+  std::vector<double> keep_fraction = {1.0};
 };
 
 struct ContactPlannerConfig {
