@@ -84,6 +84,8 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.retry.max_children_per_state = rt.Int("max_children_per_state");
   c.retry.gait_advance_s = rt.Numbers("gait_advance_s");
   c.retry.keep_fraction = rt.Numbers("keep_fraction");
+  c.retry.restart_back_s = rt.Double("restart_back_s");
+  c.retry.max_search_evaluations = rt.Int("max_search_evaluations");
   rt.RejectUnknownKeys();
 
   c.time_budget_s = map.Double("time_budget_s");
@@ -166,6 +168,8 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   for (std::size_t i = 0; i < retry.gait_advance_s.size(); ++i) {
     check.NonNegative("retry.gait_advance_s[" + std::to_string(i) + "]", retry.gait_advance_s[i]);
   }
+  check.NonNegative("retry.restart_back_s", retry.restart_back_s);
+  check.AtLeast("retry.max_search_evaluations", retry.max_search_evaluations, 1);
   for (std::size_t i = 0; i < retry.keep_fraction.size(); ++i) {
     check.InRange("retry.keep_fraction[" + std::to_string(i) + "]", retry.keep_fraction[i], 0.0, 1.0);
   }

@@ -149,6 +149,17 @@ std::string Failure::Describe() const {
 
 namespace {
 
+/// The node's state and its place in the crawl, without the search's bookkeeping.
+Node Unexpanded(const Node& n) {
+  Node fresh;
+  fresh.state = n.state;
+  fresh.t = n.t;
+  fresh.shift = n.shift;
+  fresh.steps_at_time = n.steps_at_time;
+  fresh.stepped_at_time = n.stepped_at_time;
+  return fresh;
+}
+
 bool EvaluationsSpent(const PlannerContext& ctx) { return ctx.stats.Evaluations() >= ctx.config.retry.max_evaluations; }
 
 std::string EvaluationsReason(const PlannerContext& ctx) {
@@ -158,11 +169,13 @@ std::string EvaluationsReason(const PlannerContext& ctx) {
 }  // namespace
 
 ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const CrawlProfile& profile, Node root,
-                         int max_steps) {
+                         int max_steps, std::vector<Node>* furthest_nodes) {
   const ContactPlannerConfig& config = ctx.config;
   ContactPlanResult result;
   std::vector<Node> stack;
   stack.push_back(std::move(root));
+  if (furthest_nodes) *furthest_nodes = {Unexpanded(stack.front())};
+  const long long first_evaluation = ctx.stats.Evaluations();
   int backtracks = 0;
   Failure furthest;
   auto finish_fail = [&](ContactPlanStatus status, const std::string& reason) {
@@ -181,6 +194,11 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
     if (EvaluationsSpent(ctx)) {
       return finish_fail(ContactPlanStatus::kNoFoothold, EvaluationsReason(ctx) + "; furthest failure: " +
                                                              furthest.Describe());
+    }
+    if (ctx.stats.Evaluations() - first_evaluation >= config.retry.max_search_evaluations) {
+      return finish_fail(ContactPlanStatus::kNoFoothold,
+                         furthest.Describe() + " (" + std::to_string(config.retry.max_search_evaluations) +
+                             " leg evaluations spent in this search)");
     }
     RBCP_CHECK(!stack.empty(), "the root is never undone");
     Node& node = stack.back();
@@ -225,6 +243,10 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
         if (duplicate) continue;
         node.children.push_back({option.leg, child.t, foot});
         stack.push_back(std::move(child));
+        if (furthest_nodes && stack.back().t > furthest_nodes->back().t + 1e-9) {
+          furthest_nodes->clear();
+          for (const Node& n : stack) furthest_nodes->push_back(Unexpanded(n));
+        }
         continue;
       }
       if (attempt.outcome == StepOutcome::kNoCandidate || attempt.outcome == StepOutcome::kPoseInvalid) {
@@ -262,21 +284,45 @@ ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& 
   const auto describe = [](const CrawlProfile& p) {
     return "gait_advance_s " + FixedNumber(p.gait_advance_s, 2) + " s, keep_fraction " + FixedNumber(p.keep_fraction, 2);
   };
-  ContactPlanResult first = Search(ctx, path, profiles.front(), root, max_steps);
+  // A piece of a receding horizon counts its steps from the root: it restarts only from there.
+  const bool restart_near_failure = max_steps < 0 && config.retry.restart_back_s > 0.0;
+  std::vector<Node> furthest;
+  ContactPlanResult first =
+      Search(ctx, path, profiles.front(), root, max_steps, restart_near_failure ? &furthest : nullptr);
   if (first.ok || first.status != ContactPlanStatus::kNoFoothold) return first;
+  // The restart state: the last of the furthest search's states at least restart_back_s of path
+  // time before its furthest point (none when that is the root).
+  std::size_t restart = 0;
+  if (restart_near_failure) {
+    RBCP_CHECK(!furthest.empty(), "the furthest search holds at least the root");
+    const double t_restart = furthest.back().t - config.retry.restart_back_s;
+    for (std::size_t k = 0; k < furthest.size() && furthest[k].t <= t_restart + 1e-9; ++k) restart = k;
+  }
   std::string tried;
-  for (std::size_t k = 1; k < profiles.size(); ++k) {
-    if (ctx.budget.Exhausted()) {
-      // The wall clock is a safety limit: the answer must not depend on how far it let us get.
-      first.status = ContactPlanStatus::kTimeout;
-      first.reason = "time budget of " + FixedNumber(config.time_budget_s, 2) + " s exhausted before the retry with " +
-                     describe(profiles[k]) + "; first search: " + first.reason;
-      return first;
+  for (const bool from_root : {false, true}) {
+    if (!from_root && restart == 0) continue;
+    for (std::size_t k = 1; k < profiles.size(); ++k) {
+      const std::string where = from_root ? "" : " from path time " + FixedNumber(furthest[restart].t, 2) + " s";
+      if (ctx.budget.Exhausted()) {
+        // The wall clock is a safety limit: the answer must not depend on how far it let us get.
+        first.status = ContactPlanStatus::kTimeout;
+        first.reason = "time budget of " + FixedNumber(config.time_budget_s, 2) + " s exhausted before the retry with " +
+                       describe(profiles[k]) + where + "; first search: " + first.reason;
+        return first;
+      }
+      if (EvaluationsSpent(ctx)) break;
+      ContactPlanResult again = Search(ctx, path, profiles[k], from_root ? root : furthest[restart], max_steps);
+      if (again.ok && !from_root) {
+        // The steps of the first search up to the restart state, then the new ones.
+        std::vector<WholeBodyState> states;
+        for (std::size_t i = 0; i < restart; ++i) states.push_back(furthest[i].state);
+        states.insert(states.end(), again.plan.states.begin(), again.plan.states.end());
+        again.plan.states = std::move(states);
+        again.steps = static_cast<int>(again.plan.states.size()) - 1;
+      }
+      if (again.ok || again.status != ContactPlanStatus::kNoFoothold) return again;
+      tried += (tried.empty() ? "" : "; ") + describe(profiles[k]) + where;
     }
-    if (EvaluationsSpent(ctx)) break;
-    ContactPlanResult again = Search(ctx, path, profiles[k], root, max_steps);
-    if (again.ok || again.status != ContactPlanStatus::kNoFoothold) return again;
-    tried += (tried.empty() ? "" : "; ") + describe(profiles[k]);
   }
   if (!tried.empty()) first.reason += " (also with " + tried + ")";
   return first;

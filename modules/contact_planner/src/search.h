@@ -30,13 +30,16 @@ struct Failure {
 /// Searches for steps from `root` along `path` with the crawl `profile`, to the goal or, with
 /// max_steps >= 0, for at most max_steps steps. The result's plan, status, reason, failure time
 /// and leg; the caller sets the planning time and the stats.
+/// With `furthest` set, it receives the states (as unexpanded nodes) from the root to the node
+/// that got furthest along the path.
 ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const CrawlProfile& profile, Node root,
-                         int max_steps);
+                         int max_steps, std::vector<Node>* furthest = nullptr);
 
 /// Search() with gait_advance_s and base_shift.keep_fraction; when that fails for want of
-/// footholds (not time), again from the same root with each of retry.keep_fraction, then with
-/// each of retry.gait_advance_s (each with the kept fractions in the same order), while the
-/// evaluation bound and the time budget last. The crawl timing and the body's path between swings
+/// footholds (not time), again with each of retry.keep_fraction, then with each of
+/// retry.gait_advance_s (each with the kept fractions in the same order), while the evaluation
+/// bound and the time budget last: first from the state retry.restart_back_s of path time before
+/// the furthest point of the failed search (its steps up to there kept), then from the root. The crawl timing and the body's path between swings
 /// decide where every foot stands when the terrain gets hard, so a dead end under one profile is
 /// rarely one under another.
 ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps);

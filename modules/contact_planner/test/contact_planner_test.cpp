@@ -135,6 +135,52 @@ TEST(ContactPlannerTest, TheEvaluationBoundEndsTheSearchTheSameWayEveryTime) {
   EXPECT_EQ(a.stats.candidates_evaluated, b.stats.candidates_evaluated);
 }
 
+TEST(ContactPlannerTest, ASearchThatSpendsItsShareMakesWayForTheNextTiming) {
+  // With a per-search bound too small for the slalom, each crawl timing is tried in turn within the
+  // total bound, and the answer says why the first search stopped and what else was tried.
+  const World& world = ScenarioWorld("slalom_debris");
+  const RootPlanResult& root = ScenarioRootPath("slalom_debris", 1);
+  ASSERT_TRUE(root.ok()) << root.reason;
+  ContactPlannerConfig config = PlannerConfig();
+  config.retry.max_search_evaluations = 500;
+  config.retry.gait_advance_s = {0.3};
+  config.retry.keep_fraction.clear();
+  config.time_budget_s = 600.0;
+  ContactPlanner planner = MakePlanner(world, config);
+  const ContactPlanResult r = planner.Plan(root.path);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.status, ContactPlanStatus::kNoFoothold);
+  EXPECT_NE(r.reason.find("500 leg evaluations spent in this search"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("also with gait_advance_s 0.30 s"), std::string::npos) << r.reason;
+  // Two searches of about 500 evaluations each (a step's candidates are finished once begun).
+  EXPECT_GE(r.stats.Evaluations(), 1000);
+  EXPECT_LT(r.stats.Evaluations(), config.retry.max_evaluations);
+}
+
+TEST(ContactPlannerTest, ARetryFromNearTheFailureFindsWhatRestartsFromTheStartDoNot) {
+  // darpa_rubble seed 8: the first search fails late on the path. Retried with the other timings
+  // from 4 s of path time before its furthest point (its steps up to there kept), a plan is found
+  // that passes every check; retried from the start only, every timing fails, or costs more.
+  const World& world = ScenarioWorld("darpa_rubble");
+  const RootPlanResult& root = ScenarioRootPath("darpa_rubble", 8);
+  ASSERT_TRUE(root.ok()) << root.reason;
+  const auto samples = root.path.SampleEvery(0.01);
+  const auto plan = [&](double restart_back_s) {
+    ContactPlannerConfig config = PlannerConfig();
+    config.retry.restart_back_s = restart_back_s;
+    config.time_budget_s = 600.0;
+    ContactPlanner planner = MakePlanner(world, config);
+    return planner.Plan(samples);
+  };
+  const ContactPlanResult near = plan(4.0);
+  const ContactPlanResult start = plan(0.0);
+  ASSERT_TRUE(near.ok) << near.reason;
+  ExpectValidPlan(near.plan, world, samples);
+  std::cout << "retry from near the failure: " << near.stats.Evaluations() << " evaluations; from the start: "
+            << (start.ok ? "a plan" : "no plan") << ", " << start.stats.Evaluations() << " evaluations\n";
+  EXPECT_TRUE(!start.ok || start.stats.Evaluations() > near.stats.Evaluations());
+}
+
 /// Plans a scenario's root path; the search is bounded by its evaluation and backtracking limits only (no wall
 /// clock), so the outcome does not depend on the machine.
 void ExpectPlanToTheGoal(const std::string& name, unsigned seed) {

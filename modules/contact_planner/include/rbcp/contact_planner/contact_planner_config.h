@@ -96,6 +96,13 @@ struct RetryConfig {
   /// [-] after a crawl timing fails with base_shift.keep_fraction, it is tried again with each
   /// of these kept fractions of the swing shift before the next timing.
   std::vector<double> keep_fraction = {1.0};
+  /// [s] the other profiles are first tried from the state of the furthest search this much path
+  /// time before its furthest point, keeping the steps up to there; then from the start (0: only
+  /// from the start).
+  double restart_back_s = 2.0;
+  /// Leg evaluations one search (one profile) may make before the next profile is tried: a
+  /// search that has not found its way by then rarely does.
+  int max_search_evaluations = 500000;
 };
 
 struct ContactPlannerConfig {
