@@ -40,7 +40,9 @@
 /// and support. After a hind leg, the fore leg on the same side is tried first (crawl order). A
 /// step with no valid foothold is retried with other target lead times and shift starts, earlier
 /// on the path, with another leg, and then by undoing earlier steps (bounded); after that the
-/// whole search is run again with each of the crawl timings of retry.gait_advance_s; only then
+/// search is run again with each of the crawl timings of retry.gait_advance_s (and kept shares
+/// of retry.keep_fraction), first from the state the failed search had reached
+/// retry.restart_back_s of path time before its furthest point, then from the start; only then
 /// the planner fails, naming the path time and the leg. When a stance leg hits the terrain at
 /// lift-off (a riser, a wall), that leg is re-placed first.
 ///

@@ -99,10 +99,10 @@ struct RetryConfig {
   /// [s] the other profiles are first tried from the state of the furthest search this much path
   /// time before its furthest point, keeping the steps up to there; then from the start (0: only
   /// from the start).
-  double restart_back_s = 2.0;
+  double restart_back_s = 4.0;
   /// Leg evaluations one search (one profile) may make before the next profile is tried: a
   /// search that has not found its way by then rarely does.
-  int max_search_evaluations = 500000;
+  int max_search_evaluations = 400000;
 };
 
 struct ContactPlannerConfig {
