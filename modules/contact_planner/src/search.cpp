@@ -301,8 +301,8 @@ ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& 
   std::string tried;
   for (const bool from_root : {false, true}) {
     if (!from_root && restart == 0) continue;
+    const std::string where = from_root ? "" : " from path time " + FixedNumber(furthest[restart].t, 2) + " s";
     for (std::size_t k = 1; k < profiles.size(); ++k) {
-      const std::string where = from_root ? "" : " from path time " + FixedNumber(furthest[restart].t, 2) + " s";
       if (ctx.budget.Exhausted()) {
         // The wall clock is a safety limit: the answer must not depend on how far it let us get.
         first.status = ContactPlanStatus::kTimeout;

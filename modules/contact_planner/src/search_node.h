@@ -14,13 +14,13 @@
 
 namespace rbcp::contact_planner_detail {
 
-/// One node of the step search: a state, the path time it stands at and the body shift.
 /// How the search walks: the crawl timing and how much of a swing's body shift is kept after it.
 struct CrawlProfile {
   double gait_advance_s = 0.0;  ///< [s] path time between crawl steps (0: step only when a foot must)
   double keep_fraction = 1.0;   ///< [-] fraction of the swing shift kept after touch-down
 };
 
+/// One node of the step search: a state, the path time it stands at and the body shift.
 struct Node {
   WholeBodyState state;
   double t = 0.0;

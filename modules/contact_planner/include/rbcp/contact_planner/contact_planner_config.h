@@ -53,7 +53,7 @@ struct BaseShiftConfig {
   int transit_checks = 6;              ///< intermediate poses checked between consecutive states
   /// [-] fraction of a swing's horizontal shift the base keeps after touch-down, while the trunk
   /// advances to the next step (1: all of it, 0: back onto the path).
-  double keep_fraction = 0.5;
+  double keep_fraction = 1.0;
   /// [m] a shift update that puts a stance foot out of reach is also tried with the base this
   /// much lower and higher (0: height kept).
   double height_step_m = 0.03;
@@ -95,7 +95,7 @@ struct RetryConfig {
   std::vector<double> gait_advance_s = {0.3, 0.4};
   /// [-] after a crawl timing fails with base_shift.keep_fraction, it is tried again with each
   /// of these kept fractions of the swing shift before the next timing.
-  std::vector<double> keep_fraction = {1.0};
+  std::vector<double> keep_fraction;
   /// [s] the other profiles are first tried from the state of the furthest search this much path
   /// time before its furthest point, keeping the steps up to there; then from the start (0: only
   /// from the start).
