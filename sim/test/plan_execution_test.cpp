@@ -9,6 +9,7 @@
 
 #include "flat_ground_plan.h"
 #include "rbcp/controller/controller_config.h"
+#include "rbcp/plan_checker/plan_json.h"
 
 namespace rbcp::sim {
 namespace {
@@ -84,6 +85,24 @@ TEST(PlanExecution, AShortFlatGroundPlanReachesItsGoal) {
     const std::size_t i = static_cast<std::size_t>(Index(leg));
     EXPECT_LT((o.trace.back().feet[i] - plan.states.back().feet[i].position).head<2>().norm(), 0.03) << LegName(leg);
   }
+}
+
+TEST(PlanExecution, AHindLegSteppingDownFromCloseBelowItsHipKeepsItsThighOffTheTrunk) {
+  // On the plinth's stairs, going down: LH steps from the second tread, 0.21 m below its hip, to
+  // the first. A swing path that lifts the foot straight up folds the thigh against the trunk and
+  // the hip flexion stalls at its torque limit; the controller's path keeps the leg clear.
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("plinth"));
+  const ContactPlan plan =
+      LoadContactPlanFile(std::string(RBCP_SOURCE_DIR) + "/tests/data/plinth_hind_step_down.json");
+  ASSERT_EQ(plan.states.size(), 2u);
+  ASSERT_EQ(plan.states[1].moving_leg, Index(Leg::kLH));
+  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller);
+  run.Start(plan);
+  const ExecutionOutcome& o = run.Run();
+  ASSERT_TRUE(o.ok()) << Why(o);
+  EXPECT_EQ(o.steps_executed, 1);
+  EXPECT_LT(o.max_torque_ratio, 1.0);
 }
 
 TEST(PlanExecution, ANewPlanReplacesTheRestAtAStepBoundary) {

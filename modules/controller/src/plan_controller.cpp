@@ -290,7 +290,8 @@ double PlanController::StanceTorque(const LiftOff& l, const Eigen::Vector3d& shi
 }
 
 SwingTrajectory PlanController::PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
-                                          const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W) const {
+                                          const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W,
+                                          const JointVector& q) const {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = orientation_W.toRotationMatrix();
   pose.translation() = base_W;
@@ -305,12 +306,26 @@ SwingTrajectory PlanController::PlanSwing(Leg leg, const Eigen::Vector3d& from_W
     if (!ik.ok()) return false;
     return !swing_collision_->CheckLeg(leg, pose, ik.q, true).collision;
   };
+  // Where it can, the leg also keeps clear of the trunk and the other legs: a hind leg stepping
+  // down from a tread close below its hip, lifted straight up, folds its thigh against the trunk
+  // and stalls the hip flexion at its torque limit. A fore knee raised to step up a tread often
+  // cannot keep clear of the trunk: then the path touches it as little as it can, and the base
+  // pose of the swing is chosen by the terrain checks alone (LegCollisions()). Checked with the
+  // exact shapes: the thighs' terrain clearance is none here.
+  const SwingTrajectory::LegCheck clear_of_body = [&](const Eigen::Vector3d& foot_W) {
+    const IkResult ik = robot_.SolveLegIk(leg, pose.inverse() * foot_W);
+    if (!ik.ok()) return false;
+    JointVector q_swing = q;
+    SetLegJoints(q_swing, leg, ik.q);
+    return !collision_->CheckSelf(q_swing).collision;
+  };
   // Towards the body: from the middle of the swing to the base, across the swing direction.
   const Eigen::Vector2d across = (to_W - from_W).head<2>();
   Eigen::Vector2d inward = (base_W - 0.5 * (to_W + from_W)).head<2>();
   if (across.norm() > 1e-6) inward -= inward.dot(across.normalized()) * across.normalized();
   return SwingTrajectory::Plan(from_W, to_W, terrain_, robot_.FootRadius(), config_.swing,
-                               collision_ ? leg_clear : SwingTrajectory::LegCheck(), inward);
+                               collision_ ? leg_clear : SwingTrajectory::LegCheck(), inward,
+                               collision_ ? clear_of_body : SwingTrajectory::LegCheck());
 }
 
 void PlanController::BeginStep(int index, const Measured& m) {
@@ -333,7 +348,7 @@ void PlanController::BeginStep(int index, const Measured& m) {
   const Eigen::Vector3d& to = target.feet[i].position;
   const double least_margin = 0.5 * config_.base.support_margin_m;
   auto swing_collisions = [&](const Eigen::Vector3d& at) {
-    return collision_ ? PlanSwing(l.leg, from, to, l.base + at, orientation).LegCollisions() : 0;
+    return collision_ ? PlanSwing(l.leg, from, to, l.base + at, orientation, m.q).LegCollisions() : 0;
   };
   // When the swing from this base pose cannot keep the leg off the terrain (a wall beside the
   // robot), try base poses nearby that keep a support margin and every foot in reach.
@@ -457,7 +472,7 @@ void PlanController::Advance(const Measured& m) {
           const WholeBodyState& target = plan_.states[static_cast<std::size_t>(status_.step)];
           load_[sl] = 0.0;
           status_.stance[sl] = false;
-          swing_ = PlanSwing(static_cast<Leg>(sl), m.feet_W[sl], target.feet[sl].position, segment_.p1, segment_.q1);
+          swing_ = PlanSwing(static_cast<Leg>(sl), m.feet_W[sl], target.feet[sl].position, segment_.p1, segment_.q1, m.q);
           swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
           Enter(ControllerPhase::kSwing, t);
         }

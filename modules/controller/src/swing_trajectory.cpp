@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "rbcp/scenario/scenario.h"
@@ -76,7 +77,8 @@ Eigen::Vector3d SwingTrajectory::At(double s, Eigen::Vector3d* ds) const {
 
 SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
                                       const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config,
-                                      const LegCheck& leg_clear, const Eigen::Vector2d& inward_W) {
+                                      const LegCheck& leg_clear, const Eigen::Vector2d& inward_W,
+                                      const LegCheck& leg_preferred) {
   SwingTrajectory s;
   s.start_ = start_W;
   s.end_ = target_W - Eigen::Vector3d(0, 0, config.touchdown_depth_m);
@@ -118,6 +120,7 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
       for (double rise = 0.0; rise <= kMaxRise + 1e-9 && worse < kPatience; rise += kRiseStep) {
         c.apex_z_ = base_apex + rise;
         c.leg_collisions_ = 0;
+        c.preferred_misses_ = 0;
         double middle = std::numeric_limits<double>::infinity();
         bool enters = false;
         for (int k = 1; k < kSamples; ++k) {
@@ -135,17 +138,27 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
           // hold, and a foot on the ground touches it). From a lower foothold the knee passes
           // the riser of the higher one on the way up.
           const bool lifted = p.z() > (u <= 0.5 ? start_W.z() : target_W.z()) + 0.02;
-          if (leg_clear && lifted && k % 2 == 0 && !leg_clear(p)) c.leg_collisions_ += 1;
+          if (leg_clear && lifted && k % 2 == 0) {
+            if (!leg_clear(p)) {
+              c.leg_collisions_ += 1;
+            } else if (leg_preferred && !leg_preferred(p)) {
+              c.preferred_misses_ += 1;
+            }
+          }
         }
         c.clearance_m_ = middle;
         const bool terrain_ok = !enters && middle >= config.terrain_clearance_m;
-        if (terrain_ok && c.leg_collisions_ == 0) {
+        if (terrain_ok && c.leg_collisions_ == 0 && c.preferred_misses_ == 0) {
           best = c;
           found = true;
           break;
         }
-        if (terrain_ok && best && c.leg_collisions_ >= best->leg_collisions_) ++worse;
-        if (terrain_ok && (!best || c.leg_collisions_ < best->leg_collisions_)) {
+        // Fewer leg collisions first, then fewer samples that miss the preferred check.
+        const auto fewer = [](const SwingTrajectory& a, const SwingTrajectory& b) {
+          return std::make_pair(a.leg_collisions_, a.preferred_misses_) < std::make_pair(b.leg_collisions_, b.preferred_misses_);
+        };
+        if (terrain_ok && best && !fewer(c, *best)) ++worse;
+        if (terrain_ok && (!best || fewer(c, *best))) {
           best = c;
           worse = 0;
         }

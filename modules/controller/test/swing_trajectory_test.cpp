@@ -97,6 +97,36 @@ TEST(SwingTrajectory, RaisesTheApexUntilTheLegIsClear) {
   EXPECT_LT(s.Apex(), 0.24);
 }
 
+TEST(SwingTrajectory, KeepsThePreferredCheckWhereItCanAndTheRequiredOneAlways) {
+  SwingConfig config;
+  const SwingTrajectory::LegCheck clear = [](const Eigen::Vector3d&) { return true; };
+  // A preferred check that fails below 0.2 m at the middle of the path: the apex rises over it.
+  const SwingTrajectory::LegCheck high = [](const Eigen::Vector3d& p) {
+    return !(std::abs(p.x() - 0.1) < 0.05 && p.z() < 0.2);
+  };
+  const SwingTrajectory raised = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0, 0), nullptr,
+                                                       0.031, config, clear, Eigen::Vector2d::Zero(), high);
+  EXPECT_EQ(raised.LegCollisions(), 0);
+  EXPECT_EQ(raised.PreferredMisses(), 0);
+  EXPECT_GE(raised.Apex(), 0.2);
+  // One that fails wherever the foot is lifted cannot be kept: the path is the lowest one.
+  const SwingTrajectory::LegCheck never = [](const Eigen::Vector3d&) { return false; };
+  const SwingTrajectory plain = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0, 0), nullptr,
+                                                      0.031, config, clear);
+  const SwingTrajectory missed = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0, 0), nullptr,
+                                                       0.031, config, clear, Eigen::Vector2d::Zero(), never);
+  EXPECT_EQ(missed.LegCollisions(), 0);
+  EXPECT_GT(missed.PreferredMisses(), 0);
+  EXPECT_EQ(missed.Apex(), plain.Apex());
+  // The required check comes first: a path clear of it is kept over one that keeps the preferred.
+  const SwingTrajectory::LegCheck low_only = [](const Eigen::Vector3d& p) { return p.z() < 0.15; };
+  const SwingTrajectory capped = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0, 0), nullptr,
+                                                       0.031, config, low_only, Eigen::Vector2d::Zero(), high);
+  EXPECT_EQ(capped.LegCollisions(), 0);
+  EXPECT_LT(capped.Apex(), 0.15);
+  EXPECT_GT(capped.PreferredMisses(), 0);
+}
+
 TEST(SwingTrajectory, BowsTowardsTheBodyWhenRaisingDoesNotClearTheLeg) {
   // A leg check that fails wherever the lifted foot stays near the straight line (a knee that
   // swings out into a wall beside the robot whatever the apex).

@@ -150,8 +150,11 @@ class PlanController {
   bool Reachable(const LiftOff& lift_off, const Eigen::Vector3d& shift, const Measured& m) const;
   Eigen::Vector3d MarginShift(const LiftOff& lift_off, const Measured& m) const;
   double StanceTorque(const LiftOff& lift_off, const Eigen::Vector3d& shift) const;
+  /// The swing path of `leg` with the base held at base_W / orientation_W; `q` holds the other
+  /// legs' joints (for the self-collision check of the swinging leg).
   SwingTrajectory PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
-                            const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W) const;
+                            const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W,
+                            const JointVector& q) const;
   void EvaluateReference(double t);
   JointVector Torques(const Measured& m);
   static void CheckPlan(const ContactPlan& plan);

@@ -34,9 +34,13 @@ class SwingTrajectory {
   /// `inward_W`: horizontal direction towards the body, along which the path may bow (in 3 cm
   /// steps up to 9 cm at the apex) when the leg check fails at every apex; zero: never. Then it
   /// may bow back against the swing direction, in the same steps.
+  /// `leg_preferred` (if given, with leg_clear): a check the path passes where it can. A path
+  /// that passes every check is kept as above; otherwise the one with the fewest leg collisions,
+  /// and among those the fewest samples (where leg_clear holds) that fail leg_preferred.
   static SwingTrajectory Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
                               const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config,
-                              const LegCheck& leg_clear = {}, const Eigen::Vector2d& inward_W = Eigen::Vector2d::Zero());
+                              const LegCheck& leg_clear = {}, const Eigen::Vector2d& inward_W = Eigen::Vector2d::Zero(),
+                              const LegCheck& leg_preferred = {});
 
   double Duration() const { return duration_s_; }
   /// Phase in [0, 1] after t [s] of swing.
@@ -51,6 +55,8 @@ class SwingTrajectory {
   double Apex() const { return apex_z_; }
   /// Samples at which `leg_clear` failed (0 when it held everywhere or was not given).
   int LegCollisions() const { return leg_collisions_; }
+  /// Samples at which `leg_clear` held and `leg_preferred` failed.
+  int PreferredMisses() const { return preferred_misses_; }
   /// Sideways bow of the path at the apex [m, world xy].
   const Eigen::Vector2d& Bow() const { return bow_; }
 
@@ -65,6 +71,7 @@ class SwingTrajectory {
   double duration_s_ = 1.0;
   double clearance_m_ = 0.0;
   int leg_collisions_ = 0;
+  int preferred_misses_ = 0;
 };
 
 }  // namespace rbcp
