@@ -1,8 +1,9 @@
 // Contact planning time per scenario over 20 seeds. The root paths are planned once per scenario
 // and seed before timing; each benchmark iteration plans the contacts of every path. Counters:
 // successes (of the seeds with a root path), checked (successes whose plan passes the independent
-// plan checker, run outside the timed part), mean / median / max planning time [s], mean steps,
-// mean step length (distance the stepping foot moves) [m] and steps per metre of root path.
+// plan checker, run outside the timed part), mean / median / max planning time [s], mean steps
+// (after step merging; mean_merged: the steps merging removed), mean step length (distance the
+// stepping foot moves) [m] and steps per metre of root path.
 // The limb database uses config/limb_database.yaml (50,000 samples per leg, cached on disk).
 // RBCP_BENCH_PATHS=1 also prints each path's outcome, planning time, evaluations and steps to stderr.
 
@@ -80,6 +81,7 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
   std::vector<ContactPlan> plans;
   int successes = 0;
   double steps = 0.0;
+  double merged = 0.0;       // steps removed by step merging, over the plans found
   double path_length = 0.0;  // of the planned paths [m]
   double evaluations = 0.0;  // leg evaluations over all queries (the search's bound)
   double max_evaluations = 0.0;
@@ -90,6 +92,7 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
     plans.clear();
     successes = 0;
     steps = 0.0;
+    merged = 0.0;
     path_length = 0.0;
     for (std::size_t i = 0; i < prepared.paths.size(); ++i) {
       const ContactPlanResult r = planner.Plan(prepared.paths[i]);
@@ -105,6 +108,7 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
       if (r.ok) {
         ++successes;
         steps += r.steps;
+        merged += r.stats.steps_merged;
         plans.push_back(r.plan);
         const std::vector<RootPathSample>& path = prepared.paths[i];
         for (std::size_t k = 1; k < path.size(); ++k) path_length += (path[k].p - path[k - 1].p).head<2>().norm();
@@ -131,6 +135,7 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
   state.counters["median_s"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   state.counters["max_s"] = sorted.empty() ? 0.0 : sorted.back();
   state.counters["mean_steps"] = successes > 0 ? steps / successes : 0.0;
+  state.counters["mean_merged"] = successes > 0 ? merged / successes : 0.0;
   double moved = 0.0;
   int moves = 0;
   for (const ContactPlan& plan : plans) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "merge_steps.h"
 #include "path_track.h"
 #include "planner_context.h"
 #include "rbcp/affordance/surface_graph.h"
@@ -130,6 +131,11 @@ struct ContactPlanner::Impl {
   /// The search from `root` with the query's planning time and work counters.
   ContactPlanResult SearchFrom(const Node& root, int max_steps) {
     ContactPlanResult result = SearchWithRetries(ctx(), *path, root, max_steps);
+    if (result.ok && config.merge.enabled) {
+      result.plan.states =
+          contact_planner_detail::MergeSteps(ctx(), std::move(result.plan.states), &stats.steps_merged);
+      result.steps = static_cast<int>(result.plan.states.size()) - 1;
+    }
     result.planning_time_s = budget.Elapsed();
     result.stats = stats;
     return result;
@@ -303,6 +309,27 @@ std::optional<WholeBodyState> ContactPlanner::MeasuredStance(const Eigen::Vector
     }
   }
   return state;
+}
+
+ContactPlan ContactPlanner::MergeSteps(const ContactPlan& plan, int* removed) {
+  if (!impl_->context) throw InputError("ContactPlanner::MergeSteps: no terrain set");
+  for (std::size_t i = 1; i < plan.states.size(); ++i) {
+    const int leg = plan.states[i].moving_leg;
+    if (leg < 0 || leg >= kNumLegs) {
+      throw InputError("ContactPlanner::MergeSteps: state " + std::to_string(i) + " has no moving leg");
+    }
+    for (int other = 0; other < kNumLegs; ++other) {
+      const std::size_t o = static_cast<std::size_t>(other);
+      if (other != leg && (plan.states[i].feet[o].position - plan.states[i - 1].feet[o].position).norm() > 1e-9) {
+        throw InputError("ContactPlanner::MergeSteps: state " + std::to_string(i) + " moves " +
+                         std::string(LegName(kAllLegs[o])) + ", not only its moving leg");
+      }
+    }
+  }
+  impl_->budget.Start(impl_->config.time_budget_s);
+  ContactPlan out = plan;
+  out.states = contact_planner_detail::MergeSteps(impl_->ctx(), plan.states, removed);
+  return out;
 }
 
 const ContactPlannerConfig& ContactPlanner::Config() const { return impl_->config; }

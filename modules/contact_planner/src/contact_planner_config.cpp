@@ -88,6 +88,11 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.retry.max_search_evaluations = rt.Int("max_search_evaluations");
   rt.RejectUnknownKeys();
 
+  const YamlMap mg = map.Map("merge");
+  c.merge.enabled = mg.Bool("enabled");
+  c.merge.workspace_scale = mg.Double("workspace_scale");
+  mg.RejectUnknownKeys();
+
   c.time_budget_s = map.Double("time_budget_s");
   map.RejectUnknownKeys();
   c.Validate(map.Where());
@@ -173,6 +178,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   for (std::size_t i = 0; i < retry.keep_fraction.size(); ++i) {
     check.InRange("retry.keep_fraction[" + std::to_string(i) + "]", retry.keep_fraction[i], 0.0, 1.0);
   }
+  check.InRange("merge.workspace_scale", merge.workspace_scale, 1.0, 4.0);
   check.Positive("time_budget_s", time_budget_s);
 }
 

@@ -14,6 +14,16 @@ const std::string kFile = std::string(RBCP_SOURCE_DIR) + "/config/contact_planne
 
 ContactPlannerConfig LoadNode(const YAML::Node& node) { return ContactPlannerConfig::Load(YamlMap(node, "test")); }
 
+/// Loading `node` throws an InputError whose message names `key`.
+void ExpectRejectedNaming(const YAML::Node& node, const std::string& key) {
+  try {
+    LoadNode(node);
+    FAIL() << "expected InputError naming " << key;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  }
+}
+
 TEST(ContactPlannerConfigTest, LoadsTheCommittedFile) {
   const ContactPlannerConfig c = ContactPlannerConfig::LoadFile(kFile);
   EXPECT_EQ(c.path_step_s, 0.02);
@@ -46,12 +56,7 @@ TEST(ContactPlannerConfigTest, RejectsUnknownMissingAndOutOfRangeKeys) {
   {
     YAML::Node n = YAML::LoadFile(kFile);
     n["workspace"]["max_forward_m"] = -0.1;
-    try {
-      LoadNode(n);
-      FAIL() << "expected InputError";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("max_forward_m"), std::string::npos) << e.what();
-    }
+    ExpectRejectedNaming(n, "max_forward_m");
   }
   {
     YAML::Node n = YAML::LoadFile(kFile);
@@ -96,16 +101,21 @@ TEST(ContactPlannerConfigTest, RejectsUnknownMissingAndOutOfRangeKeys) {
   {
     YAML::Node n = YAML::LoadFile(kFile);
     n["base_shift"]["lateral_offsets_m"] = std::vector<double>{0.5, -0.1};  // beyond max_base_shift_m
-    try {
-      LoadNode(n);
-      FAIL() << "expected InputError";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("lateral_offsets_m"), std::string::npos) << e.what();
-    }
+    ExpectRejectedNaming(n, "lateral_offsets_m");
   }
   {
     YAML::Node n = YAML::LoadFile(kFile);
     n["base_shift"].remove("height_offsets_m");
+    EXPECT_THROW(LoadNode(n), InputError);
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["merge"]["workspace_scale"] = 0.8;  // a merge would keep a foot only where the search does not
+    ExpectRejectedNaming(n, "merge.workspace_scale");
+  }
+  {
+    YAML::Node n = YAML::LoadFile(kFile);
+    n["merge"].remove("enabled");
     EXPECT_THROW(LoadNode(n), InputError);
   }
 }

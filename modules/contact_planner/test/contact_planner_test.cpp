@@ -437,6 +437,83 @@ TEST(ContactPlannerTest, RecedingHorizonContinuesTheCrawlOfTheLegThatSteppedLast
   EXPECT_EQ(planner.PlanHorizon(bad, samples, 2).status, ContactPlanStatus::kInvalidInput);
 }
 
+TEST(ContactPlannerTest, MergingRemovesAStepTakenInTwo) {
+  // A valid flat-ground plan with one of its steps taken in two halves (the trunk at the step's
+  // pose for both): merging removes a step and keeps the plan valid.
+  FlatWholePlan w = PlanFlatPath();
+  ASSERT_TRUE(w.full.ok) << w.full.reason;
+  const World& world = ScenarioWorld("flat_ground");
+  ContactPlan split = w.full.plan;
+  std::size_t k = 2;
+  auto length = [&](std::size_t i) {
+    const std::size_t l = static_cast<std::size_t>(split.states[i].moving_leg);
+    return (split.states[i].feet[l].position - split.states[i - 1].feet[l].position).norm();
+  };
+  while (k < split.states.size() && length(k) < 0.2) ++k;
+  ASSERT_LT(k, split.states.size()) << "a step of 0.2 m";
+  const Leg leg = kAllLegs[static_cast<std::size_t>(split.states[k].moving_leg)];
+  const std::size_t l = static_cast<std::size_t>(Index(leg));
+  WholeBodyState half = split.states[k];
+  half.feet[l].position = 0.5 * (split.states[k - 1].feet[l].position + split.states[k].feet[l].position);
+  const IkResult ik = Robot().SolveLegIk(leg, BasePose(half).inverse() * half.feet[l].position);
+  ASSERT_TRUE(ik.ok()) << ik.reason;
+  SetLegJoints(half.joints, leg, ik.q);
+  split.states.insert(split.states.begin() + static_cast<std::ptrdiff_t>(k), half);
+  ExpectValidPlan(split, world, w.samples);
+
+  int removed = 0;
+  const ContactPlan merged = w.planner.MergeSteps(split, &removed);
+  EXPECT_GE(removed, 1);
+  ASSERT_EQ(merged.states.size(), split.states.size() - static_cast<std::size_t>(removed));
+  EXPECT_LE(merged.states.size(), w.full.plan.states.size());
+  ExpectValidPlan(merged, world, w.samples);
+  EXPECT_EQ(merged.states.front().base_position, split.states.front().base_position);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kNumLegs); ++i) {
+    EXPECT_EQ(merged.states.back().feet[i].position, split.states.back().feet[i].position);
+  }
+
+  // A plan whose states are not one step apart is refused.
+  ContactPlan jumbled = w.full.plan;
+  std::swap(jumbled.states[1], jumbled.states[3]);
+  EXPECT_THROW(w.planner.MergeSteps(jumbled), InputError);
+}
+
+TEST(ContactPlannerTest, MergingShortensARubblePlanAndKeepsItValid) {
+  // darpa_rubble seed 1 planned with and without merging: the merged plan has fewer steps, passes
+  // every check and ends on the same footholds; merging the unmerged plan afterwards gives it.
+  const World& world = ScenarioWorld("darpa_rubble");
+  const RootPlanResult& root = ScenarioRootPath("darpa_rubble", 1);
+  ASSERT_TRUE(root.ok()) << root.reason;
+  const auto samples = root.path.SampleEvery(0.01);
+  ContactPlannerConfig off = PlannerConfig();
+  off.merge.enabled = false;
+  off.time_budget_s = 600.0;
+  ContactPlannerConfig on = off;
+  on.merge.enabled = true;
+  ContactPlanner unmerging = MakePlanner(world, off);
+  ContactPlanner merging = MakePlanner(world, on);
+  const ContactPlanResult plain = unmerging.Plan(samples);
+  const ContactPlanResult merged = merging.Plan(samples);
+  ASSERT_TRUE(plain.ok) << plain.reason;
+  ASSERT_TRUE(merged.ok) << merged.reason;
+  std::cout << "darpa_rubble seed 1: " << plain.steps << " steps, " << merged.steps << " merged\n";
+  EXPECT_LT(merged.steps, plain.steps);
+  EXPECT_EQ(plain.stats.steps_merged, 0);
+  EXPECT_EQ(merged.stats.steps_merged, plain.steps - merged.steps);
+  ExpectValidPlan(merged.plan, world, samples);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kNumLegs); ++i) {
+    EXPECT_EQ(merged.plan.states.back().feet[i].position, plain.plan.states.back().feet[i].position);
+  }
+  int removed = 0;
+  const ContactPlan after = unmerging.MergeSteps(plain.plan, &removed);
+  EXPECT_EQ(removed, merged.stats.steps_merged);
+  ASSERT_EQ(after.states.size(), merged.plan.states.size());
+  for (std::size_t k = 0; k < after.states.size(); ++k) {
+    EXPECT_EQ(after.states[k].base_position, merged.plan.states[k].base_position);
+    EXPECT_EQ(after.states[k].moving_leg, merged.plan.states[k].moving_leg);
+  }
+}
+
 TEST(ContactPlannerTest, StandingStanceIsAtTheReference) {
   const World& world = ScenarioWorld("flat_ground");
   ContactPlanner planner = MakePlanner(world);

@@ -50,6 +50,12 @@
 /// the final pose is re-placed next to it, and the last state's base is at the path end (up to
 /// the body shift of its swing).
 ///
+/// Step merging (merge.enabled) then shortens the plan found: a leg that steps A -> B and later
+/// B -> C stands on A until it steps A -> C, or steps A -> C at once, wherever every state this
+/// changes passes the search's own checks again (the body shift of each swing in between is
+/// searched again where the old one no longer fits). The search moves a leg when the crawl timing
+/// or its workspace box says so; the steps the other legs take next often leave it room to stay.
+///
 /// Output states: base pose, 12 joints, four feet (contact point on the surface and the surface
 /// normal). Joints put every foot contact point exactly on its contact (forward kinematics).
 /// Consecutive states differ by exactly one leg's contact.
@@ -100,6 +106,7 @@ struct ContactPlanStats {
   int candidates_evaluated = 0;  ///< distinct projected footholds tested
   int stability_evaluations = 0; ///< footholds that reached the equilibrium LPs
   int backtracks = 0;            ///< steps undone
+  int steps_merged = 0;          ///< steps removed from the found plan by step merging
 
   /// Leg evaluations (keep checks and candidates evaluated): the work that
   /// ContactPlannerConfig::retry.max_evaluations bounds.
@@ -167,6 +174,15 @@ class ContactPlanner {
   std::optional<WholeBodyState> MeasuredStance(const Eigen::Vector3d& base_position_W, const Eigen::Vector3d& base_rpy,
                                                const std::array<Eigen::Vector3d, kNumLegs>& feet_W,
                                                double max_offset_m, std::string* reason = nullptr) const;
+
+  /// `plan` with the steps removed that step merging can remove (ContactPlannerConfig::merge):
+  /// a leg that steps A -> B and later B -> C stands on A until it steps to C, or steps to C at
+  /// once, wherever every state this changes stays valid under the planner's checks. The first
+  /// state and each leg's last foothold are kept. Plan() and PlanHorizon() already merge when
+  /// merge.enabled; this is for a plan found with it off, or by other means. *removed (optional)
+  /// receives the number of steps removed. Throws InputError without SetTerrain() or for a plan
+  /// whose states are not one step apart (see check_plan's "one_leg").
+  ContactPlan MergeSteps(const ContactPlan& plan, int* removed = nullptr);
 
   const ContactPlannerConfig& Config() const;
   const EquilibriumConfig& EquilibriumParameters() const;

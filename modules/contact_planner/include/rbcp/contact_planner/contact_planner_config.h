@@ -105,6 +105,15 @@ struct RetryConfig {
   int max_search_evaluations = 400000;
 };
 
+/// Step merging after the search: a leg that steps twice keeps its first foothold until the
+/// second step where the plan stays valid (see merge_steps.h in the planner's sources).
+struct MergeConfig {
+  bool enabled = true;
+  /// [-] the workspace box of a foot kept longer or placed earlier by a merge, as a multiple of
+  /// `workspace`'s box (the kinematic margins apply unscaled).
+  double workspace_scale = 1.3;
+};
+
 struct ContactPlannerConfig {
   double path_step_s = 0.02;              ///< [s] root path discretisation of the keep phase
   double step_time_resolution_s = 0.002;  ///< [s] bisection resolution of a foot's last keepable time
@@ -136,6 +145,7 @@ struct ContactPlannerConfig {
   /// surfaces are joined to none of the start feet's is answered kGoalUnreachable at once.
   double max_surface_gap_m = 0.45;
   RetryConfig retry;
+  MergeConfig merge;
   double time_budget_s = 5.0;           ///< [s] wall-clock budget of one planning query
 
   /// Reads every key strictly (missing or unknown keys, wrong types and out-of-range values throw
