@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "rbcp/core/error.h"
@@ -347,25 +348,31 @@ void PlanController::BeginStep(int index, const Measured& m) {
   const Eigen::Vector3d& from = m.feet_W[i];
   const Eigen::Vector3d& to = target.feet[i].position;
   const double least_margin = 0.5 * config_.base.support_margin_m;
+  // How far the swing from a base pose is from clear: its samples with the leg on the terrain,
+  // then those with the leg on the trunk or another leg.
   auto swing_collisions = [&](const Eigen::Vector3d& at) {
-    return collision_ ? PlanSwing(l.leg, from, to, l.base + at, orientation, m.q).LegCollisions() : 0;
+    if (!collision_) return std::make_pair(0, 0);
+    const SwingTrajectory swing = PlanSwing(l.leg, from, to, l.base + at, orientation, m.q);
+    return std::make_pair(swing.LegCollisions(), swing.PreferredMisses());
   };
-  // When the swing from this base pose cannot keep the leg off the terrain (a wall beside the
-  // robot), try base poses nearby that keep a support margin and every foot in reach.
-  int collisions = swing_collisions(shift);
-  for (int k = 0; collisions > 0 && k < static_cast<int>(kClearanceOffsets.size()); ++k) {
+  // When the swing from this base pose cannot keep the leg clear (a wall beside the robot, a
+  // hind thigh that folds against the trunk), try base poses nearby that keep a support margin
+  // and every foot in reach; for the trunk only those that also keep the stance's torques low.
+  std::pair<int, int> collisions = swing_collisions(shift);
+  const double torque_ceiling = kTorqueFraction * config_.torque_limit_Nm;
+  for (int k = 0; collisions != std::make_pair(0, 0) && k < static_cast<int>(kClearanceOffsets.size()); ++k) {
     const Eigen::Vector3d candidate = shift + l.R * kClearanceOffsets[static_cast<std::size_t>(k)];
     if (Margin(l, candidate) < least_margin || !Reachable(l, candidate, m)) continue;
-    const int candidate_collisions = swing_collisions(candidate);
-    if (candidate_collisions < collisions) {
-      collisions = candidate_collisions;
-      shift = candidate;
-    }
+    const std::pair<int, int> candidate_collisions = swing_collisions(candidate);
+    if (candidate_collisions >= collisions) continue;
+    if (candidate_collisions.first == collisions.first && StanceTorque(l, candidate) > torque_ceiling) continue;
+    collisions = candidate_collisions;
+    shift = candidate;
   }
   // When the stance that stays asks a joint for nearly all the actuators can give, try base poses
   // nearby (lower first) that keep the support margin, the feet in reach and the swing as clear.
   double torque = StanceTorque(l, shift);
-  if (torque > kTorqueFraction * config_.torque_limit_Nm) {
+  if (torque > torque_ceiling) {
     const Eigen::Vector3d start = shift;
     for (const Eigen::Vector3d& offset : kTorqueOffsets) {
       const Eigen::Vector3d candidate = start + l.R * offset;
