@@ -313,6 +313,12 @@ std::optional<WholeBodyState> ContactPlanner::MeasuredStance(const Eigen::Vector
 
 ContactPlan ContactPlanner::MergeSteps(const ContactPlan& plan, int* removed) {
   if (!impl_->context) throw InputError("ContactPlanner::MergeSteps: no terrain set");
+  for (std::size_t i = 0; i < plan.states.size(); ++i) {
+    const WholeBodyState& s = plan.states[i];
+    bool finite = s.base_position.allFinite() && s.base_rpy.allFinite() && s.joints.allFinite();
+    for (const FootContact& foot : s.feet) finite = finite && foot.position.allFinite() && foot.normal.allFinite();
+    if (!finite) throw InputError("ContactPlanner::MergeSteps: state " + std::to_string(i) + " is not finite");
+  }
   for (std::size_t i = 1; i < plan.states.size(); ++i) {
     const int leg = plan.states[i].moving_leg;
     if (leg < 0 || leg >= kNumLegs) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <limits>
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/pose.h"
@@ -472,10 +473,13 @@ TEST(ContactPlannerTest, MergingRemovesAStepTakenInTwo) {
     EXPECT_EQ(merged.states.back().feet[i].position, split.states.back().feet[i].position);
   }
 
-  // A plan whose states are not one step apart is refused.
+  // A plan whose states are not one step apart, or with a NaN, is refused.
   ContactPlan jumbled = w.full.plan;
   std::swap(jumbled.states[1], jumbled.states[3]);
   EXPECT_THROW(w.planner.MergeSteps(jumbled), InputError);
+  ContactPlan not_finite = w.full.plan;
+  not_finite.states[2].feet[1].normal.z() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(w.planner.MergeSteps(not_finite), InputError);
 }
 
 TEST(ContactPlannerTest, MergingShortensARubblePlanAndKeepsItValid) {

@@ -180,8 +180,9 @@ class ContactPlanner {
   /// once, wherever every state this changes stays valid under the planner's checks. The first
   /// state and each leg's last foothold are kept. Plan() and PlanHorizon() already merge when
   /// merge.enabled; this is for a plan found with it off, or by other means. *removed (optional)
-  /// receives the number of steps removed. Throws InputError without SetTerrain() or for a plan
-  /// whose states are not one step apart (see check_plan's "one_leg").
+  /// receives the number of steps removed. Throws InputError without SetTerrain(), for a state
+  /// with a non-finite number, or for a plan whose states are not one step apart (see
+  /// check_plan's "one_leg").
   ContactPlan MergeSteps(const ContactPlan& plan, int* removed = nullptr);
 
   const ContactPlannerConfig& Config() const;
