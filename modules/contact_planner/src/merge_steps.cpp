@@ -16,26 +16,22 @@ namespace {
 
 /// Whether the step from `prev` to `cur` (cur.moving_leg swings, the base moves to cur's pose
 /// first) is valid at lift-off: every foot of `prev` reachable at cur's pose (the swing foot
-/// within the lift-off margin), no terrain or self collision, the CoM inside the swing triangle,
-/// the three-foot torques, and the body's transit from prev's pose.
+/// within the lift-off margin), and the search's lift-off checks (LiftOffFailure).
 bool LiftOffValid(const PlannerContext& ctx, const WholeBodyState& prev, const WholeBodyState& cur) {
   const int j = cur.moving_leg;
-  const Eigen::Isometry3d base = BasePose(cur);
-  const std::optional<JointVector> q_pre = SolveStance(ctx, base, prev.feet, j);
-  if (!q_pre) return false;
-  if (LiftOffCollision(ctx, base, *q_pre, kAllLegs[static_cast<std::size_t>(j)]).collision) return false;
-  if (ctx.self_collision.CheckSelf(*q_pre).collision) return false;
-  const Eigen::Vector3d com = CoM(ctx, base, *q_pre);
-  if (SupportPolygonMargin(FeetPositions(prev.feet, j), com) < ctx.eq_config.support_margin_m) return false;
-  if (!TorqueProblem(ctx, base, *q_pre, prev.feet, j, com).empty()) return false;
-  return TransitProblem(ctx, prev, base, cur.base_rpy, j).empty();
+  StanceBase base;
+  base.base_W = BasePose(cur);
+  base.rpy = cur.base_rpy;
+  const std::optional<JointVector> q_pre = SolveStance(ctx, base.base_W, prev.feet, j);
+  return q_pre && !LiftOffFailure(ctx, prev, kAllLegs[static_cast<std::size_t>(j)], base, *q_pre);
 }
 
 /// `cur` with its base at `base`, checked at touch-down of its step from `prev`: the `changed`
 /// leg's foot and the new foothold within the workspace box scaled by merge.workspace_scale (the
 /// search placed them for other poses), every foot within the margins, the new foothold's leg
-/// clear of the terrain and apart from the other feet, the touch-down triangle, robustness, the
-/// four- and three-foot torques. Its joints are solved again. nullopt when invalid.
+/// clear of the terrain and apart from the other feet, the touch-down triangle, and the search's
+/// touch-down stance checks (TouchDownStanceProblem). Its joints are solved again. nullopt when
+/// invalid.
 std::optional<WholeBodyState> AtTouchDown(const PlannerContext& ctx, const WholeBodyState& prev, WholeBodyState cur,
                                           int changed, const StanceBase& base) {
   const int j = cur.moving_leg;
@@ -58,9 +54,7 @@ std::optional<WholeBodyState> AtTouchDown(const PlannerContext& ctx, const Whole
   if (ctx.self_collision.CheckSelf(*q).collision) return std::nullopt;
   const Eigen::Vector3d com = CoM(ctx, base.base_W, *q);
   if (SupportPolygonMargin(FeetPositions(prev.feet, j), com) < ctx.eq_config.support_margin_m) return std::nullopt;
-  if (!ctx.equilibrium.MeetsThreshold(ctx.equilibrium.Robustness(Contacts(cur.feet, -1), com))) return std::nullopt;
-  if (!TorqueProblem(ctx, base.base_W, *q, cur.feet, -1, com).empty()) return std::nullopt;
-  if (!TorqueProblem(ctx, base.base_W, *q, cur.feet, j, com).empty()) return std::nullopt;
+  if (!TouchDownStanceProblem(ctx, base.base_W, *q, cur.feet, j, com).empty()) return std::nullopt;
   cur.base_position = base.base_W.translation();
   cur.base_rpy = base.rpy;
   cur.joints = *q;

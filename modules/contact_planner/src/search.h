@@ -39,9 +39,9 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
 /// footholds (not time), again with each of retry.keep_fraction, then with each of
 /// retry.gait_advance_s (each with the kept fractions in the same order), while the evaluation
 /// bound and the time budget last: first from the state retry.restart_back_s of path time before
-/// the furthest point of the failed search (its steps up to there kept), then from the root. The crawl timing and the body's path between swings
-/// decide where every foot stands when the terrain gets hard, so a dead end under one profile is
-/// rarely one under another.
+/// the furthest point of the failed search (its steps up to there kept), then from the root. The
+/// crawl timing and the body's path between swings decide where every foot stands when the
+/// terrain gets hard, so a dead end under one profile is rarely one under another.
 ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps);
 
 }  // namespace rbcp::contact_planner_detail

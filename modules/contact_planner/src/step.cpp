@@ -14,34 +14,6 @@
 namespace rbcp::contact_planner_detail {
 namespace {
 
-/// Why the stance of `parent` before `leg` lifts off, with the base at `base` and the joints
-/// q_pre, is invalid: collision (a stance leg that hits the terrain is named as blocking),
-/// self-collision, the swing triangle, the torques of the three-foot stance, or the transit from
-/// the parent's base; nullopt when it is valid.
-std::optional<StepAttempt> LiftOffFailure(const PlannerContext& ctx, const Node& parent, Leg leg,
-                                          const StanceBase& base, const JointVector& q_pre) {
-  const int j = Index(leg);
-  const auto invalid = [](std::string why, std::optional<Leg> blocking = std::nullopt) {
-    return StepAttempt{StepOutcome::kPoseInvalid, std::move(why), blocking, Node{}};
-  };
-  const CollisionReport pre_hit = LiftOffCollision(ctx, base.base_W, q_pre, leg);
-  if (pre_hit.collision) {
-    std::optional<Leg> blocking = LegFromName(std::string_view(pre_hit.first_shape).substr(0, 2));
-    if (blocking == leg) blocking.reset();
-    return invalid("collision before lift-off (" + pre_hit.first_shape + ")", blocking);
-  }
-  if (ctx.self_collision.CheckSelf(q_pre).collision) return invalid("self-collision before lift-off");
-  const Eigen::Vector3d com_pre = CoM(ctx, base.base_W, q_pre);
-  if (SupportPolygonMargin(FeetPositions(parent.state.feet, j), com_pre) < ctx.eq_config.support_margin_m) {
-    return invalid("CoM too close to the swing support triangle at lift-off");
-  }
-  const std::string torque = TorqueProblem(ctx, base.base_W, q_pre, parent.state.feet, j, com_pre);
-  if (!torque.empty()) return invalid("three-foot stance at lift-off: " + torque);
-  std::string transit = TransitProblem(ctx, parent.state, base.base_W, base.rpy, j);
-  if (!transit.empty()) return invalid(std::move(transit));
-  return std::nullopt;
-}
-
 /// The node after `parent` steps option.leg to `feet` with the base at `base` and the joints q.
 Node ChildNode(const CrawlProfile& profile, const Node& parent, const Node::Option& option,
                const StanceBase& base, const JointVector& q,
@@ -67,6 +39,43 @@ Node ChildNode(const CrawlProfile& profile, const Node& parent, const Node::Opti
 }
 
 }  // namespace
+
+std::optional<StepAttempt> LiftOffFailure(const PlannerContext& ctx, const WholeBodyState& from, Leg leg,
+                                          const StanceBase& base, const JointVector& q_pre) {
+  const int j = Index(leg);
+  const auto invalid = [](std::string why, std::optional<Leg> blocking = std::nullopt) {
+    return StepAttempt{StepOutcome::kPoseInvalid, std::move(why), blocking, Node{}};
+  };
+  const CollisionReport pre_hit = LiftOffCollision(ctx, base.base_W, q_pre, leg);
+  if (pre_hit.collision) {
+    std::optional<Leg> blocking = LegFromName(std::string_view(pre_hit.first_shape).substr(0, 2));
+    if (blocking == leg) blocking.reset();
+    return invalid("collision before lift-off (" + pre_hit.first_shape + ")", blocking);
+  }
+  if (ctx.self_collision.CheckSelf(q_pre).collision) return invalid("self-collision before lift-off");
+  const Eigen::Vector3d com_pre = CoM(ctx, base.base_W, q_pre);
+  if (SupportPolygonMargin(FeetPositions(from.feet, j), com_pre) < ctx.eq_config.support_margin_m) {
+    return invalid("CoM too close to the swing support triangle at lift-off");
+  }
+  const std::string torque = TorqueProblem(ctx, base.base_W, q_pre, from.feet, j, com_pre);
+  if (!torque.empty()) return invalid("three-foot stance at lift-off: " + torque);
+  std::string transit = TransitProblem(ctx, from, base.base_W, base.rpy, j);
+  if (!transit.empty()) return invalid(std::move(transit));
+  return std::nullopt;
+}
+
+std::string TouchDownStanceProblem(const PlannerContext& ctx, const Eigen::Isometry3d& base, const JointVector& q,
+                                   const Feet& feet, int swing, const Eigen::Vector3d& com_W) {
+  const EquilibriumResult eq = ctx.equilibrium.Robustness(Contacts(feet, -1), com_W);
+  if (!ctx.equilibrium.MeetsThreshold(eq)) return "robustness " + FixedNumber(eq.robustness_N, 2) + " N";
+  if (const std::string four = TorqueProblem(ctx, base, q, feet, -1, com_W); !four.empty()) {
+    return "four-foot stance: " + four;
+  }
+  if (const std::string three = TorqueProblem(ctx, base, q, feet, swing, com_W); !three.empty()) {
+    return "three-foot stance at touch-down: " + three;
+  }
+  return "";
+}
 
 int NumVariants(const ContactPlannerConfig& config) {
   return 2 + static_cast<int>(config.base_shift.lateral_offsets_m.size() + config.base_shift.height_offsets_m.size());
@@ -186,7 +195,7 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
   const Eigen::Isometry3d& base = step_base.base_W;
 
   // The stance before lift-off: collision, swing triangle, torques of the three-foot stance.
-  if (std::optional<StepAttempt> invalid = LiftOffFailure(ctx, parent, leg, step_base, q_pre)) {
+  if (std::optional<StepAttempt> invalid = LiftOffFailure(ctx, parent.state, leg, step_base, q_pre)) {
     return std::move(*invalid);
   }
 
@@ -274,17 +283,8 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
       std::array<FootContact, kNumLegs> feet = parent.state.feet;
       feet[static_cast<std::size_t>(j)].position = c.foothold;
       feet[static_cast<std::size_t>(j)].normal = ctx.surfaces[static_cast<std::size_t>(c.surface)].Normal();
-      const EquilibriumResult eq = ctx.equilibrium.Robustness(Contacts(feet, -1), com_post);
-      if (!ctx.equilibrium.MeetsThreshold(eq)) {
-        last_reject = "robustness " + FixedNumber(eq.robustness_N, 2) + " N";
-        continue;
-      }
-      if (const std::string four = TorqueProblem(ctx, base, q_post, feet, -1, com_post); !four.empty()) {
-        last_reject = "four-foot stance: " + four;
-        continue;
-      }
-      if (const std::string three = TorqueProblem(ctx, base, q_post, feet, j, com_post); !three.empty()) {
-        last_reject = "three-foot stance at touch-down: " + three;
+      if (std::string problem = TouchDownStanceProblem(ctx, base, q_post, feet, j, com_post); !problem.empty()) {
+        last_reject = std::move(problem);
         continue;
       }
       return {StepOutcome::kFound, "", std::nullopt, ChildNode(profile, parent, option, step_base, q_post, feet, shift)};

@@ -55,6 +55,20 @@ struct StepAttempt {
   Node child;  ///< the node after the step, when found
 };
 
+/// Why the stance before `leg` lifts off from `from`'s feet, with the base at `base` and the
+/// joints q_pre, is invalid (kPoseInvalid): collision (a stance leg that hits the terrain is
+/// named as blocking), self-collision, the swing triangle, the torques of the three-foot stance,
+/// or the transit from `from`'s base; nullopt when it is valid.
+std::optional<StepAttempt> LiftOffFailure(const PlannerContext& ctx, const WholeBodyState& from, Leg leg,
+                                          const StanceBase& base, const JointVector& q_pre);
+
+/// Why the stance on `feet` just after `swing` touches down, with the base at `base`, joints q
+/// and the CoM at com_W, is invalid: static equilibrium below the robustness threshold, or the
+/// torques of the four-foot stance or of the three-foot stance without `swing` (its foot not yet
+/// loaded); empty when it is valid.
+std::string TouchDownStanceProblem(const PlannerContext& ctx, const Eigen::Isometry3d& base, const JointVector& q,
+                                   const Feet& feet, int swing, const Eigen::Vector3d& com_W);
+
 /// Steps option.leg at path time option.t from `parent`: the body shift (from the option's
 /// variant), the lift-off stance and the transit to it, then the database candidates toward the
 /// target (the reference foot at the lead pose, or at the path end for a goal step), nearest
