@@ -196,8 +196,7 @@ TEST(RobotModel, CenterOfMassMatchesPublishedValues) {
   // Independent sum over links with LinkPoses.
   std::mt19937 rng(17);
   for (int i = 0; i < 20; ++i) {
-    JointVector q;
-    for (Leg leg : kAllLegs) SetLegJoints(q, leg, test::SampleLegJoints(m, leg, rng));
+    const JointVector q = test::SampleJoints(m, rng);
     const auto poses = m.LinkPoses(q);
     Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
     for (std::size_t k = 0; k < poses.size(); ++k) weighted += m.Links()[k].mass * (poses[k] * m.Links()[k].com);
@@ -210,8 +209,7 @@ TEST(RobotModel, LinkPosesAgreeWithLegKinematics) {
   std::mt19937 rng(19);
   std::vector<Eigen::Isometry3d> poses;
   for (int i = 0; i < 100; ++i) {
-    JointVector q;
-    for (Leg leg : kAllLegs) SetLegJoints(q, leg, test::SampleLegJoints(m, leg, rng));
+    const JointVector q = test::SampleJoints(m, rng);
     m.LinkPoses(q, &poses);
     ASSERT_EQ(poses.size(), m.Links().size());
     EXPECT_TRUE(poses[0].isApprox(Eigen::Isometry3d::Identity()));
@@ -232,8 +230,7 @@ TEST(RobotModel, SetLegLinkPosesMatchesTheWholeBodyPoses) {
   std::mt19937 rng(23);
   std::vector<Eigen::Isometry3d> updated;
   for (int i = 0; i < 40; ++i) {
-    JointVector q;
-    for (Leg leg : kAllLegs) SetLegJoints(q, leg, test::SampleLegJoints(m, leg, rng));
+    const JointVector q = test::SampleJoints(m, rng);
     const Leg leg = kAllLegs[static_cast<std::size_t>(i % kNumLegs)];
     const Eigen::Vector3d q_leg = test::SampleLegJoints(m, leg, rng);
     m.LinkPoses(q, &updated);

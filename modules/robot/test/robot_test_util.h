@@ -26,6 +26,13 @@ inline Eigen::Vector3d SampleLegJoints(const RobotModel& model, Leg leg, std::mt
   return q;
 }
 
+/// All twelve joints drawn as SampleLegJoints does, leg by leg in the order LF, RF, LH, RH.
+inline JointVector SampleJoints(const RobotModel& model, std::mt19937& rng) {
+  JointVector q;
+  for (Leg leg : kAllLegs) SetLegJoints(q, leg, SampleLegJoints(model, leg, rng));
+  return q;
+}
+
 /// A base-frame point expressed in the leg's HIP frame (the frame turned by HAA).
 inline Eigen::Vector3d InHipFrame(const RobotModel& model, Leg leg, double q_haa, const Eigen::Vector3d& p_base) {
   return Eigen::AngleAxisd(-q_haa, Eigen::Vector3d::UnitX()) * (p_base - model.HipPosition(leg));
