@@ -43,6 +43,36 @@ TEST(TerrainHeightAt, TiltedTop) {
 
 TEST(TerrainHeightAt, EmptyMeshHasNoHeight) { EXPECT_FALSE(TerrainHeightAt(TriangleMesh{}, {0, 0}).has_value()); }
 
+TEST(TerrainHeightMap, AnswersAsTerrainHeightAtOverRubbleAndItsEdges) {
+  // Tilted blocks on a floor, with points drawn over the whole terrain and beyond it, on the grid's
+  // cell edges and on the blocks' own edges.
+  TriangleMesh m = Box({3, 2, 0.5}, {0, 0, -0.25});
+  for (int i = 0; i < 6; ++i) {
+    m.Append(Box({0.3, 0.21, 0.3}, {-0.9 + 0.3 * i, 0.1 * (i % 3) - 0.1, 0.05}, {0.26 * ((i % 2) ? 1 : -1), 0.1 * i, 0.3 * i}));
+  }
+  for (double cell : {0.05, 0.1, 0.37}) {
+    const TerrainHeightMap map(m, cell);
+    unsigned state = 7;
+    const auto uniform = [&state] {
+      state = state * 1664525u + 1013904223u;
+      return static_cast<double>(state >> 8) / static_cast<double>(1u << 24);
+    };
+    for (int k = 0; k < 4000; ++k) {
+      Eigen::Vector2d xy(-1.7 + 3.4 * uniform(), -1.2 + 2.4 * uniform());
+      if (k % 4 == 0) xy.x() = std::round(xy.x() / cell) * cell;  // on a cell edge
+      if (k % 8 == 1) xy = m.Corner(static_cast<std::size_t>(k) % m.NumTriangles(), 0).head<2>();
+      const std::optional<double> expected = TerrainHeightAt(m, xy);
+      const std::optional<double> got = map.At(xy);
+      ASSERT_EQ(expected.has_value(), got.has_value()) << "cell " << cell << " at " << xy.transpose();
+      if (expected) {
+        EXPECT_EQ(*expected, *got) << "cell " << cell << " at " << xy.transpose();
+      }
+    }
+  }
+  EXPECT_TRUE(TerrainHeightMap(TriangleMesh{}).Empty());
+  EXPECT_FALSE(TerrainHeightMap(TriangleMesh{}).At({0, 0}).has_value());
+}
+
 TEST(FindCoveredUpwardTriangles, SeparateAndAbuttingBoxesAreUncovered) {
   TriangleMesh m = Box({1, 1, 0.5}, {0, 0, -0.25});  // top at 0, x [-0.5, 0.5]
   m.Append(Box({0.3, 1, 0.67}, {0.65, 0, -0.165}));  // step abutting at x = 0.5, top at 0.17

@@ -101,6 +101,28 @@ std::string ScenarioToYaml(const Scenario& scenario, const std::vector<std::stri
 /// crosses it. Vertical triangles are ignored; points on a triangle edge count as inside.
 std::optional<double> TerrainHeightAt(const TriangleMesh& mesh, const Eigen::Vector2d& xy);
 
+/// TerrainHeightAt over a uniform xy grid of the mesh's triangles: the same answers, at the cost
+/// of the triangles that overlap one cell. Copies what it needs from the mesh.
+class TerrainHeightMap {
+ public:
+  /// Cells of cell_m [m] (enlarged so that the grid holds at most about a million cells).
+  explicit TerrainHeightMap(const TriangleMesh& mesh, double cell_m = 0.1);
+  /// The highest point of the mesh on the vertical line through xy [m], nullopt if none.
+  std::optional<double> At(const Eigen::Vector2d& xy) const;
+  bool Empty() const { return triangles_.empty(); }
+
+ private:
+  struct Triangle {
+    Eigen::Vector3d a, b, c;
+  };
+  std::vector<Triangle> triangles_;  // the non-vertical ones
+  Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+  double cell_ = 0.1;
+  int nx_ = 0, ny_ = 0;
+  std::vector<int> cell_start_;  // cell k lists cell_triangles_[cell_start_[k], cell_start_[k + 1])
+  std::vector<int> cell_triangles_;
+};
+
 /// Triangles facing up (unit normal z >= min_normal_z) with other geometry above part of them:
 /// such a face is covered by another solid and is not a real foothold. Each triangle is probed on
 /// a grid of interior points; returns the indices of the covered ones.
