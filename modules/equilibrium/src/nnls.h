@@ -1,6 +1,7 @@
 #pragma once
 // Non-negative least squares, min ||A x - b|| subject to x >= 0 (Lawson and Hanson's active-set
-// method). Small dense problems only: the force distribution has at most 16 unknowns.
+// method, its subproblems solved on the normal equations). Small dense problems only: the force
+// distribution has at most 16 unknowns.
 
 #include <Eigen/Core>
 
