@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
     const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
     const Scenario scenario = LoadScenario(scenario_path);
     sim::PlanExecution execution(robot, common.config_dir + "/robots/anymal_b.urdf", scenario, sim_config,
-                                 controller_config);
+                                 controller_config, StanceRules::LoadFromDir(common.config_dir));
     if (!plan_path.empty()) {
       const ContactPlan plan = LoadContactPlanFile(plan_path);
       execution.Start(plan);

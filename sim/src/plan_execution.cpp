@@ -20,11 +20,12 @@ double AngleDiff(double a, double b) { return std::abs(std::remainder(a - b, 2.0
 }  // namespace
 
 PlanExecution::PlanExecution(const RobotModel& robot, const std::string& urdf_path, const Scenario& scenario,
-                             const SimConfig& sim_config, const ControllerConfig& controller_config)
+                             const SimConfig& sim_config, const ControllerConfig& controller_config,
+                             const StanceRules& stance_rules)
     : robot_(robot), config_(sim_config), scenario_(scenario) {
   config_.Validate();
   world_ = std::make_unique<BulletWorld>(urdf_path, scenario_.terrain, config_.physics);
-  controller_ = std::make_unique<PlanController>(robot_, controller_config, &scenario_.terrain_mesh);
+  controller_ = std::make_unique<PlanController>(robot_, controller_config, stance_rules, &scenario_.terrain_mesh);
 }
 
 PlanExecution::~PlanExecution() = default;
@@ -49,7 +50,8 @@ void PlanExecution::Reset(const Eigen::Vector3d& base_W, const Eigen::Quaternion
   last_contact_s_.fill(0.0);
   saturated_since_.fill(-1.0);
   touching_.clear();
-  controller_ = std::make_unique<PlanController>(robot_, controller_->Config(), &scenario_.terrain_mesh);
+  controller_ = std::make_unique<PlanController>(robot_, controller_->Config(), controller_->Stance().Rules(),
+                                                 &scenario_.terrain_mesh);
   controller_->SetAwaitPlans(await_plans_);
 }
 

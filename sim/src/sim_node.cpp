@@ -143,11 +143,21 @@ void SimNode::UpdateWait() {
 }
 
 void SimNode::PublishState() {
+  // The controller's status first: a process that hears of a wait then hears the state it waits in.
+  const auto state_msg = transport::ToRobotStateMsg(execution_.State());
+  const ControllerStatus& status = execution_.Controller().Status();
   ControllerProgress progress;
   progress.plan_seq = plan_seq_;
-  progress.steps_done = execution_.Controller().Status().steps_done;
+  progress.steps_done = status.steps_done;
   progress.awaiting_since = awaiting_since_;
-  const auto state_msg = transport::ToRobotStateMsg(execution_.State(), progress);
+  progress.phase = ToString(status.phase);
+  progress.step = status.step;
+  progress.swing_leg = status.swing_leg ? Index(*status.swing_leg) : -1;
+  progress.base_error_m = status.base_error_m;
+  progress.step_max_base_error_m = status.step_max_base_error_m;
+  progress.support_margin_m = status.support_margin_m;
+  const auto progress_msg = transport::ToControllerStatusMsg(state_msg.utime, progress);
+  lcm_.publish(channels::kControllerStatus, &progress_msg);
   lcm_.publish(channels::kRobotState, &state_msg);
 }
 

@@ -16,6 +16,7 @@
 #include "rbcp/sim/world_events.h"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
@@ -37,9 +38,11 @@ class SimWorld : public ::testing::Test {
   SimConfig config_ = SimConfig::LoadFile(ConfigDir() + "/sim.yaml");
   Scenario scenario_ = LoadScenario(ScenarioPath("flat_ground"));
   PlanExecution execution_{robot_, ConfigDir() + "/robots/anymal_b.urdf", scenario_, config_,
-                           ControllerConfig::LoadFile(ConfigDir() + "/controller.yaml")};
+                           ControllerConfig::LoadFile(ConfigDir() + "/controller.yaml"),
+                           StanceRules::LoadFromDir(ConfigDir())};
   lcm::LCM lcm_{"memq://"};
   transport::LatestMessage<rbcp_msgs::robot_state_t> states_{lcm_, channels::kRobotState};
+  transport::LatestMessage<rbcp_msgs::controller_status_t> controllers_{lcm_, channels::kControllerStatus};
   transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_{lcm_, channels::kTerrain};
   transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
 };
@@ -132,10 +135,17 @@ class ReplanningSimNodeTest : public SimWorld {
       if (replanning_.Paused()) return;
     }
   }
-  rbcp_msgs::robot_state_t Tick() {
+  /// What the simulator sent of one tick: the measured state and the controller's status.
+  struct Heard {
+    rbcp_msgs::robot_state_t state;
+    rbcp_msgs::controller_status_t controller;
+  };
+  Heard Tick() {
     replanning_.Tick();
     Pump();
-    return *states_.Latest();
+    const Heard heard{*states_.Latest(), *controllers_.Latest()};
+    EXPECT_EQ(heard.state.utime, heard.controller.utime) << "the controller's status beside every state";
+    return heard;
   }
   void PublishPlannerFailure(int64_t input_utime) {
     rbcp_msgs::process_status_t f{};
@@ -149,9 +159,9 @@ class ReplanningSimNodeTest : public SimWorld {
   }
   /// The planner fails the wait since `boundary`: the robot stops waiting, then ticks (at most
   /// `seconds` simulated) to its next wait; returns the state there.
-  rbcp_msgs::robot_state_t FailAndTickToTheNextWait(int64_t boundary, double seconds) {
+  Heard FailAndTickToTheNextWait(int64_t boundary, double seconds) {
     PublishPlannerFailure(boundary);
-    EXPECT_FALSE(Tick().awaiting_plan);
+    EXPECT_FALSE(Tick().controller.awaiting_plan);
     TickUntilWaiting(seconds);
     EXPECT_TRUE(replanning_.Paused());
     return Tick();
@@ -160,54 +170,54 @@ class ReplanningSimNodeTest : public SimWorld {
 };
 
 TEST_F(ReplanningSimNodeTest, WaitsAtEveryStepBoundaryForAPlanFromThatStance) {
-  // Standing with no plan: the world stands still and ROBOT_STATE says the robot waits.
+  // Standing with no plan: the world stands still and CONTROLLER_STATUS says the robot waits.
   auto state = Tick();
   ASSERT_TRUE(replanning_.Paused());
   for (int k = 0; k < 5; ++k) state = Tick();
-  EXPECT_TRUE(state.awaiting_plan);
-  EXPECT_EQ(state.utime, state.awaiting_since) << "the world stands still while the robot waits";
-  EXPECT_EQ(state.plan_seq, 0);
+  EXPECT_TRUE(state.controller.awaiting_plan);
+  EXPECT_EQ(state.state.utime, state.controller.awaiting_since) << "the world stands still while the robot waits";
+  EXPECT_EQ(state.controller.plan_seq, 0);
 
   // A plan of two steps that stops short of the goal, from this wait: taken.
   ContactPlan piece = rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08);
   piece.reaches_goal = false;
-  const auto first = transport::ToContactPlanMsg(piece, state.utime, 7, 1, state.utime);
+  const auto first = transport::ToContactPlanMsg(piece, state.state.utime, 7, 1, state.state.utime);
   lcm_.publish(channels::kContactPlan, &first);
   Pump();
   state = Tick();
-  EXPECT_FALSE(state.awaiting_plan);
-  EXPECT_EQ(state.plan_seq, 1);
+  EXPECT_FALSE(state.controller.awaiting_plan);
+  EXPECT_EQ(state.controller.plan_seq, 1);
   TickUntilWaiting(20.0);
   ASSERT_TRUE(replanning_.Paused()) << "the robot waits after its first step";
   state = Tick();
-  EXPECT_EQ(state.steps_done, 1);
-  EXPECT_GT(state.awaiting_since, first.start_utime);
-  const int64_t boundary = state.awaiting_since;
+  EXPECT_EQ(state.controller.steps_done, 1);
+  EXPECT_GT(state.controller.awaiting_since, first.start_utime);
+  const int64_t boundary = state.controller.awaiting_since;
 
   // A plan from the stance before that step is stale: dropped, and the robot goes on waiting.
   lcm_.publish(channels::kContactPlan, &first);
   Pump();
   state = Tick();
   EXPECT_EQ(replanning_.StalePlans(), 1);
-  EXPECT_TRUE(state.awaiting_plan);
-  EXPECT_EQ(state.utime, boundary);
+  EXPECT_TRUE(state.controller.awaiting_plan);
+  EXPECT_EQ(state.state.utime, boundary);
 
   // The planner fails this wait: the robot walks the rest of its plan, then waits again.
   state = FailAndTickToTheNextWait(boundary, 20.0);
-  EXPECT_EQ(state.steps_done, 2);
+  EXPECT_EQ(state.controller.steps_done, 2);
   EXPECT_FALSE(replanning_.Decided()) << "a plan short of the goal is no verdict";
 
   // Nothing left to walk and the planner fails again: the robot holds its stance for
   // retry_hold_s of simulated time, then asks again.
-  const int64_t second_boundary = state.awaiting_since;
+  const int64_t second_boundary = state.controller.awaiting_since;
   state = FailAndTickToTheNextWait(second_boundary, 2.0);
-  EXPECT_GE(state.awaiting_since - second_boundary, 500000);
-  EXPECT_EQ(state.steps_done, 2);
-  const RobotState measured = transport::FromRobotStateMsg(state);
+  EXPECT_GE(state.controller.awaiting_since - second_boundary, 500000);
+  EXPECT_EQ(state.controller.steps_done, 2);
+  const RobotState measured = transport::FromRobotStateMsg(state.state);
   for (bool c : measured.foot_contact) EXPECT_TRUE(c);
 
   // max_failed_waits such waits in a row: the run fails, with the reason on STATUS.
-  PublishPlannerFailure(state.awaiting_since);
+  PublishPlannerFailure(state.controller.awaiting_since);
   Tick();
   ASSERT_TRUE(replanning_.Decided());
   EXPECT_FALSE(execution_.Outcome().ok());

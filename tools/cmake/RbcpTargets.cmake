@@ -24,7 +24,7 @@ add_library(rbcp::warnings ALIAS rbcp_warnings)
 # The pure C++ libraries that `cmake --install` puts in the prefix, with their headers, as the
 # CMake package rbcp (targets rbcp::<name>; see tools/cmake/rbcpConfig.cmake.in). The LCM and
 # Bullet edges (transport, nodes, sim) stay inside the project.
-set(RBCP_INSTALLED_LIBRARIES core robot collision limb_database scenario affordance root_planner equilibrium
+set(RBCP_INSTALLED_LIBRARIES core robot collision limb_database scenario affordance root_planner equilibrium stance
     contact_planner plan_checker controller)
 
 # rbcp_add_library(NAME <name> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])

@@ -144,13 +144,18 @@ class Hub {
         const std::size_t before = record_.Trace().size();
         record_.OnRobotState(receive_us, msg);
         if (record_.Trace().size() > before) {
-          json j = rbcp::view::RobotStateJson(robot_, msg);
+          const auto& controller = record_.Trace().back().controller;
+          json j = rbcp::view::RobotStateJson(robot_, msg, controller ? &*controller : nullptr);
           j["type"] = "state";
           const Text text = Make(j);
           if (states_.size() >= kMaxKeptStates) states_.pop_front();
           states_.push_back(text);
           Broadcast(text, true);
         }
+      } else if (channel == ch::kControllerStatus) {
+        rbcp_msgs::controller_status_t msg;
+        if (!Decode(msg, data, size)) return;
+        record_.OnControllerStatus(receive_us, msg);
         if (msg.plan_seq != walked_seq_ || msg.steps_done != walked_steps_) {
           walked_seq_ = msg.plan_seq;
           walked_steps_ = msg.steps_done;

@@ -54,6 +54,7 @@
 #include "rbcp/transport/run_loop.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
@@ -248,6 +249,7 @@ struct Awaited {
 /// Writes `events` to `path` without the LCM self test and with ROBOT_STATE thinned: while the
 /// robot walks, one state every 1 / walking_state_hz of simulated time (and the first after a
 /// wait); while it waits, each state once (the simulator repeats the same state every few ms).
+/// A CONTROLLER_STATUS goes with the ROBOT_STATE of its utime: kept when that state is.
 int WriteThinned(const std::vector<Event>& events, const std::string& path, double walking_state_hz,
                  const std::function<void(const std::string&)>& say) {
   lcm::LogFile out(path, "w");
@@ -257,28 +259,42 @@ int WriteThinned(const std::vector<Event>& events, const std::string& path, doub
   std::set<int64_t> waiting;  // utimes of the wait states written
   bool was_waiting = false;
   std::size_t kept = 0, states = 0;
-  for (const Event& e : events) {
-    if (e.channel == "LCM_SELF_TEST") continue;
-    if (e.channel == channels::kRobotState) {
-      ++states;
-      const auto state = e.Decode<rbcp_msgs::robot_state_t>();
-      bool keep = false;
-      if (state.awaiting_plan) {
-        keep = waiting.insert(state.utime).second;
-      } else {
-        keep = was_waiting || !last_walking || state.utime - *last_walking >= period_us;
-        if (keep) last_walking = state.utime;
-      }
-      was_waiting = state.awaiting_plan;
-      if (!keep) continue;
-      ++kept;
-    }
+  std::optional<Event> status;  // the CONTROLLER_STATUS heard last, written with its state
+  const auto write = [&](const Event& e) {
     lcm::LogEvent le{};
     le.timestamp = e.timestamp;
     le.channel = e.channel;
     le.datalen = static_cast<int32_t>(e.data.size());
     le.data = const_cast<uint8_t*>(e.data.data());
     if (out.writeEvent(&le) != 0) throw InputError("cannot write " + path);
+  };
+  for (const Event& e : events) {
+    if (e.channel == "LCM_SELF_TEST") continue;
+    if (e.channel == channels::kControllerStatus) {
+      status = e;
+      continue;
+    }
+    if (e.channel == channels::kRobotState) {
+      ++states;
+      const auto state = e.Decode<rbcp_msgs::robot_state_t>();
+      std::optional<rbcp_msgs::controller_status_t> controller;
+      if (status) controller = status->Decode<rbcp_msgs::controller_status_t>();
+      if (controller && controller->utime != state.utime) controller.reset();
+      const bool awaiting = controller && controller->awaiting_plan;
+      bool keep = false;
+      if (awaiting) {
+        keep = waiting.insert(state.utime).second;
+      } else {
+        keep = was_waiting || !last_walking || state.utime - *last_walking >= period_us;
+        if (keep) last_walking = state.utime;
+      }
+      was_waiting = awaiting;
+      if (!keep) continue;
+      ++kept;
+      if (controller) write(*status);
+      status.reset();
+    }
+    write(e);
   }
   say("wrote " + path + ": " + std::to_string(kept) + " of " + std::to_string(states) + " ROBOT_STATE messages kept");
   return 0;
@@ -287,7 +303,7 @@ int WriteThinned(const std::vector<Event>& events, const std::string& path, doub
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Replays the world's side of a recorded run (TERRAIN, ROBOT_STATE, PLAN_REQUEST of an LCM log that\n"
+  CLI::App app{"Replays the world's side of a recorded run (TERRAIN, ROBOT_STATE, CONTROLLER_STATUS, PLAN_REQUEST of an\nLCM log that "
                "tools/launch recorded) into running planner processes (affordance_extractor, root_planner,\n"
                "contact_planner with the run's --horizon-steps) and checks that they reproduce their recorded\n"
                "answers: the contact surfaces, the root paths, and each CONTACT_PLAN (or failure) answering a wait of\n"
@@ -341,11 +357,14 @@ int main(int argc, char** argv) {
     std::vector<bool> waiting;                 // waiting[i]: schedule[i] is a ROBOT_STATE of a robot waiting for a plan
     std::vector<Awaited> pending;              // recorded answers since the last input
     std::size_t inputs = 0;
+    bool awaiting = false;                     // the last CONTROLLER_STATUS says the robot waits
     for (const Event& e : events) {
-      if (e.channel == channels::kTerrain || e.channel == channels::kRobotState || e.channel == channels::kPlanRequest) {
+      if (e.channel == channels::kTerrain || e.channel == channels::kRobotState || e.channel == channels::kPlanRequest ||
+          e.channel == channels::kControllerStatus) {
+        if (e.channel == channels::kControllerStatus) awaiting = e.Decode<rbcp_msgs::controller_status_t>().awaiting_plan;
         schedule.push_back(e);
         before.push_back(std::exchange(pending, {}));
-        waiting.push_back(e.channel == channels::kRobotState && e.Decode<rbcp_msgs::robot_state_t>().awaiting_plan);
+        waiting.push_back(e.channel == channels::kRobotState && awaiting);
         ++inputs;
       } else if (e.channel == channels::kAffordances) {
         const std::size_t n = recorded.surfaces.items.size();
@@ -418,6 +437,7 @@ int main(int argc, char** argv) {
           if (wait.Done(listener.answers)) return true;
           if (i > 0 && waiting[i - 1] && Clock::now() >= next_repeat) {
             next_repeat += std::chrono::milliseconds(5);
+            if (i > 1 && schedule[i - 2].channel == channels::kControllerStatus) publish(schedule[i - 2]);
             publish(schedule[i - 1]);
           }
           return false;

@@ -107,6 +107,9 @@ int main(int argc, char** argv) {
       if (channel == channels::kRobotState) {
         rbcp_msgs::robot_state_t msg;
         if (Decode(e, &msg)) record.OnRobotState(e.timestamp, msg); else ++malformed;
+      } else if (channel == channels::kControllerStatus) {
+        rbcp_msgs::controller_status_t msg;
+        if (Decode(e, &msg)) record.OnControllerStatus(e.timestamp, msg); else ++malformed;
       } else if (channel == channels::kContactPlan) {
         rbcp_msgs::contact_plan_t msg;
         if (!Decode(e, &msg)) { ++malformed; return; }
@@ -202,7 +205,7 @@ int main(int argc, char** argv) {
     j["surfaces"] = j["contact_surfaces"].is_array() ? j["contact_surfaces"].size() : 0;
     j["root_path"] = root_path ? view::RootPathJson(*root_path) : nlohmann::json::array();
     j["root_paths"] = root_paths;
-    const rbcp_msgs::robot_state_t& first = record.Trace().front();
+    const rbcp_msgs::robot_state_t& first = record.Trace().front().state;
     const Eigen::Quaterniond q0(first.base_orientation[0], first.base_orientation[1], first.base_orientation[2],
                                 first.base_orientation[3]);
     j["start"] = {{"position", {first.base_position[0], first.base_position[1]}},
@@ -213,7 +216,7 @@ int main(int argc, char** argv) {
     nlohmann::json trace = nlohmann::json::array();
     for (const auto& s : record.Trace()) {
       try {
-        trace.push_back(view::RobotStateJson(robot, s));
+        trace.push_back(view::RobotStateJson(robot, s.state, s.controller ? &*s.controller : nullptr));
       } catch (const InputError&) {
         ++malformed;
       }

@@ -40,6 +40,7 @@
 #include "rbcp_msgs/contact_plan_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
 
@@ -161,6 +162,9 @@ class LoopWatch {
   explicit LoopWatch(lcm::LCM& lcm)
       : start_(Clock::now()),
         states_(lcm, channels::kRobotState, [this](const rbcp_msgs::robot_state_t& msg) { OnState(msg); }, Malformed),
+        controller_(lcm, channels::kControllerStatus,
+                    [this](const rbcp_msgs::controller_status_t& msg) { record.OnControllerStatus(Now(), msg); },
+                    Malformed),
         plans_(lcm, channels::kContactPlan, [this](const rbcp_msgs::contact_plan_t& msg) { OnPlan(msg); }, Malformed) {}
   nodes::RunRecord record;
 
@@ -178,6 +182,7 @@ class LoopWatch {
   }
   Clock::time_point start_;
   transport::EveryMessage<rbcp_msgs::robot_state_t> states_;
+  transport::EveryMessage<rbcp_msgs::controller_status_t> controller_;
   transport::EveryMessage<rbcp_msgs::contact_plan_t> plans_;
 };
 
@@ -194,9 +199,10 @@ int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenar
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   const auto finish = [&](int rc, const std::string& outcome) {
     const auto& s = watch.record.Latest();
+    const auto& c = watch.record.LatestController();
     std::ostringstream os;
     os << summary << ", " << outcome << "; " << (s ? FixedNumber(static_cast<double>(s->utime) * 1e-6, 1) : "0")
-       << " s simulated in " << FixedNumber(elapsed(), 1) << " s wall, " << (s ? s->steps_done : 0) << " steps, "
+       << " s simulated in " << FixedNumber(elapsed(), 1) << " s wall, " << (c ? c->steps_done : 0) << " steps, "
        << watch.record.Plans() << " plans (" << planner_failures << " failed replans), " << restarts
        << " process restarts, replanning latency median "
        << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
@@ -237,10 +243,12 @@ int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenar
     if (Clock::now() >= next_print && watch.record.Latest()) {
       next_print += std::chrono::seconds(5);
       const auto& s = *watch.record.Latest();
+      const auto& c = watch.record.LatestController();
       const double dx = s.base_position[0] - scenario.goal.position.x(), dy = s.base_position[1] - scenario.goal.position.y();
-      std::cout << "loop: " << FixedNumber(static_cast<double>(s.utime) * 1e-6, 1) << " s simulated, " << s.steps_done
-                << " steps, " << FixedNumber(std::hypot(dx, dy), 2) << " m to the goal, " << watch.record.Plans() << " plans"
-                << (s.awaiting_plan ? ", waiting for a plan" : "") << "; " << board.States() << std::endl;
+      std::cout << "loop: " << FixedNumber(static_cast<double>(s.utime) * 1e-6, 1) << " s simulated, "
+                << (c ? c->steps_done : 0) << " steps, " << FixedNumber(std::hypot(dx, dy), 2) << " m to the goal, "
+                << watch.record.Plans() << " plans" << (c && c->awaiting_plan ? ", waiting for a plan" : "") << "; "
+                << board.States() << std::endl;
     }
   }
   return finish(kNoAnswer, "stopped");

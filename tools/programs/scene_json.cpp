@@ -20,7 +20,7 @@
 
 #include "rbcp/affordance/affordance_config.h"
 #include "rbcp/affordance/affordance_extractor.h"
-#include "rbcp/controller/controller_config.h"
+#include "rbcp/stance/stance_config.h"
 #include "rbcp/core/config_dir.h"
 #include "rbcp/core/error.h"
 #include "rbcp/plan_checker/plan_json.h"
@@ -87,7 +87,7 @@ json Robot(const std::string& config_dir) {
   const std::string urdf_path = config_dir + "/robots/anymal_b.urdf";
   const rbcp::RobotModel robot = rbcp::RobotModel::Load(urdf_path, config_dir + "/robots/anymal_b.yaml");
   const rbcp::sim::SimConfig sim_config = rbcp::sim::SimConfig::LoadFile(config_dir + "/sim.yaml");
-  const rbcp::ControllerConfig controller_config = rbcp::ControllerConfig::LoadFile(config_dir + "/controller.yaml");
+  const rbcp::StanceConfig stance_config = rbcp::StanceConfig::LoadFile(config_dir + "/stance.yaml");
 
   json links = json::array();
   for (const rbcp::RobotLink& link : robot.Links()) {
@@ -135,7 +135,7 @@ json Robot(const std::string& config_dir) {
           {"nominal_base_height", robot.NominalBaseHeight()},
           {"torque_limit_Nm", sim_config.physics.torque_limit_Nm},
           {"urdf_effort_limit_Nm", robot.TorqueLimit()},
-          {"support_margin_m", controller_config.base.support_margin_m},
+          {"support_margin_m", stance_config.support_margin_m},
           {"foot_radius", robot.FootRadius()},
           {"foot_contact_offset", Vec(robot.FootContactOffset())}};
 }

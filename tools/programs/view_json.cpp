@@ -61,11 +61,18 @@ json ContactPlanJson(const rbcp_msgs::contact_plan_t& msg) {
           {"states", ContactPlanToJson(transport::FromContactPlanMsg(msg))}};
 }
 
-json RobotStateJson(const RobotModel& robot, const rbcp_msgs::robot_state_t& msg) {
-  json j = sim::TraceSampleToJson(sim::MeasuredTraceSample(robot, transport::FromRobotStateMsg(msg)));
-  j["plan_seq"] = msg.plan_seq;
-  j["steps_done"] = msg.steps_done;
-  j["awaiting_plan"] = msg.awaiting_plan;
+json RobotStateJson(const RobotModel& robot, const rbcp_msgs::robot_state_t& msg,
+                    const rbcp_msgs::controller_status_t* controller) {
+  sim::TraceSample sample = sim::MeasuredTraceSample(robot, transport::FromRobotStateMsg(msg));
+  if (controller == nullptr) return sim::TraceSampleToJson(sample);
+  const ControllerProgress progress = transport::FromControllerStatusMsg(*controller);
+  sample.step = progress.step;
+  sample.phase = progress.phase;
+  json j = sim::TraceSampleToJson(sample);
+  j["plan_seq"] = progress.plan_seq;
+  j["steps_done"] = progress.steps_done;
+  j["awaiting_plan"] = progress.awaiting_since.has_value();
+  j["base_error_m"] = progress.base_error_m;
   return j;
 }
 

@@ -12,6 +12,7 @@
 #include "rbcp/robot/robot_model.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
@@ -33,9 +34,11 @@ nlohmann::json RootPathJson(const rbcp_msgs::root_path_t& msg);
 /// {plan_seq, start_t, reaches_goal, states}; states as check_plan reads them. Throws InputError
 /// for a malformed plan.
 nlohmann::json ContactPlanJson(const rbcp_msgs::contact_plan_t& msg);
-/// A trace sample (sim::TraceSampleToJson of the measured state) with the controller's progress:
-/// plan_seq, steps_done, awaiting_plan.
-nlohmann::json RobotStateJson(const RobotModel& robot, const rbcp_msgs::robot_state_t& msg);
+/// A trace sample (sim::TraceSampleToJson of the measured state) with the controller's progress
+/// when known (CONTROLLER_STATUS): plan_seq, steps_done, awaiting_plan, phase, step (the trace
+/// sample's own), base_error_m.
+nlohmann::json RobotStateJson(const RobotModel& robot, const rbcp_msgs::robot_state_t& msg,
+                              const rbcp_msgs::controller_status_t* controller = nullptr);
 /// {t, process, state ("alive", "busy", "ok", "failed"), reason, compute_ms}
 nlohmann::json StatusJson(const rbcp_msgs::process_status_t& msg);
 

@@ -75,7 +75,8 @@ const Prepared& Prepare(const std::string& name) {
 void BM_ContactPlan(benchmark::State& state, const std::string& name) {
   const Prepared& prepared = Prepare(name);
   ContactPlanner planner(Robot(), Database(), EquilibriumConfig::LoadFile(kConfigDir + "/equilibrium.yaml"),
-                         ContactPlannerConfig::LoadFile(kConfigDir + "/contact_planner.yaml"));
+                         ContactPlannerConfig::LoadFile(kConfigDir + "/contact_planner.yaml"),
+                         StanceConfig::LoadFile(kConfigDir + "/stance.yaml"));
   planner.SetTerrain(prepared.scenario.terrain_mesh, prepared.surfaces);
   std::vector<double> times;
   std::vector<ContactPlan> plans;
@@ -103,7 +104,8 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
       max_evaluations = std::max(max_evaluations, e);
       if (kPrintPaths) {
         std::cerr << name << " path " << i << ": " << (r.ok ? "ok" : "failed") << ", " << r.planning_time_s << " s, "
-                  << path_evaluations << " evaluations, " << r.steps << " steps\n";
+                  << path_evaluations << " evaluations, " << r.stats.swing_checks << " swing checks, "
+                  << r.stats.backtracks << " backtracks, " << r.steps << " steps\n";
       }
       if (r.ok) {
         ++successes;
@@ -157,6 +159,11 @@ BENCHMARK_CAPTURE(BM_ContactPlan, flat_ground, std::string("flat_ground"))->Unit
 BENCHMARK_CAPTURE(BM_ContactPlan, slalom_debris, std::string("slalom_debris"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_ContactPlan, plinth, std::string("plinth"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_ContactPlan, darpa_rubble, std::string("darpa_rubble"))->Unit(benchmark::kMillisecond)->Iterations(1);
+// The paper's own terrain meshes.
+BENCHMARK_CAPTURE(BM_ContactPlan, paper_flat_ground, std::string("paper_flat_ground"))->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_ContactPlan, paper_slalom_debris, std::string("paper_slalom_debris"))->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_ContactPlan, paper_plinth, std::string("paper_plinth"))->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_ContactPlan, paper_darpa, std::string("paper_darpa"))->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

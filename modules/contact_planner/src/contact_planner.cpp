@@ -22,6 +22,7 @@
 #include "search_node.h"
 #include "stance_checks.h"
 #include "start_stance.h"
+#include "step.h"
 #include "surface_geometry.h"
 
 namespace rbcp {
@@ -65,9 +66,7 @@ struct ContactPlanner::Impl {
   EquilibriumConfig eq_config;
   ContactPlannerConfig config;
   StaticEquilibrium equilibrium;
-  double torque_limit;
-  std::unique_ptr<RobotTerrainCollision> collision;       // terrain checks, thighs with their clearance
-  std::unique_ptr<RobotTerrainCollision> self_collision;  // self-collision, exact shapes
+  StanceChecker stance;  // with the terrain's collision structures
   std::vector<ConvexPolygon3d> surfaces;
   std::unique_ptr<SurfaceGraph> surface_graph;
   std::optional<PlannerContext> context;  // all of the above, for the stages; set with the terrain
@@ -77,21 +76,16 @@ struct ContactPlanner::Impl {
   ContactPlanStats stats;
   std::optional<PathTrack> path;
 
-  Impl(const RobotModel& r, const LimbDatabase& d, const EquilibriumConfig& e, const ContactPlannerConfig& c)
-      : robot(r),
-        db(d),
-        eq_config(e),
-        config(c),
-        equilibrium(r.TotalMass(), e),
-        torque_limit(c.torque_limit_fraction * r.ContinuousTorqueLimit()) {
+  Impl(const RobotModel& r, const LimbDatabase& d, const EquilibriumConfig& e, const ContactPlannerConfig& c,
+       const StanceConfig& s)
+      : robot(r), db(d), eq_config(e), config(c), equilibrium(r.TotalMass(), e), stance(r, StanceRules{s, e.friction}) {
     config.Validate();
   }
 
   const PlannerContext& ctx() const { return *context; }
 
   void SetTerrainContext() {
-    context.emplace(PlannerContext{robot, db, eq_config, config, torque_limit, *collision, *self_collision, surfaces,
-                                   equilibrium, stats, budget});
+    context.emplace(PlannerContext{robot, db, eq_config, config, stance, surfaces, equilibrium, stats, budget});
   }
 
   /// The answer to a query whose path ends where no surface in the feet's reach is joined,
@@ -136,6 +130,7 @@ struct ContactPlanner::Impl {
           contact_planner_detail::MergeSteps(ctx(), std::move(result.plan.states), &stats.steps_merged);
       result.steps = static_cast<int>(result.plan.states.size()) - 1;
     }
+    if (result.ok) contact_planner_detail::AttachSwings(ctx(), result.plan.states);
     result.planning_time_s = budget.Elapsed();
     result.stats = stats;
     return result;
@@ -151,24 +146,22 @@ struct ContactPlanner::Impl {
         return "root path times must increase (sample " + std::to_string(i) + ")";
       }
     }
-    if (!collision) return "no terrain set";
+    if (!stance.HasTerrain()) return "no terrain set";
     return "";
   }
 };
 
 ContactPlanner::ContactPlanner(const RobotModel& robot, const LimbDatabase& database,
-                               const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config)
-    : impl_(std::make_unique<Impl>(robot, database, equilibrium, config)) {}
+                               const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config,
+                               const StanceConfig& stance)
+    : impl_(std::make_unique<Impl>(robot, database, equilibrium, config, stance)) {}
 ContactPlanner::~ContactPlanner() = default;
 ContactPlanner::ContactPlanner(ContactPlanner&&) noexcept = default;
 ContactPlanner& ContactPlanner::operator=(ContactPlanner&&) noexcept = default;
 
 void ContactPlanner::SetTerrain(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces) {
-  CollisionOptions terrain_options;
-  terrain_options.thigh_margin = impl_->config.thigh_clearance_m;
-  terrain_options.trunk_margin = impl_->config.trunk_clearance_m;
-  impl_->collision = std::make_unique<RobotTerrainCollision>(impl_->robot, terrain, terrain_options);
-  impl_->self_collision = std::make_unique<RobotTerrainCollision>(impl_->robot, terrain);
+  if (terrain.triangles.empty()) throw InputError("contact planner: expected a terrain mesh, got no triangles");
+  impl_->stance.SetTerrain(&terrain);
   impl_->surfaces.clear();
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     const AffordanceSurface& s = surfaces[i];
@@ -335,6 +328,7 @@ ContactPlan ContactPlanner::MergeSteps(const ContactPlan& plan, int* removed) {
   impl_->budget.Start(impl_->config.time_budget_s);
   ContactPlan out = plan;
   out.states = contact_planner_detail::MergeSteps(impl_->ctx(), plan.states, removed);
+  contact_planner_detail::AttachSwings(impl_->ctx(), out.states);
   return out;
 }
 

@@ -47,18 +47,15 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.foothold.min_foot_separation_m = fh.Double("min_foot_separation_m");
   c.foothold.max_stability_evaluations = fh.Int("max_stability_evaluations");
   c.foothold.near_query_half_m = fh.Double("near_query_half_m");
+  c.foothold.swing_failure_radius_m = fh.Double("swing_failure_radius_m");
+  c.foothold.max_swing_failures = fh.Int("max_swing_failures");
   c.foothold.min_step_length_m = fh.Double("min_step_length_m");
   fh.RejectUnknownKeys();
 
-  c.torque_limit_fraction = map.Double("torque_limit_fraction");
-  c.stance_min_normal_force_N = map.Double("stance_min_normal_force_N");
-  c.thigh_clearance_m = map.Double("thigh_clearance_m");
-  c.trunk_clearance_m = map.Double("trunk_clearance_m");
 
   const YamlMap bs = map.Map("base_shift");
   c.base_shift.max_base_shift_m = bs.Double("max_base_shift_m");
   c.base_shift.shift_extra_margin_m = bs.Double("shift_extra_margin_m");
-  c.base_shift.transit_checks = bs.Int("transit_checks");
   c.base_shift.keep_fraction = bs.Double("keep_fraction");
   c.base_shift.height_step_m = bs.Double("height_step_m");
   c.base_shift.lateral_offsets_m = bs.Numbers("lateral_offsets_m");
@@ -130,23 +127,14 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   check.NonNegative("foothold.weight_z", foothold.weight_z);
   check.Positive("foothold.dedup_cell_m", foothold.dedup_cell_m);
   check.NonNegative("foothold.near_query_half_m", foothold.near_query_half_m);
+  check.NonNegative("foothold.swing_failure_radius_m", foothold.swing_failure_radius_m);
+  check.AtLeast("foothold.max_swing_failures", foothold.max_swing_failures, 1);
   check.NonNegative("foothold.min_step_length_m", foothold.min_step_length_m);
   check.NonNegative("foothold.min_foot_separation_m", foothold.min_foot_separation_m);
   check.AtLeast("foothold.max_stability_evaluations", foothold.max_stability_evaluations, 1);
-  if (!(std::isfinite(trunk_clearance_m) && trunk_clearance_m >= 0.0 && trunk_clearance_m < 0.1)) {
-    check.Fail("trunk_clearance_m", "a clearance in [0, 0.1) m", ConfigNumber(trunk_clearance_m));
-  }
-  if (!(std::isfinite(thigh_clearance_m) && thigh_clearance_m >= 0.0 && thigh_clearance_m < 0.1)) {
-    check.Fail("thigh_clearance_m", "a clearance in [0, 0.1) m", ConfigNumber(thigh_clearance_m));
-  }
-  if (!(std::isfinite(torque_limit_fraction) && torque_limit_fraction > 0.0 && torque_limit_fraction <= 1.0)) {
-    check.Fail("torque_limit_fraction", "a number in (0, 1]", ConfigNumber(torque_limit_fraction));
-  }
-  check.NonNegative("stance_min_normal_force_N", stance_min_normal_force_N);
   check.NonNegative("base_shift.max_base_shift_m", base_shift.max_base_shift_m);
   check.NonNegative("base_shift.shift_extra_margin_m", base_shift.shift_extra_margin_m);
   check.NonNegative("base_shift.height_step_m", base_shift.height_step_m);
-  check.AtLeast("base_shift.transit_checks", base_shift.transit_checks, 0);
   check.InRange("base_shift.keep_fraction", base_shift.keep_fraction, 0.0, 1.0);
   for (std::size_t i = 0; i < base_shift.lateral_offsets_m.size(); ++i) {
     if (!(std::abs(base_shift.lateral_offsets_m[i]) <= base_shift.max_base_shift_m)) {

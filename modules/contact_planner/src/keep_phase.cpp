@@ -33,11 +33,8 @@ KeepCheck KeepAt(const PlannerContext& ctx, const PathTrack& path, const Node& n
     }
   }
   if (!all_ok) return check;
-  bool body_ok = !ctx.collision.CheckTrunk(base).collision;
-  if (body_ok) {
-    const double margin = SupportPolygonMargin(FeetPositions(node.state.feet, -1), CoM(ctx, base, q));
-    body_ok = margin >= ctx.eq_config.support_margin_m;
-  }
+  bool body_ok = !ctx.stance.TerrainCollision().CheckTrunk(base).collision;
+  if (body_ok) body_ok = SupportHolds(ctx, node.state.feet, -1, CoM(ctx, base, q));
   if (!body_ok) {
     // Not attributable to one leg: every leg may step, the most stretched first.
     check.failing.fill(true);

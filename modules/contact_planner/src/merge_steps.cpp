@@ -15,15 +15,17 @@ namespace rbcp::contact_planner_detail {
 namespace {
 
 /// Whether the step from `prev` to `cur` (cur.moving_leg swings, the base moves to cur's pose
-/// first) is valid at lift-off: every foot of `prev` reachable at cur's pose (the swing foot
-/// within the lift-off margin), and the search's lift-off checks (LiftOffFailure).
+/// first) is valid at lift-off and in the swing: every foot of `prev` reachable at cur's pose
+/// (the swing foot within the lift-off margin), the search's lift-off checks (LiftOffFailure) and
+/// its swing check (SwingProblem).
 bool LiftOffValid(const PlannerContext& ctx, const WholeBodyState& prev, const WholeBodyState& cur) {
   const int j = cur.moving_leg;
   StanceBase base;
   base.base_W = BasePose(cur);
   base.rpy = cur.base_rpy;
   const std::optional<JointVector> q_pre = SolveStance(ctx, base.base_W, prev.feet, j);
-  return q_pre && !LiftOffFailure(ctx, prev, kAllLegs[static_cast<std::size_t>(j)], base, *q_pre);
+  if (!q_pre || LiftOffFailure(ctx, prev, kAllLegs[static_cast<std::size_t>(j)], base, *q_pre)) return false;
+  return SwingProblem(ctx, prev.feet, j, cur.feet[static_cast<std::size_t>(j)].position, base.base_W, cur.joints).empty();
 }
 
 /// `cur` with its base at `base`, checked at touch-down of its step from `prev`: the `changed`
@@ -46,14 +48,14 @@ std::optional<WholeBodyState> AtTouchDown(const PlannerContext& ctx, const Whole
   }
   const std::optional<JointVector> q = SolveStance(ctx, base.base_W, cur.feet, -1);
   if (!q) return std::nullopt;
-  if (ctx.collision.CheckLeg(swing, base.base_W, LegJoints(*q, swing), true).collision) return std::nullopt;
+  if (ctx.stance.TerrainCollision().CheckLeg(swing, base.base_W, LegJoints(*q, swing), true).collision) return std::nullopt;
   if ((new_foot - prev.feet[static_cast<std::size_t>(j)].position).norm() < ctx.config.foothold.min_step_length_m) {
     return std::nullopt;
   }
   if (!FarEnoughFromFeet(ctx, cur.feet, j, new_foot)) return std::nullopt;
-  if (ctx.self_collision.CheckSelf(*q).collision) return std::nullopt;
+  if (ctx.stance.ExactCollision().CheckSelf(*q).collision) return std::nullopt;
   const Eigen::Vector3d com = CoM(ctx, base.base_W, *q);
-  if (SupportPolygonMargin(FeetPositions(prev.feet, j), com) < ctx.eq_config.support_margin_m) return std::nullopt;
+  if (!SupportHolds(ctx, prev.feet, j, com)) return std::nullopt;
   if (!TouchDownStanceProblem(ctx, base.base_W, *q, cur.feet, j, com).empty()) return std::nullopt;
   cur.base_position = base.base_W.translation();
   cur.base_rpy = base.rpy;

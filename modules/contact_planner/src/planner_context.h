@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rbcp/collision/robot_terrain_collision.h"
+#include "rbcp/stance/stance_checker.h"
 #include "rbcp/contact_planner/contact_planner.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "surface_geometry.h"
@@ -42,17 +43,17 @@ class TimeBudget {
   bool exhausted_ = false;
 };
 
-/// The planner's robot, database, configuration and terrain, shared by reference with every
-/// stage. Through its last three members a stage writes the LP workspace, counts its work and
+/// The planner's robot, database, configuration, stance rules and terrain, shared by reference
+/// with every stage. Through its last three members a stage writes the LP workspace, counts its work and
 /// checks the budget.
 struct PlannerContext {
   const RobotModel& robot;
   const LimbDatabase& db;
   const EquilibriumConfig& eq_config;
   const ContactPlannerConfig& config;
-  double torque_limit;                          ///< static torque allowed at a joint [N m]
-  const RobotTerrainCollision& collision;       ///< terrain checks, thighs with their clearance
-  const RobotTerrainCollision& self_collision;  ///< self-collision, exact shapes
+  /// The stance rules the controller walks by: support margin, torques, collision with the
+  /// clearances (TerrainCollision) and exact (ExactCollision), the swing path.
+  const StanceChecker& stance;
   const std::vector<ConvexPolygon3d>& surfaces; ///< the contact surfaces, as given to SetTerrain
   StaticEquilibrium& equilibrium;
   ContactPlanStats& stats;

@@ -6,8 +6,6 @@
 
 #include "rbcp/core/format.h"
 #include "rbcp/core/pose.h"
-#include "rbcp/equilibrium/stance_torques.h"
-#include "rbcp/equilibrium/support_polygon.h"
 
 namespace rbcp::contact_planner_detail {
 
@@ -85,33 +83,21 @@ LegKeep KeepLeg(const PlannerContext& ctx, Leg leg, const Eigen::Isometry3d& bas
     return keep;
   }
   keep.q = ik.q;
-  if (ctx.collision.CheckLeg(leg, base_W, ik.q, true).collision) keep.failure = KeepFailure::kCollision;
+  if (ctx.stance.TerrainCollision().CheckLeg(leg, base_W, ik.q, true).collision) keep.failure = KeepFailure::kCollision;
   return keep;
 }
 
 std::optional<JointVector> SolveStance(const PlannerContext& ctx, const Eigen::Isometry3d& base_W, const Feet& feet,
                                        int lifting) {
+  if (lifting != kNoMargins) return ctx.stance.SolveStance(base_W, feet, lifting);
   const Eigen::Isometry3d T_BW = base_W.inverse();
   JointVector q = JointVector::Zero();
   for (Leg leg : kAllLegs) {
-    const Eigen::Vector3d p_B = T_BW * feet[static_cast<std::size_t>(Index(leg))].position;
-    const IkResult ik = ctx.robot.SolveLegIk(leg, p_B);
+    const IkResult ik = ctx.robot.SolveLegIk(leg, T_BW * feet[static_cast<std::size_t>(Index(leg))].position);
     if (!ik.ok()) return std::nullopt;
-    if (lifting != kNoMargins &&
-        !ctx.robot.WithinMargins(leg, p_B, ik.q, ctx.robot.MaxHipDistance(Index(leg) == lifting))) {
-      return std::nullopt;
-    }
     SetLegJoints(q, leg, ik.q);
   }
   return q;
-}
-
-std::vector<Eigen::Vector3d> FeetPositions(const Feet& feet, int skip) {
-  std::vector<Eigen::Vector3d> out;
-  for (int i = 0; i < kNumLegs; ++i) {
-    if (i != skip) out.push_back(feet[static_cast<std::size_t>(i)].position);
-  }
-  return out;
 }
 
 std::vector<ContactPoint> Contacts(const Feet& feet, int skip) {
@@ -120,51 +106,6 @@ std::vector<ContactPoint> Contacts(const Feet& feet, int skip) {
     if (i != skip) out.push_back({feet[static_cast<std::size_t>(i)].position, feet[static_cast<std::size_t>(i)].normal});
   }
   return out;
-}
-
-std::string TorqueProblem(const PlannerContext& ctx, const Eigen::Isometry3d& base_W, const JointVector& q,
-                          const Feet& feet, int skip, const Eigen::Vector3d& com_W) {
-  ForceDistributionParams params;
-  params.friction = ctx.eq_config.friction;
-  params.min_normal_force_N = ctx.config.stance_min_normal_force_N;
-  const StanceTorques t = ComputeStanceTorques(ctx.robot, base_W, q, StanceFeet(feet, skip), com_W, params);
-  if (!t.balanced) return "the feet's friction cones cannot hold the weight";
-  if (t.max_abs_Nm > ctx.torque_limit) {
-    return JointName(t.worst_joint) + " static torque " + FixedNumber(t.max_abs_Nm, 1) + " N m";
-  }
-  return "";
-}
-
-std::string TransitProblem(const PlannerContext& ctx, const WholeBodyState& from, const Eigen::Isometry3d& to,
-                           const Eigen::Vector3d& rpy_to, int lifting) {
-  const int n = ctx.config.base_shift.transit_checks;
-  const Eigen::Vector3d p0 = from.base_position;
-  const Eigen::Vector3d rpy0 = from.base_rpy;
-  const std::vector<Eigen::Vector3d> feet = FeetPositions(from.feet, -1);
-  for (int k = 1; k <= n; ++k) {
-    const double w = static_cast<double>(k) / static_cast<double>(n + 1);
-    Eigen::Vector3d rpy = rpy0 + w * (rpy_to - rpy0);
-    rpy.z() = WrapPi(rpy0.z() + w * WrapPi(rpy_to.z() - rpy0.z()));
-    const Eigen::Isometry3d T = PoseFromRpy(p0 + w * (to.translation() - p0), rpy);
-    const std::optional<JointVector> q = SolveStance(ctx, T, from.feet, lifting);
-    if (!q) return "feet out of reach while the body moves to the step pose";
-    if (SupportPolygonMargin(feet, CoM(ctx, T, *q)) < ctx.eq_config.support_margin_m) {
-      return "CoM leaves the support polygon while the body moves to the step pose";
-    }
-    if (ctx.collision.CheckTrunk(T).collision) return "trunk collides while the body moves to the step pose";
-  }
-  return "";
-}
-
-CollisionReport LiftOffCollision(const PlannerContext& ctx, const Eigen::Isometry3d& base, const JointVector& q,
-                                 Leg lifting) {
-  CollisionReport hit = ctx.collision.CheckTrunk(base);
-  for (Leg leg : kAllLegs) {
-    if (hit.collision) break;
-    const RobotTerrainCollision& c = leg == lifting ? ctx.self_collision : ctx.collision;
-    hit = c.CheckLeg(leg, base, LegJoints(q, leg), true);
-  }
-  return hit;
 }
 
 }  // namespace rbcp::contact_planner_detail

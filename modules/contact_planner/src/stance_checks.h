@@ -18,7 +18,7 @@
 
 namespace rbcp::contact_planner_detail {
 
-using Feet = std::array<FootContact, kNumLegs>;
+using Feet = FootContacts;
 
 /// A stance's base pose and the roll, pitch and yaw it is made of.
 struct StanceBase {
@@ -60,8 +60,9 @@ LegKeep KeepLeg(const PlannerContext& ctx, Leg leg, const Eigen::Isometry3d& bas
 inline constexpr int kNoMargins = -2;
 
 /// IK of all four feet within the joint bounds (no workspace) and the kinematic margins,
-/// `lifting` (-1: none) being the leg about to lift (it may stretch to the lift-off distance);
-/// with kNoMargins, within the joint bounds only. nullopt when a foot cannot be reached.
+/// `lifting` (-1: none) being the leg about to lift (it may stretch to the lift-off distance;
+/// StanceChecker::SolveStance); with kNoMargins, within the joint bounds only. nullopt when a foot
+/// cannot be reached.
 std::optional<JointVector> SolveStance(const PlannerContext& ctx, const Eigen::Isometry3d& base_W, const Feet& feet,
                                        int lifting);
 
@@ -70,26 +71,19 @@ inline Eigen::Vector3d CoM(const PlannerContext& ctx, const Eigen::Isometry3d& b
   return base_W * ctx.robot.CenterOfMass(q);
 }
 
-/// The feet's positions, all but `skip` (-1: none).
-std::vector<Eigen::Vector3d> FeetPositions(const Feet& feet, int skip);
 /// The feet as contact points, all but `skip` (-1: none).
 std::vector<ContactPoint> Contacts(const Feet& feet, int skip);
 
-/// What keeps the stance (all feet but `skip`) from holding the robot within the torque limit,
-/// with the weight spread over the feet as the controller spreads it: the distribution cannot
-/// balance it, or the joint over the limit; empty when within the limit.
-std::string TorqueProblem(const PlannerContext& ctx, const Eigen::Isometry3d& base_W, const JointVector& q,
-                          const Feet& feet, int skip, const Eigen::Vector3d& com_W);
+/// The torques of the stance (all feet but `skip`) as the controller holds it
+/// (StanceChecker::Torques).
+inline StanceVerdict Torques(const PlannerContext& ctx, const Eigen::Isometry3d& base_W, const JointVector& q,
+                             const Feet& feet, int skip, const Eigen::Vector3d& com_W) {
+  return ctx.stance.Torques(base_W, q, feet, skip, com_W);
+}
 
-/// What goes wrong on the straight base motion from `from`'s base to `to` (rotation from rpy_to)
-/// with `from`'s feet, `lifting` about to lift; empty when every intermediate pose is valid.
-std::string TransitProblem(const PlannerContext& ctx, const WholeBodyState& from, const Eigen::Isometry3d& to,
-                           const Eigen::Vector3d& rpy_to, int lifting);
-
-/// Collision of the stance before `lifting` lifts off: the trunk and the stance legs with the
-/// thighs' clearance, the lifting leg's own shapes exact (its knee rises from there; a knee that
-/// sits close over a block edge next to its foot is clear once the foot is up).
-CollisionReport LiftOffCollision(const PlannerContext& ctx, const Eigen::Isometry3d& base, const JointVector& q,
-                                 Leg lifting);
+/// The CoM the stance rules' support margin inside the polygon of the feet but `skip`.
+inline bool SupportHolds(const PlannerContext& ctx, const Feet& feet, int skip, const Eigen::Vector3d& com_W) {
+  return ctx.stance.Support(feet, skip, com_W).ok();
+}
 
 }  // namespace rbcp::contact_planner_detail

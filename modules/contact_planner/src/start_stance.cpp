@@ -45,8 +45,8 @@ StandingResult StandingAt(const PlannerContext& ctx, const Eigen::Vector3d& base
     }
   }
   state.joints = q;
-  if (ctx.collision.CheckTrunk(base).collision) return fail("trunk collides with the terrain");
-  const CollisionReport self = ctx.self_collision.CheckSelf(q);
+  if (ctx.stance.TerrainCollision().CheckTrunk(base).collision) return fail("trunk collides with the terrain");
+  const CollisionReport self = ctx.stance.ExactCollision().CheckSelf(q);
   if (self.collision) return fail("self-collision " + self.first_shape + " / " + self.obstacle);
   const Eigen::Vector3d com = CoM(ctx, base, q);
   ++ctx.stats.stability_evaluations;
@@ -54,10 +54,10 @@ StandingResult StandingAt(const PlannerContext& ctx, const Eigen::Vector3d& base
   if (!ctx.equilibrium.MeetsThreshold(eq)) {
     return fail("standing stance not statically stable (robustness " + FixedNumber(eq.robustness_N, 2) + " N)");
   }
-  const double margin = SupportPolygonMargin(FeetPositions(state.feet, -1), com);
-  if (margin < ctx.eq_config.support_margin_m) return fail("CoM " + FixedNumber(margin) + " m inside the support polygon");
-  const std::string torque = TorqueProblem(ctx, base, q, state.feet, -1, com);
-  if (!torque.empty()) return fail("standing stance: " + torque);
+  if (const StanceVerdict support = ctx.stance.Support(state.feet, -1, com); !support.ok()) return fail(support.detail);
+  if (const StanceVerdict torque = Torques(ctx, base, q, state.feet, -1, com); !torque.ok()) {
+    return fail("standing stance: " + torque.detail);
+  }
   return {state, ""};
 }
 

@@ -1,6 +1,8 @@
 #include "step.h"
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <string_view>
 #include <vector>
 
@@ -8,6 +10,7 @@
 #include "foothold_query.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/support_polygon.h"
 #include "stance_checks.h"
 
@@ -46,21 +49,25 @@ std::optional<StepAttempt> LiftOffFailure(const PlannerContext& ctx, const Whole
   const auto invalid = [](std::string why, std::optional<Leg> blocking = std::nullopt) {
     return StepAttempt{StepOutcome::kPoseInvalid, std::move(why), blocking, Node{}};
   };
-  const CollisionReport pre_hit = LiftOffCollision(ctx, base.base_W, q_pre, leg);
-  if (pre_hit.collision) {
-    std::optional<Leg> blocking = LegFromName(std::string_view(pre_hit.first_shape).substr(0, 2));
+  const StanceVerdict hit = ctx.stance.LiftOffCollision(base.base_W, q_pre, leg);
+  if (!hit.ok()) {
+    std::optional<Leg> blocking = hit.check == StanceCheck::kCollision ? hit.leg : std::nullopt;
     if (blocking == leg) blocking.reset();
-    return invalid("collision before lift-off (" + pre_hit.first_shape + ")", blocking);
+    return invalid(std::string(ToString(hit.check)) + " before lift-off (" + hit.detail + ")", blocking);
   }
-  if (ctx.self_collision.CheckSelf(q_pre).collision) return invalid("self-collision before lift-off");
   const Eigen::Vector3d com_pre = CoM(ctx, base.base_W, q_pre);
-  if (SupportPolygonMargin(FeetPositions(from.feet, j), com_pre) < ctx.eq_config.support_margin_m) {
-    return invalid("CoM too close to the swing support triangle at lift-off");
+  if (!SupportHolds(ctx, from.feet, j, com_pre)) return invalid("CoM too close to the swing support triangle at lift-off");
+  if (const StanceVerdict torque = Torques(ctx, base.base_W, q_pre, from.feet, j, com_pre); !torque.ok()) {
+    return invalid("three-foot stance at lift-off: " + torque.detail);
   }
-  const std::string torque = TorqueProblem(ctx, base.base_W, q_pre, from.feet, j, com_pre);
-  if (!torque.empty()) return invalid("three-foot stance at lift-off: " + torque);
-  std::string transit = TransitProblem(ctx, from, base.base_W, base.rpy, j);
-  if (!transit.empty()) return invalid(std::move(transit));
+  const StanceVerdict shift =
+      ctx.stance.CheckShift(from.base_position, from.base_rpy, base.base_W, base.rpy, from.feet, j);
+  if (!shift.ok()) {
+    // A stance leg that meets the terrain as the body moves is re-placed first.
+    std::optional<Leg> blocking = shift.check == StanceCheck::kCollision ? shift.leg : std::nullopt;
+    if (blocking == leg) blocking.reset();
+    return invalid("while the body moves to the step pose: " + shift.detail, blocking);
+  }
   return std::nullopt;
 }
 
@@ -68,13 +75,50 @@ std::string TouchDownStanceProblem(const PlannerContext& ctx, const Eigen::Isome
                                    const Feet& feet, int swing, const Eigen::Vector3d& com_W) {
   const EquilibriumResult eq = ctx.equilibrium.Robustness(Contacts(feet, -1), com_W);
   if (!ctx.equilibrium.MeetsThreshold(eq)) return "robustness " + FixedNumber(eq.robustness_N, 2) + " N";
-  if (const std::string four = TorqueProblem(ctx, base, q, feet, -1, com_W); !four.empty()) {
-    return "four-foot stance: " + four;
+  if (const StanceVerdict four = Torques(ctx, base, q, feet, -1, com_W); !four.ok()) {
+    return "four-foot stance: " + four.detail;
   }
-  if (const std::string three = TorqueProblem(ctx, base, q, feet, swing, com_W); !three.empty()) {
-    return "three-foot stance at touch-down: " + three;
+  if (const StanceVerdict three = Torques(ctx, base, q, feet, swing, com_W); !three.ok()) {
+    return "three-foot stance at touch-down: " + three.detail;
   }
   return "";
+}
+
+namespace {
+
+/// The swing of `swing` from its foothold in from_feet to to_W as the planner checks it.
+SwingTrajectory PlannedSwing(const PlannerContext& ctx, const Feet& from_feet, int swing, const Eigen::Vector3d& to_W,
+                             const Eigen::Isometry3d& base, const JointVector& q) {
+  return ctx.stance.PlanSwing(static_cast<Leg>(swing), from_feet[static_cast<std::size_t>(swing)].position, to_W, base, q,
+                              SwingSearch::kFirstClear);
+}
+
+}  // namespace
+
+std::string SwingProblem(const PlannerContext& ctx, const Feet& from_feet, int swing, const Eigen::Vector3d& to_W,
+                         const Eigen::Isometry3d& base, const JointVector& q) {
+  ++ctx.stats.swing_checks;
+  const StanceVerdict v =
+      ctx.stance.SwingClearance(PlannedSwing(ctx, from_feet, swing, to_W, base, q), static_cast<Leg>(swing));
+  return v.ok() ? "" : "swing: " + v.detail;
+}
+
+void AttachSwings(const PlannerContext& ctx, std::vector<WholeBodyState>& states) {
+  if (!states.empty()) {  // the first state is where the plan starts: no swing reaches it
+    states.front().swing_apex_z = std::numeric_limits<double>::quiet_NaN();
+    states.front().swing_bow.setZero();
+  }
+  for (std::size_t k = 1; k < states.size(); ++k) {
+    WholeBodyState& s = states[k];
+    const std::size_t j = static_cast<std::size_t>(s.moving_leg);
+    const SwingTrajectory path = PlannedSwing(ctx, states[k - 1].feet, s.moving_leg, s.feet[j].position, BasePose(s), s.joints);
+    s.swing_apex_z = std::numeric_limits<double>::quiet_NaN();
+    s.swing_bow.setZero();
+    if (ctx.stance.SwingClearance(path, static_cast<Leg>(s.moving_leg)).ok()) {
+      s.swing_apex_z = path.Apex();
+      s.swing_bow = path.Bow();
+    }
+  }
 }
 
 int NumVariants(const ContactPlannerConfig& config) {
@@ -100,7 +144,7 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
   const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, skip);
   RBCP_CHECK(stance.size() == 3, "a swing stands on three feet");
   const std::array<Eigen::Vector2d, 3> tri = {stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()};
-  const double required = ctx.eq_config.support_margin_m;
+  const double required = ctx.stance.Config().support_margin_m;
   const auto eroded = ErodeTriangle(tri, required + bs.shift_extra_margin_m);
   // A triangle the CoM cannot get into is widened by the leg before this one in the crawl.
   const Leg widening_leg = CrawlPrevious(swing);
@@ -216,6 +260,7 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
   // The pose of the look-ahead below (the path pose lead_time_s later).
   const PathPose ahead_pose = LeadPose(path, option.t, fc.lead_time_s, fc.max_lead_yaw_rad);
   int lp_evaluations = 0;
+  std::vector<Eigen::Vector3d> swing_failed;  // footholds whose swing cannot keep clear
   std::size_t candidates_seen = 0;
   std::string last_reject;
   // Footholds near the target first (most steps end there, and the database query is the
@@ -234,6 +279,11 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
       ++ctx.stats.candidates_evaluated;
       if ((c.foothold - old_foot).norm() < fc.min_step_length_m) continue;
       if (!FarEnoughFromFeet(ctx, parent.state.feet, j, c.foothold)) continue;
+      if (std::any_of(swing_failed.begin(), swing_failed.end(), [&](const Eigen::Vector3d& f) {
+            return (f - c.foothold).norm() < fc.swing_failure_radius_m;
+          })) {
+        continue;
+      }
       const Eigen::Vector3d p_B = T_BW * c.foothold;
       if (WorkspaceRatio(ctx, leg, p_B) > 1.0) {
         last_reject = "outside the workspace";
@@ -247,15 +297,15 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
       JointVector q_post = q_pre;
       SetLegJoints(q_post, leg, ik.q);
       const Eigen::Vector3d com_post = CoM(ctx, base, q_post);
-      if (SupportPolygonMargin(stance, com_post) < ctx.eq_config.support_margin_m) {
+      if (!SupportHolds(ctx, parent.state.feet, j, com_post)) {
         last_reject = "CoM near the swing triangle edge at touch-down";
         continue;
       }
-      if (ctx.collision.CheckLeg(leg, base, ik.q, true).collision) {
+      if (ctx.stance.TerrainCollision().CheckLeg(leg, base, ik.q, true).collision) {
         last_reject = "leg collision";
         continue;
       }
-      if (ctx.self_collision.CheckSelf(q_post).collision) {
+      if (ctx.stance.ExactCollision().CheckSelf(q_post).collision) {
         last_reject = "self-collision";
         continue;
       }
@@ -285,6 +335,18 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
       feet[static_cast<std::size_t>(j)].normal = ctx.surfaces[static_cast<std::size_t>(c.surface)].Normal();
       if (std::string problem = TouchDownStanceProblem(ctx, base, q_post, feet, j, com_post); !problem.empty()) {
         last_reject = std::move(problem);
+        continue;
+      }
+      // The swing the controller will walk, from this base pose: the last test, and the dearest.
+      if (std::string problem = SwingProblem(ctx, parent.state.feet, j, c.foothold, base, q_post); !problem.empty()) {
+        last_reject = std::move(problem);
+        swing_failed.push_back(c.foothold);
+        if (static_cast<int>(swing_failed.size()) >= fc.max_swing_failures) {
+          return {StepOutcome::kNoCandidate,
+                  "the swings to the " + std::to_string(swing_failed.size()) + " best footholds cannot keep clear (last: " +
+                      last_reject + ")",
+                  std::nullopt, Node{}};
+        }
         continue;
       }
       return {StepOutcome::kFound, "", std::nullopt, ChildNode(profile, parent, option, step_base, q_post, feet, shift)};

@@ -69,6 +69,17 @@ std::optional<StepAttempt> LiftOffFailure(const PlannerContext& ctx, const Whole
 std::string TouchDownStanceProblem(const PlannerContext& ctx, const Eigen::Isometry3d& base, const JointVector& q,
                                    const Feet& feet, int swing, const Eigen::Vector3d& com_W);
 
+/// Why the swing of leg `swing` from its foothold in from_feet to to_W, with the base held at
+/// `base` and the other legs at q, cannot keep clear of the terrain (or of the body): the path
+/// the controller walks (StanceChecker::PlanSwing); empty when it can.
+std::string SwingProblem(const PlannerContext& ctx, const Feet& from_feet, int swing, const Eigen::Vector3d& to_W,
+                         const Eigen::Isometry3d& base, const JointVector& q);
+
+/// Writes into every state after the first the swing path that reaches it (its apex and bow, as
+/// SwingProblem found it clear), so the controller walks the path checked here; the first state
+/// gets none.
+void AttachSwings(const PlannerContext& ctx, std::vector<WholeBodyState>& states);
+
 /// Steps option.leg at path time option.t from `parent`: the body shift (from the option's
 /// variant), the lift-off stance and the transit to it, then the database candidates toward the
 /// target (the reference foot at the lead pose, or at the path end for a goal step), nearest

@@ -16,26 +16,10 @@
 namespace rbcp {
 namespace {
 
-/// Base offsets (base frame) tried, in order, when a swing cannot clear the terrain: sideways
-/// first, then along the body, then higher.
-const std::array<Eigen::Vector3d, 10> kClearanceOffsets = {
-    Eigen::Vector3d(0, 0.02, 0), Eigen::Vector3d(0, -0.02, 0), Eigen::Vector3d(0, 0.04, 0), Eigen::Vector3d(0, -0.04, 0),
-    Eigen::Vector3d(0, 0.06, 0), Eigen::Vector3d(0, -0.06, 0), Eigen::Vector3d(0.03, 0, 0), Eigen::Vector3d(-0.03, 0, 0),
-    Eigen::Vector3d(0, 0, 0.02), Eigen::Vector3d(0, 0, 0.04)};
-
-constexpr double kReachSpareM = 0.01;  // [m] the stepping foot's reach beyond the end of its path
 constexpr double kTouchdownHeightM = 0.02;  // [m] a contact this close above the foothold is a touchdown
 constexpr double kTouchdownForceN = 5.0;  // [N] least contact force of a touchdown higher up
 constexpr double kTouchdownCosine = 0.8;  // a touchdown force lies within 37 degrees of the normal (a
                                           // foot sliding down a riser face under friction 0.8: 52)
-
-/// Base offsets (base frame) tried, in order, when the three-foot stance of a lift-off asks a
-/// joint for more than kTorqueFraction of the torque limit: lower, higher, along and across.
-const std::array<Eigen::Vector3d, 8> kTorqueOffsets = {
-    Eigen::Vector3d(0, 0, -0.02), Eigen::Vector3d(0, 0, -0.04), Eigen::Vector3d(0, 0, 0.02),
-    Eigen::Vector3d(0.03, 0, 0),  Eigen::Vector3d(-0.03, 0, 0), Eigen::Vector3d(0, 0.03, 0),
-    Eigen::Vector3d(0, -0.03, 0), Eigen::Vector3d(0, 0, 0.04)};
-constexpr double kTorqueFraction = 0.85;
 
 double MinJerk(double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); }
 double MinJerkRate(double u) { return 30.0 * u * u * (1.0 - u) * (1.0 - u); }
@@ -49,15 +33,6 @@ Eigen::Vector3d RotationVector(Eigen::Quaterniond q) {
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();
   const Eigen::AngleAxisd aa(q);
   return aa.angle() * aa.axis();
-}
-
-/// The incentre of a triangle's xy.
-Eigen::Vector2d Incentre(const std::vector<Eigen::Vector3d>& tri) {
-  const Eigen::Vector2d a = tri[0].head<2>(), b = tri[1].head<2>(), c = tri[2].head<2>();
-  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
-  const double sum = la + lb + lc;
-  if (sum <= 0.0) return a;
-  return (la * a + lb * b + lc * c) / sum;
 }
 
 }  // namespace
@@ -106,27 +81,15 @@ bool PlanController::OnFoothold(const Measured& m, std::size_t leg) const {
   return f.norm() >= kTouchdownForceN && f.dot(n) >= kTouchdownCosine * f.norm();
 }
 
-PlanController::PlanController(const RobotModel& robot, const ControllerConfig& config, const TriangleMesh* terrain)
-    : robot_(robot), config_(config) {
+PlanController::PlanController(const RobotModel& robot, const ControllerConfig& config, const StanceRules& rules,
+                               const TriangleMesh* terrain)
+    : robot_(robot), config_(config), stance_(robot, rules) {
   config_.Validate();
   normal_W_.fill(Eigen::Vector3d::UnitZ());
   SetTerrain(terrain);
 }
 
-void PlanController::SetTerrain(const TriangleMesh* terrain) {
-  terrain_ = terrain;
-  collision_.reset();
-  swing_collision_.reset();
-  if (terrain_ != nullptr && !terrain_->triangles.empty()) {
-    CollisionOptions options;
-    options.measure_penetration = false;
-    collision_ = std::make_unique<RobotTerrainCollision>(robot_, *terrain_, options);
-    // The swing leg's path keeps its thigh a little clear: the base it swings from is held only
-    // to within millimetres, and a knee passes close over the edge of a higher foothold.
-    options.thigh_margin = config_.swing.thigh_clearance_m;
-    swing_collision_ = std::make_unique<RobotTerrainCollision>(robot_, *terrain_, options);
-  }
-}
+void PlanController::SetTerrain(const TriangleMesh* terrain) { stance_.SetTerrain(terrain); }
 
 void PlanController::CheckPlan(const ContactPlan& plan) {
   if (plan.states.empty()) throw InputError("controller: expected a plan with at least one state, got none");
@@ -202,189 +165,30 @@ void PlanController::EvaluateReference(double t) {
   reference_.angular_velocity_W = xd * RotationVector(s.q1 * s.q0.conjugate());
 }
 
-/// The stance before a lift-off: the planned base pose of the step and the feet that stay.
-struct PlanController::LiftOff {
-  Leg leg = Leg::kLF;
-  Eigen::Vector3d base = Eigen::Vector3d::Zero();   // planned base position
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // planned base orientation
-  Eigen::Vector3d com_B = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector3d> stay;                // the three feet that stay down
-  Eigen::Vector3d foothold = Eigen::Vector3d::Zero();  // where the stepping foot goes
-};
-
-double PlanController::Margin(const LiftOff& l, const Eigen::Vector3d& shift) const {
-  return SupportPolygonMargin(l.stay, l.base + shift + l.R * l.com_B);
-}
-
-bool PlanController::Reachable(const LiftOff& l, const Eigen::Vector3d& shift, const Measured& m) const {
-  // Every foot within reach of the shifted base, and the robot clear of the terrain there.
-  Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-  base_W.linear() = l.R;
-  base_W.translation() = l.base + shift;
-  JointVector q;
-  for (Leg leg : kAllLegs) {
-    const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * m.feet_W[static_cast<std::size_t>(Index(leg))]);
-    if (!ik.ok()) return false;
-    SetLegJoints(q, leg, ik.q);
-  }
-  // The stepping foot must also reach its foothold from there, and the end of its path below it.
-  const Eigen::Vector3d below(0, 0, config_.swing.touchdown_depth_m + kReachSpareM);
-  if (!robot_.SolveLegIk(l.leg, base_W.inverse() * (l.foothold - below)).ok()) return false;
-  return !collision_ || !collision_->CheckRobot(base_W, q, {true, true, true, true}).collision;
-}
-
-Eigen::Vector3d PlanController::MarginShift(const LiftOff& l, const Measured& m) const {
-  const double wanted = config_.base.support_margin_m;
-  if (Margin(l, Eigen::Vector3d::Zero()) >= wanted) return Eigen::Vector3d::Zero();
-  const Eigen::Vector3d com0 = l.base + l.R * l.com_B;
-  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
-  direction.head<2>() = Incentre(l.stay) - com0.head<2>();
-  const double to_incentre = direction.norm();
-  if (to_incentre < 1e-9) return Eigen::Vector3d::Zero();
-  direction /= to_incentre;
-  // The margin grows along the way to the incentre: bisect for the least shift that gives it.
-  const double longest = std::min(to_incentre, config_.base.max_margin_shift_m);
-  double lo = 0.0, hi = longest;
-  if (Margin(l, hi * direction) >= wanted) {
-    for (int k = 0; k < 30; ++k) {
-      const double mid = 0.5 * (lo + hi);
-      (Margin(l, mid * direction) >= wanted ? hi : lo) = mid;
-    }
-  }
-  double shift = hi;
-  if (!Reachable(l, shift * direction, m)) {
-    double ok = 0.0, bad = shift;
-    for (int k = 0; k < 20; ++k) {
-      const double mid = 0.5 * (ok + bad);
-      (Reachable(l, mid * direction, m) ? ok : bad) = mid;
-    }
-    shift = ok;
-  }
-  return shift * direction;
-}
-
-double PlanController::StanceTorque(const LiftOff& l, const Eigen::Vector3d& shift) const {
-  // The three feet that stay hold the robot's weight at the CoM; the largest joint torque that
-  // takes, with the legs' own weight, at the shifted base.
-  Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-  base_W.linear() = l.R;
-  base_W.translation() = l.base + shift;
-  std::vector<StanceFoot> feet;
-  JointVector q = JointVector::Zero();
-  std::size_t k = 0;
-  for (Leg leg : kAllLegs) {
-    if (leg == l.leg) continue;
-    StanceFoot f;
-    f.leg = leg;
-    f.position_W = l.stay[k++];
-    f.normal_W = normal_W_[static_cast<std::size_t>(Index(leg))];
-    feet.push_back(f);
-    const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * f.position_W);
-    if (!ik.ok()) return std::numeric_limits<double>::infinity();
-    SetLegJoints(q, leg, ik.q);
-  }
-  ForceDistributionParams params;
-  params.friction = config_.stance.friction;
-  params.min_normal_force_N = config_.stance.min_normal_force_N;
-  const StanceTorques t = ComputeStanceTorques(robot_, base_W, q, feet, base_W.translation() + l.R * l.com_B, params);
-  return t.balanced ? t.max_abs_Nm : std::numeric_limits<double>::infinity();
-}
-
-SwingTrajectory PlanController::PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
-                                          const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W,
-                                          const JointVector& q) const {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = orientation_W.toRotationMatrix();
-  pose.translation() = base_W;
-  // The base holds its pose during the swing: the leg must clear the terrain from there. The
-  // foot itself is kept clear by the path's terrain check (it starts and ends on the ground).
-  const SwingTrajectory::LegCheck leg_clear = [&](const Eigen::Vector3d& foot_W) {
-    // A foot the leg cannot reach within its joint bounds would press a joint into its stop,
-    // and one drawn up close to the hip folds the shank against the trunk.
-    const Eigen::Vector3d foot_B = pose.inverse() * foot_W;
-    if ((foot_B - robot_.HipPosition(leg)).norm() < config_.swing.min_hip_distance_m) return false;
-    const IkResult ik = robot_.SolveLegIk(leg, foot_B);
-    if (!ik.ok()) return false;
-    return !swing_collision_->CheckLeg(leg, pose, ik.q, true).collision;
-  };
-  // Where it can, the leg also keeps clear of the trunk and the other legs: a hind leg stepping
-  // down from a tread close below its hip, lifted straight up, folds its thigh against the trunk
-  // and stalls the hip flexion at its torque limit. A fore knee raised to step up a tread often
-  // cannot keep clear of the trunk: then the path touches it as little as it can, and the base
-  // pose of the swing is chosen by the terrain checks alone (LegCollisions()). Checked with the
-  // exact shapes: the thighs' terrain clearance is none here.
-  const SwingTrajectory::LegCheck clear_of_body = [&](const Eigen::Vector3d& foot_W) {
-    const IkResult ik = robot_.SolveLegIk(leg, pose.inverse() * foot_W);
-    if (!ik.ok()) return false;
-    JointVector q_swing = q;
-    SetLegJoints(q_swing, leg, ik.q);
-    return !collision_->CheckSelf(q_swing).collision;
-  };
-  // Towards the body: from the middle of the swing to the base, across the swing direction.
-  const Eigen::Vector2d across = (to_W - from_W).head<2>();
-  Eigen::Vector2d inward = (base_W - 0.5 * (to_W + from_W)).head<2>();
-  if (across.norm() > 1e-6) inward -= inward.dot(across.normalized()) * across.normalized();
-  return SwingTrajectory::Plan(from_W, to_W, terrain_, robot_.FootRadius(), config_.swing,
-                               collision_ ? leg_clear : SwingTrajectory::LegCheck(), inward,
-                               collision_ ? clear_of_body : SwingTrajectory::LegCheck());
-}
-
 void PlanController::BeginStep(int index, const Measured& m) {
   const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
-  LiftOff l;
-  l.leg = static_cast<Leg>(target.moving_leg);
-  l.base = target.base_position;
-  l.R = RotationFromRpy(target.base_rpy);
-  l.com_B = robot_.CenterOfMass(target.joints);
-  for (Leg other : kAllLegs) {
-    if (other != l.leg) l.stay.push_back(m.feet_W[static_cast<std::size_t>(Index(other))]);
-  }
-  l.foothold = target.feet[static_cast<std::size_t>(Index(l.leg))].position;
   status_.step = index;
-  status_.swing_leg = l.leg;
-  const Eigen::Quaterniond orientation = QuaternionFromRpy(target.base_rpy);
-  Eigen::Vector3d shift = MarginShift(l, m);
-  const std::size_t i = static_cast<std::size_t>(Index(l.leg));
-  const Eigen::Vector3d& from = m.feet_W[i];
-  const Eigen::Vector3d& to = target.feet[i].position;
-  const double least_margin = 0.5 * config_.base.support_margin_m;
-  // How far the swing from a base pose is from clear: its samples with the leg on the terrain,
-  // then those with the leg on the trunk or another leg.
-  auto swing_collisions = [&](const Eigen::Vector3d& at) {
-    if (!collision_) return std::make_pair(0, 0);
-    const SwingTrajectory swing = PlanSwing(l.leg, from, to, l.base + at, orientation, m.q);
-    return std::make_pair(swing.LegCollisions(), swing.PreferredMisses());
-  };
-  // When the swing from this base pose cannot keep the leg clear (a wall beside the robot, a
-  // hind thigh that folds against the trunk), try base poses nearby that keep a support margin
-  // and every foot in reach; for the trunk only those that also keep the stance's torques low.
-  std::pair<int, int> collisions = swing_collisions(shift);
-  const double torque_ceiling = kTorqueFraction * config_.torque_limit_Nm;
-  for (int k = 0; collisions != std::make_pair(0, 0) && k < static_cast<int>(kClearanceOffsets.size()); ++k) {
-    const Eigen::Vector3d candidate = shift + l.R * kClearanceOffsets[static_cast<std::size_t>(k)];
-    if (Margin(l, candidate) < least_margin || !Reachable(l, candidate, m)) continue;
-    const std::pair<int, int> candidate_collisions = swing_collisions(candidate);
-    if (candidate_collisions >= collisions) continue;
-    if (candidate_collisions.first == collisions.first && StanceTorque(l, candidate) > torque_ceiling) continue;
-    collisions = candidate_collisions;
-    shift = candidate;
-  }
-  // When the stance that stays asks a joint for nearly all the actuators can give, try base poses
-  // nearby (lower first) that keep the support margin, the feet in reach and the swing as clear.
-  double torque = StanceTorque(l, shift);
-  if (torque > torque_ceiling) {
-    const Eigen::Vector3d start = shift;
-    for (const Eigen::Vector3d& offset : kTorqueOffsets) {
-      const Eigen::Vector3d candidate = start + l.R * offset;
-      const double candidate_torque = StanceTorque(l, candidate);
-      if (candidate_torque >= torque || Margin(l, candidate) < least_margin || !Reachable(l, candidate, m)) continue;
-      if (swing_collisions(candidate) > collisions) continue;
-      torque = candidate_torque;
-      shift = candidate;
-    }
-  }
-  MoveBaseTo(l.base + shift, orientation, m.t, config_.base.min_shift_s);
+  status_.swing_leg = static_cast<Leg>(target.moving_leg);
+  status_.step_max_base_error_m = 0.0;
+  // The plan's base pose is the one the planner checked the step at: the base goes exactly there.
+  MoveBaseTo(target.base_position, QuaternionFromRpy(target.base_rpy), m.t, config_.base.min_shift_s);
   Enter(ControllerPhase::kShift, m.t);
+}
+
+SwingTrajectory PlanController::PlanSwing(int index, const Eigen::Vector3d& foot_W) const {
+  // The path the planner checked: from the previous state's foothold to the new one, the base at
+  // the step's pose, started where the foot really is (a few millimetres off, at most). A plan
+  // that carries no swing is walked on the path the stance rules plan from the same footholds.
+  const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
+  const std::size_t i = static_cast<std::size_t>(target.moving_leg);
+  if (target.HasSwing()) {
+    return SwingTrajectory::Given(foot_W, target.feet[i].position, target.swing_apex_z, target.swing_bow,
+                                  stance_.Config().swing);
+  }
+  const WholeBodyState& before = plan_.states[static_cast<std::size_t>(index - 1)];
+  const SwingTrajectory planned = stance_.PlanSwing(static_cast<Leg>(target.moving_leg), before.feet[i].position,
+                                                    target.feet[i].position, BasePose(target), target.joints);
+  return planned.StartingAt(foot_W);
 }
 
 void PlanController::FinishStep(const Measured& m) {
@@ -476,10 +280,9 @@ void PlanController::Advance(const Measured& m) {
       case ControllerPhase::kUnload:
         load_[sl] = std::clamp(1.0 - elapsed / config_.stance.unload_s, 0.0, 1.0);
         if (elapsed >= config_.stance.unload_s) {
-          const WholeBodyState& target = plan_.states[static_cast<std::size_t>(status_.step)];
           load_[sl] = 0.0;
           status_.stance[sl] = false;
-          swing_ = PlanSwing(static_cast<Leg>(sl), m.feet_W[sl], target.feet[sl].position, segment_.p1, segment_.q1, m.q);
+          swing_ = PlanSwing(status_.step, m.feet_W[sl]);
           swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
           Enter(ControllerPhase::kSwing, t);
         }
@@ -508,7 +311,7 @@ void PlanController::Advance(const Measured& m) {
         } else if (elapsed * config_.swing.search_speed_mps >= config_.swing.search_depth_m) {
           Fail(m, static_cast<Leg>(sl),
                std::string(LegName(static_cast<Leg>(sl))) + " found no ground within " +
-                   FixedNumber(config_.swing.search_depth_m + config_.swing.touchdown_depth_m) + " m below its foothold (step " +
+                   FixedNumber(config_.swing.search_depth_m + stance_.Config().swing.touchdown_depth_m) + " m below its foothold (step " +
                    std::to_string(status_.step) + ")");
         }
         break;
@@ -568,6 +371,8 @@ JointVector PlanController::Update(const RobotState& state) {
   }
   Advance(m);
   EvaluateReference(m.t);
+  status_.base_error_m = (reference_.position_W - m.p).norm();
+  status_.step_max_base_error_m = std::max(status_.step_max_base_error_m, status_.base_error_m);
   return Torques(m);
 }
 
@@ -607,8 +412,8 @@ JointVector PlanController::Torques(const Measured& m) {
   status_.support_margin_m = support.empty() ? -1.0 : SupportPolygonMargin(support, m.com_W);
 
   ForceDistributionParams params;
-  params.friction = config_.stance.friction;
-  params.min_normal_force_N = config_.stance.min_normal_force_N;
+  params.friction = stance_.Rules().friction;
+  params.min_normal_force_N = stance_.Config().min_normal_force_N;
   const ForceDistribution forces = DistributeWrench(feet, m.com_W, wrench, params);
 
   const Eigen::Vector3d gravity_B = R.transpose() * Eigen::Vector3d(0, 0, -kGravity);

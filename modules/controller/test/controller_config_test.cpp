@@ -14,7 +14,7 @@ const std::string kConfigFile = std::string(RBCP_SOURCE_DIR) + "/config/controll
 TEST(ControllerConfig, TheShippedFileLoads) {
   const ControllerConfig c = ControllerConfig::LoadFile(kConfigFile);
   EXPECT_EQ(c.torque_limit_Nm, 40.0);
-  EXPECT_EQ(c.base.support_margin_m, 0.04);
+  EXPECT_EQ(c.base.speed_mps, 0.15);
   EXPECT_EQ(c.swing.kp, Eigen::Vector3d(90, 180, 150));
 }
 

@@ -9,7 +9,6 @@ EquilibriumConfig EquilibriumConfig::Load(const YamlMap& map) {
   c.friction = map.Double("friction");
   c.generators_per_contact = map.Int("generators_per_contact");
   c.robustness_threshold_N = map.Double("robustness_threshold_N");
-  c.support_margin_m = map.Double("support_margin_m");
   c.normal_force_slack = map.Double("normal_force_slack");
   map.RejectUnknownKeys();
   c.Validate(map.Where());
@@ -23,7 +22,6 @@ void EquilibriumConfig::Validate(const std::string& where) const {
   check.Positive("friction", friction);
   check.InRange("generators_per_contact", generators_per_contact, 3, 64);
   check.NonNegative("robustness_threshold_N", robustness_threshold_N, "N");
-  check.NonNegative("support_margin_m", support_margin_m, "m");
   check.InRange("normal_force_slack", normal_force_slack, 0.0, 1.0);
 }
 

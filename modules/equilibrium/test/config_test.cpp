@@ -12,15 +12,13 @@ namespace {
 using rbcp::test_support::ErrorOf;
 
 constexpr const char* kValid =
-    "{friction: 0.7, generators_per_contact: 6, robustness_threshold_N: 3.5, support_margin_m: 0.04, "
-    "normal_force_slack: 0.02}";
+    "{friction: 0.7, generators_per_contact: 6, robustness_threshold_N: 3.5, normal_force_slack: 0.02}";
 
 TEST(EquilibriumConfig, LoadsTheShippedFile) {
   const auto c = EquilibriumConfig::LoadFile(std::string(RBCP_SOURCE_DIR) + "/config/equilibrium.yaml");
   EXPECT_DOUBLE_EQ(c.friction, 0.5);
   EXPECT_EQ(c.generators_per_contact, 4);
   EXPECT_DOUBLE_EQ(c.robustness_threshold_N, 2.0);
-  EXPECT_DOUBLE_EQ(c.support_margin_m, 0.04);
   EXPECT_DOUBLE_EQ(c.normal_force_slack, 0.01);
 }
 
@@ -29,18 +27,15 @@ TEST(EquilibriumConfig, ReadsEveryKey) {
   EXPECT_DOUBLE_EQ(c.friction, 0.7);
   EXPECT_EQ(c.generators_per_contact, 6);
   EXPECT_DOUBLE_EQ(c.robustness_threshold_N, 3.5);
-  EXPECT_DOUBLE_EQ(c.support_margin_m, 0.04);
   EXPECT_DOUBLE_EQ(c.normal_force_slack, 0.02);
 }
 
 TEST(EquilibriumConfig, RejectsMissingUnknownAndOutOfRangeKeys) {
   EXPECT_EQ(ErrorOf([] {
               EquilibriumConfig::Load(YamlMap(
-                  YAML::Load("{friction: 0.5, generators_per_contact: 4, robustness_threshold_N: 2, "
-                             "normal_force_slack: 0.01}"),
-                  "eq"));
+                  YAML::Load("{friction: 0.5, generators_per_contact: 4, robustness_threshold_N: 2}"), "eq"));
             }),
-            "eq: 'support_margin_m': missing key");
+            "eq: 'normal_force_slack': missing key");
   EXPECT_EQ(ErrorOf([] {
               auto node = YAML::Load(kValid);
               node["mu"] = 0.5;
@@ -58,7 +53,6 @@ TEST(EquilibriumConfig, RejectsMissingUnknownAndOutOfRangeKeys) {
   EXPECT_EQ(with("generators_per_contact", "4.5"), "eq: 'generators_per_contact': expected an integer, got '4.5'");
   EXPECT_EQ(with("robustness_threshold_N", "-1"),
             "eq: 'robustness_threshold_N': expected a non-negative number [N], got -1");
-  EXPECT_EQ(with("support_margin_m", "-0.01"), "eq: 'support_margin_m': expected a non-negative number [m], got -0.01");
   EXPECT_EQ(with("normal_force_slack", "1.5"), "eq: 'normal_force_slack': expected a number in [0, 1], got 1.5");
   EXPECT_EQ(with("friction", "[1]"), "eq: 'friction': expected a number, got a list of 1");
 }

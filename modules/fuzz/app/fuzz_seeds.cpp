@@ -41,6 +41,7 @@ const std::map<int64_t, std::string>& TargetsByFingerprint() {
       {rbcp_msgs::affordance_set_t::getHash(), "lcm_affordance_set"},
       {rbcp_msgs::plan_request_t::getHash(), "lcm_plan_request"},
       {rbcp_msgs::robot_state_t::getHash(), "lcm_robot_state"},
+      {rbcp_msgs::controller_status_t::getHash(), "lcm_controller_status"},
       {rbcp_msgs::root_path_t::getHash(), "lcm_root_path"},
       {rbcp_msgs::contact_plan_t::getHash(), "lcm_contact_plan"},
       {rbcp_msgs::process_status_t::getHash(), "lcm_process_status"},

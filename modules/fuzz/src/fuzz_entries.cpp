@@ -76,10 +76,12 @@ Outcome ReadPlanRequest(const std::uint8_t* data, std::size_t size) {
 }
 
 Outcome ReadRobotState(const std::uint8_t* data, std::size_t size) {
-  return Message<rbcp_msgs::robot_state_t>(data, size, [](const auto& m) {
-    transport::FromRobotStateMsg(m);
-    transport::ProgressFromRobotStateMsg(m);
-  });
+  return Message<rbcp_msgs::robot_state_t>(data, size, [](const auto& m) { transport::FromRobotStateMsg(m); });
+}
+
+Outcome ReadControllerStatus(const std::uint8_t* data, std::size_t size) {
+  return Message<rbcp_msgs::controller_status_t>(data, size,
+                                                 [](const auto& m) { transport::FromControllerStatusMsg(m); });
 }
 
 Outcome ReadRootPath(const std::uint8_t* data, std::size_t size) {
@@ -122,8 +124,9 @@ const std::vector<Entry>& Entries() {
       {"lcm_terrain_mesh", "TERRAIN message: DecodeMessage, FromTerrainMsg", ReadTerrainMesh},
       {"lcm_affordance_set", "AFFORDANCES message: DecodeMessage, FromAffordanceMsg", ReadAffordanceSet},
       {"lcm_plan_request", "PLAN_REQUEST message: DecodeMessage, CheckPlanRequest", ReadPlanRequest},
-      {"lcm_robot_state", "ROBOT_STATE message: DecodeMessage, FromRobotStateMsg, ProgressFromRobotStateMsg",
-       ReadRobotState},
+      {"lcm_robot_state", "ROBOT_STATE message: DecodeMessage, FromRobotStateMsg", ReadRobotState},
+      {"lcm_controller_status", "CONTROLLER_STATUS message: DecodeMessage, FromControllerStatusMsg",
+       ReadControllerStatus},
       {"lcm_root_path", "ROOT_PATH message: DecodeMessage, FromRootPathMsg", ReadRootPath},
       {"lcm_contact_plan", "CONTACT_PLAN message: DecodeMessage, FromContactPlanMsg", ReadContactPlan},
       {"lcm_process_status", "STATUS message: DecodeMessage", ReadProcessStatus},

@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
     const auto cfg = ContactPlannerConfig::LoadFile(config.empty() ? common.config_dir + "/contact_planner.yaml" : config);
     const LimbDatabase database = nodes::LoadLimbDatabase(robot, common.config_dir, !common.quiet);
     auto lcm = transport::OpenLcm(common.lcm_url);
-    nodes::ContactPlannerNode node(*lcm, robot, database, eq, cfg, options);
+    const StanceConfig stance = StanceConfig::LoadFile(common.config_dir + "/stance.yaml");
+    nodes::ContactPlannerNode node(*lcm, robot, database, eq, cfg, stance, options);
     node.set_verbose(!common.quiet);
     std::cerr << "[contact_planner] listening: ROOT_PATH, ROBOT_STATE, TERRAIN, AFFORDANCES -> CONTACT_PLAN, STATUS ("
               << (options.horizon_steps > 0 ? "horizon of " + std::to_string(options.horizon_steps) + " steps"

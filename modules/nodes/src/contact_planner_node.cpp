@@ -63,13 +63,14 @@ bool KeepEarlierSearch(const ContactPlan& continuation, const ContactPlanResult&
 
 ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, const LimbDatabase& database,
                                        const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config,
-                                       ContactPlannerNodeOptions options)
+                                       const StanceConfig& stance, ContactPlannerNodeOptions options)
     : lcm_(lcm),
       robot_(robot),
       options_(std::move(options)),
-      planner_(robot, database, equilibrium, config),
+      planner_(robot, database, equilibrium, config, stance),
       root_path_(lcm, options_.root_path_channel),
       robot_state_(lcm, options_.robot_state_channel),
+      controller_(lcm, options_.controller_status_channel),
       world_(lcm, options_.terrain_channel, options_.affordances_channel),
       status_(lcm, kProcessName, options_.status_channel) {
   if (options_.horizon_steps < 0) {
@@ -91,8 +92,8 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
     throw InputError("contact planner node: reuse_margin_steps expected >= 0, got " +
                      std::to_string(options_.reuse_margin_steps));
   }
-  if (!(options_.planned_base_m >= 0.0) || !(options_.planned_base_rad >= 0.0)) {
-    throw InputError("contact planner node: planned_base_m and planned_base_rad expected >= 0");
+  if (!(options_.base_match_m >= 0.0) || !(options_.base_match_rad >= 0.0)) {
+    throw InputError("contact planner node: base_match_m and base_match_rad expected >= 0");
   }
   if (!(options_.resend_period_s >= 0.0)) {
     throw InputError("contact planner node: resend_period_s expected >= 0");
@@ -113,6 +114,7 @@ void ContactPlannerNode::set_verbose(bool verbose) {
 std::optional<std::string> ContactPlannerNode::TakeInputs() {
   if (auto e = root_path_.TakeDecodeError()) return e;
   if (auto e = robot_state_.TakeDecodeError()) return e;
+  if (auto e = controller_.TakeDecodeError()) return e;
   if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
   if (auto e = world_.Take(&latest_utime_)) return e;
   if (world_.TakeChanged()) {
@@ -168,16 +170,21 @@ bool ContactPlannerNode::Step() {
       TakePath(msg);
       worked = true;
     }
+    // A wait of the controller, and the measured state it waits in (the world stands still).
     const auto& state = robot_state_.Latest();
-    if (!state || !state->awaiting_plan || !world_set_ || path_.empty()) return worked;
+    const auto& controller = controller_.Latest();
+    if (!state || !controller || !controller->awaiting_plan || state->utime < controller->awaiting_since ||
+        !world_set_ || path_.empty()) {
+      return worked;
+    }
     if (path_stale_) {
       if (verbose_ && !logged_stale_) std::fprintf(stderr, "[%s] the terrain changed: waiting for a root path on it\n", kProcessName);
       logged_stale_ = true;
       return worked;
     }
-    if (answered_since_ == state->awaiting_since) return ResendIfStillAwaited(*state) || worked;
-    answered_since_ = state->awaiting_since;
-    Replan(*state);
+    if (answered_since_ == controller->awaiting_since) return ResendIfStillAwaited(*controller) || worked;
+    answered_since_ = controller->awaiting_since;
+    Replan(*state, *controller);
     return true;
   }
   if (!pending_ || !world_set_) return false;
@@ -262,7 +269,7 @@ std::optional<std::string> ContactPlannerNode::StanceDeviation(const WholeBodySt
   return std::nullopt;
 }
 
-void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
+void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_msgs::controller_status_t& controller) {
   status_.Busy(Now(), msg.utime);
   const auto fail = [&](const std::string& why, double ms = 0.0) {
     last_result_.reset();
@@ -272,6 +279,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   RobotState measured;
   try {
     measured = transport::FromRobotStateMsg(msg);
+    transport::FromControllerStatusMsg(controller);
   } catch (const InputError& e) {
     return fail(e.what());
   }
@@ -284,9 +292,9 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   if (last_plan_) {
     // A foot still on a foothold of the previous plan stands exactly there: the one of the state
     // the robot should have reached, else the nearest.
-    const long walked = static_cast<long>(msg.steps_done) - static_cast<long>(plan_start_steps_);
+    const long walked = static_cast<long>(controller.steps_done) - static_cast<long>(plan_start_steps_);
     const WholeBodyState* reached =
-        msg.plan_seq == plan_seq_ && walked >= 1 && walked < static_cast<long>(last_plan_->states.size())
+        controller.plan_seq == plan_seq_ && walked >= 1 && walked < static_cast<long>(last_plan_->states.size())
             ? &last_plan_->states[static_cast<std::size_t>(walked)]
             : nullptr;
     int on_plan = 0;
@@ -313,13 +321,11 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
     if (reached) {
       const WholeBodyState& planned = *reached;
       stance->moving_leg = planned.moving_leg;
-      // On the planned footholds, the base stands where the plan put it: the controller holds the
-      // base a few centimetres off its plan where a swing needs clearance or a joint torque
-      // (higher, aside), and a stance planned from that offset pose could leave a stretched leg
-      // out of reach.
+      // On the planned footholds, the base stands where the plan put it: the controller walks the
+      // plan's base poses, and what it measures off them is its tracking error.
       if (on_plan == static_cast<int>(stance->feet.size()) &&
-          (stance->base_position - planned.base_position).norm() <= options_.planned_base_m &&
-          OrientationDifference(*stance, planned) <= options_.planned_base_rad) {
+          (stance->base_position - planned.base_position).norm() <= options_.base_match_m &&
+          OrientationDifference(*stance, planned) <= options_.base_match_rad) {
         stance->base_position = planned.base_position;
         stance->base_rpy = planned.base_rpy;
       }
@@ -340,7 +346,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   // base_match_rad); otherwise a new plan from the measured stance.
   std::optional<Speculation> ahead = std::exchange(next_, std::nullopt);
   std::string deviation = "no plan made ahead";
-  if (ahead && ahead->after_plan_seq != msg.plan_seq) deviation = "the robot walks another plan than the one planned ahead";
+  if (ahead && ahead->after_plan_seq != controller.plan_seq) deviation = "the robot walks another plan than the one planned ahead";
   else if (ahead) deviation = StanceDeviation(*stance, ahead->expected).value_or("");
   if (deviation.empty() && ahead->result.ok) {
     path_progress_ = ahead->progress;
@@ -383,9 +389,9 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
     r.reached_goal = false;
   }
   last_plan_ = r.plan;
-  plan_start_steps_ = msg.steps_done;
+  plan_start_steps_ = controller.steps_done;
   // After a restart the sequence goes on from the plan the robot walks.
-  plan_seq_ = std::max(plan_seq_, msg.plan_seq) + 1;
+  plan_seq_ = std::max(plan_seq_, controller.plan_seq) + 1;
   answer_ = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, plan_seq_, msg.utime);
   answer_wall_ = std::chrono::steady_clock::now();
   lcm_.publish(options_.contact_plan_channel, &*answer_);
@@ -393,7 +399,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg) {
   PlanAhead();
 }
 
-bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::robot_state_t& state) {
+bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status_t& state) {
   if (!(options_.resend_period_s > 0.0) || !answer_ || answer_->start_utime < state.awaiting_since) return false;
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - answer_wall_).count() < options_.resend_period_s) return false;

@@ -36,7 +36,8 @@ OfflinePipeline::OfflinePipeline(const std::string& config_dir)
       contact_config_(ContactPlannerConfig::LoadFile(config_dir + "/contact_planner.yaml")),
       limb_database_config_(LimbDatabaseConfig::LoadFile(config_dir + "/limb_database.yaml")),
       sim_config_(sim::SimConfig::LoadFile(config_dir + "/sim.yaml")),
-      controller_config_(ControllerConfig::LoadFile(config_dir + "/controller.yaml")) {}
+      controller_config_(ControllerConfig::LoadFile(config_dir + "/controller.yaml")),
+      stance_rules_(StanceRules::LoadFromDir(config_dir)) {}
 
 const LimbDatabase& OfflinePipeline::limb_database() const {
   std::call_once(limb_database_once_, [this] {
@@ -77,7 +78,7 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
   }
   if (stage == PipelineStage::kRoot) return result;
 
-  ContactPlanner contact_planner(*robot_, limb_database(), equilibrium_config_, contact_config_);
+  ContactPlanner contact_planner(*robot_, limb_database(), equilibrium_config_, contact_config_, stance_rules_.config);
   contact_planner.SetTerrain(scenario.terrain_mesh, result.surfaces);
   result.contact = contact_planner.Plan(result.root->samples);
   if (!result.contact->ok) {
@@ -88,7 +89,7 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
 
   start = std::chrono::steady_clock::now();
   sim::PlanExecution execution(*robot_, config_dir_ + "/robots/anymal_b.urdf", scenario, sim_config_,
-                               controller_config_);
+                               controller_config_, stance_rules_);
   execution.Start(result.contact->plan);
   result.sim = execution.Run();
   result.sim_wall_s = MsSince(start) / 1000.0;

@@ -32,6 +32,7 @@ RootPlannerNode::RootPlannerNode(lcm::LCM& lcm, const RobotModel& robot, RootPla
       planner_(robot, std::move(config)),
       request_(lcm, options_.request_channel),
       robot_state_(lcm, options_.robot_state_channel),
+      controller_(lcm, options_.controller_status_channel),
       world_(lcm, options_.terrain_channel, options_.affordances_channel),
       status_(lcm, kProcessName, options_.status_channel) {}
 
@@ -40,6 +41,7 @@ int64_t RootPlannerNode::Now() const { return latest_utime_; }
 std::optional<std::string> RootPlannerNode::TakeInputs() {
   if (auto e = request_.TakeDecodeError()) return e;
   if (auto e = robot_state_.TakeDecodeError()) return e;
+  if (auto e = controller_.TakeDecodeError()) return e;
   if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
   if (auto e = world_.Take(&latest_utime_)) return e;
   if (auto msg = request_.Take()) {
@@ -93,18 +95,19 @@ bool RootPlannerNode::Step() {
 std::string RootPlannerNode::ReplanReason(bool world_changed) {
   if (!active_ || !last_result_ || !last_result_->ok()) return "";
   if (world_changed) terrain_replan_due_ = true;  // a path planned on another terrain
-  if (!robot_state_.Latest()) return "";
+  if (!robot_state_.Latest() || !controller_.Latest()) return "";
   const auto& state = *robot_state_.Latest();
+  const auto& controller = *controller_.Latest();
   // Replans start where the robot stands at a step boundary: the world stands still there (the
   // robot waits for a plan), so the new path does not depend on when this process heard of it.
-  if (!state.awaiting_plan) return "";
+  if (!controller.awaiting_plan || state.utime < controller.awaiting_since) return "";
   if (terrain_replan_due_) {
     terrain_replan_due_ = false;
-    checked_wait_ = state.awaiting_since;
+    checked_wait_ = controller.awaiting_since;
     return "the terrain changed";
   }
-  if (checked_wait_ == state.awaiting_since) return "";
-  checked_wait_ = state.awaiting_since;
+  if (checked_wait_ == controller.awaiting_since) return "";
+  checked_wait_ = controller.awaiting_since;
   const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
   if (!base.allFinite()) return "";
   double nearest = std::numeric_limits<double>::infinity();

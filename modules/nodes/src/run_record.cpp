@@ -18,20 +18,29 @@ constexpr std::size_t kMaxStatesPerWait = 4096;
 RunRecord::RunRecord(double trace_rate_hz) : trace_period_us_(trace_rate_hz > 0.0 ? 1e6 / trace_rate_hz : 0.0) {}
 
 void RunRecord::OnRobotState(int64_t receive_us, const rbcp_msgs::robot_state_t& msg) {
+  const bool waiting = wait_ && latest_controller_ && latest_controller_->awaiting_plan &&
+                       latest_controller_->awaiting_since == wait_->since && msg.utime >= wait_->since;
+  if (waiting && wait_->first_receipt.size() < kMaxStatesPerWait) wait_->first_receipt.emplace(msg.utime, receive_us);
+  if (trace_.empty() || static_cast<double>(msg.utime - trace_.back().state.utime) >= trace_period_us_ - 0.5) {
+    trace_.push_back({msg, latest_controller_});
+  }
+  latest_ = msg;
+  latest_receive_us_ = receive_us;
+}
+
+void RunRecord::OnControllerStatus(int64_t /*receive_us*/, const rbcp_msgs::controller_status_t& msg) {
   if (msg.awaiting_plan && (!wait_ || wait_->since != msg.awaiting_since)) {
     if (wait_ && !wait_->answered) unanswered_ += 1;
     wait_ = Wait{msg.awaiting_since, {}, false};
-  }
-  if (wait_ && msg.awaiting_plan && wait_->first_receipt.size() < kMaxStatesPerWait) {
-    wait_->first_receipt.emplace(msg.utime, receive_us);
+    // The state of the wait may have come just before the status that announces it.
+    if (latest_ && latest_->utime >= msg.awaiting_since) wait_->first_receipt.emplace(latest_->utime, *latest_receive_us_);
   }
   if (msg.plan_seq > 0 && (segments_.empty() || segments_.back().plan_seq != msg.plan_seq)) {
     segments_.push_back({msg.plan_seq, msg.steps_done});
   }
-  if (trace_.empty() || static_cast<double>(msg.utime - trace_.back().utime) >= trace_period_us_ - 0.5) {
-    trace_.push_back(msg);
-  }
-  latest_ = msg;
+  if (std::isfinite(msg.base_error)) max_base_error_m_ = std::max(max_base_error_m_, msg.base_error);
+  if (!trace_.empty() && trace_.back().state.utime == msg.utime) trace_.back().controller = msg;
+  latest_controller_ = msg;
 }
 
 void RunRecord::OnContactPlan(int64_t receive_us, const rbcp_msgs::contact_plan_t& msg) {
@@ -62,7 +71,7 @@ ContactPlan RunRecord::ExecutedPlan(std::vector<std::string>* missing) const {
       continue;
     }
     const ContactPlan& plan = it->second;
-    const int end_steps = k + 1 < segments_.size() ? segments_[k + 1].steps_at_start : latest_->steps_done;
+    const int end_steps = k + 1 < segments_.size() ? segments_[k + 1].steps_at_start : latest_controller_->steps_done;
     const int walked = std::clamp(end_steps - s.steps_at_start, 0, static_cast<int>(plan.states.size()) - 1);
     if (executed.states.empty()) executed.states.push_back(plan.states.front());
     for (int i = 1; i <= walked; ++i) executed.states.push_back(plan.states[static_cast<std::size_t>(i)]);

@@ -39,9 +39,27 @@ class RootPlannerNodeTest : public ::testing::Test {
     return r;
   }
 
-  /// Publishes `state`, steps the node (expecting it to plan) and returns the ROOT_PATH, if any.
+  /// The robot's measured state, and its controller's status at the same time.
+  struct Robot {
+    rbcp_msgs::robot_state_t state{};
+    rbcp_msgs::controller_status_t controller{};
+  };
+  void Publish(const Robot& robot) {
+    lcm_.publish(channels::kControllerStatus, &robot.controller);
+    lcm_.publish(channels::kRobotState, &robot.state);
+  }
+
+  /// Publishes `state` (or `robot`), steps the node (expecting it to plan) and returns the
+  /// ROOT_PATH, if any.
   std::optional<rbcp_msgs::root_path_t> PathAfter(const rbcp_msgs::robot_state_t& state) {
     lcm_.publish(channels::kRobotState, &state);
+    return PathNow();
+  }
+  std::optional<rbcp_msgs::root_path_t> PathAfter(const Robot& robot) {
+    Publish(robot);
+    return PathNow();
+  }
+  std::optional<rbcp_msgs::root_path_t> PathNow() {
     Pump();
     EXPECT_TRUE(node_.Step());
     Pump();
@@ -143,19 +161,19 @@ TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges)
   ASSERT_TRUE(path_.Take().has_value()) << status_.Latest()->reason;
 
   const auto waiting = [](int64_t utime, double x, double y) {
-    rbcp_msgs::robot_state_t state{};
-    state.utime = utime;
-    state.base_position[0] = x;
-    state.base_position[1] = y;
-    state.base_position[2] = 0.45;
-    state.base_orientation[0] = 1.0;
-    state.awaiting_plan = true;
-    state.awaiting_since = utime;
-    return state;
+    Robot robot;
+    robot.state.utime = utime;
+    robot.state.base_position[0] = x;
+    robot.state.base_position[1] = y;
+    robot.state.base_position[2] = 0.45;
+    robot.state.base_orientation[0] = 1.0;
+    robot.controller.utime = utime;
+    robot.controller.awaiting_plan = true;
+    robot.controller.awaiting_since = utime;
+    return robot;
   };
   // Waiting on the path: no new path; the same world again is no change either.
-  auto state = waiting(1000000, 0.4, 0.05);
-  lcm_.publish(channels::kRobotState, &state);
+  Publish(waiting(1000000, 0.4, 0.05));
   PublishWorld("flat_ground");
   Pump();
   EXPECT_FALSE(node_.Step());
@@ -181,8 +199,8 @@ TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges)
 
   // The terrain changes while the robot walks: the new path starts where it next waits.
   auto walking = waiting(3000000, 0.6, 0.0);
-  walking.awaiting_plan = false;
-  lcm_.publish(channels::kRobotState, &walking);
+  walking.controller.awaiting_plan = false;
+  Publish(walking);
   PublishWorld("flat_ground");
   Pump();
   EXPECT_FALSE(node_.Step());

@@ -23,29 +23,34 @@ ContactPlan Plan(int n, double first_x, bool reaches_goal) {
   return plan;
 }
 
-rbcp_msgs::robot_state_t State(int64_t utime, int64_t plan_seq, int steps_done, bool waiting) {
+/// The controller's status and the robot's state at `utime`, received at receive_us, in the order
+/// the simulator sends them; a waiting robot waits since that utime.
+void Feed(RunRecord& run, int64_t receive_us, int64_t utime, int64_t plan_seq, int steps_done, bool waiting) {
   RobotState s;
   s.t = static_cast<double>(utime) * 1e-6;
-  ControllerProgress p{plan_seq, steps_done, std::nullopt};
+  ControllerProgress p;
+  p.plan_seq = plan_seq;
+  p.steps_done = steps_done;
   if (waiting) p.awaiting_since = utime;
-  return transport::ToRobotStateMsg(s, p);
+  run.OnControllerStatus(receive_us, transport::ToControllerStatusMsg(utime, p));
+  run.OnRobotState(receive_us, transport::ToRobotStateMsg(s));
 }
 
 TEST(RunRecord, RebuildsTheWalkedPlanAndTheReplanLatency) {
   RunRecord run(20.0);
   // The robot waits at t = 0; plan 1 (3 steps) answers 50 ms later (the first plan: no replan).
-  run.OnRobotState(1000, State(0, 0, 0, true));
+  Feed(run, 1000, 0, 0, 0, true);
   run.OnContactPlan(51000, transport::ToContactPlanMsg(Plan(3, 0.0, false), 0, 1, 1, 0));
   // It walks one step of plan 1 and waits; plan 2 answers in 4 ms, from that wait.
-  run.OnRobotState(60000, State(100000, 1, 0, false));
-  run.OnRobotState(70000, State(2000000, 1, 1, true));
-  run.OnRobotState(72000, State(2000000, 1, 1, true));  // the same wait again (the world stands still)
+  Feed(run, 60000, 100000, 1, 0, false);
+  Feed(run, 70000, 2000000, 1, 1, true);
+  Feed(run, 72000, 2000000, 1, 1, true);  // the same wait again (the world stands still)
   run.OnContactPlan(74000, transport::ToContactPlanMsg(Plan(2, 0.1, true), 0, 1, 2, 2000000));
   // A stale plan (from the first wait) is no answer and no replan.
   run.OnContactPlan(75000, transport::ToContactPlanMsg(Plan(3, 0.0, false), 0, 1, 3, 0));
   // Plan 2 is walked to the goal.
-  run.OnRobotState(80000, State(2002500, 2, 1, false));
-  run.OnRobotState(90000, State(6000000, 2, 3, false));
+  Feed(run, 80000, 2002500, 2, 1, false);
+  Feed(run, 90000, 6000000, 2, 3, false);
 
   EXPECT_EQ(run.Plans(), 3);
   EXPECT_EQ(run.GoalPlans(), 1);
@@ -66,16 +71,18 @@ TEST(RunRecord, RebuildsTheWalkedPlanAndTheReplanLatency) {
 
   // The trace keeps one state per 50 ms of simulated time.
   ASSERT_EQ(run.Trace().size(), 4u);
-  EXPECT_EQ(run.Trace()[1].utime, 100000);
-  EXPECT_EQ(run.Trace()[2].utime, 2000000);
+  EXPECT_EQ(run.Trace()[1].state.utime, 100000);
+  EXPECT_EQ(run.Trace()[2].state.utime, 2000000);
+  ASSERT_TRUE(run.Trace()[2].controller.has_value()) << "each state with its controller's status";
+  EXPECT_TRUE(run.Trace()[2].controller->awaiting_plan);
 }
 
 TEST(RunRecord, AWaitWithNoAnswerIsCountedAndAWalkedPlanMustHaveBeenReceived) {
   RunRecord run;
-  run.OnRobotState(0, State(0, 0, 0, true));
-  run.OnRobotState(10, State(500000, 0, 0, true));  // a second wait: the first got no plan
+  Feed(run, 0, 0, 0, 0, true);
+  Feed(run, 10, 500000, 0, 0, true);  // a second wait: the first got no plan
   EXPECT_EQ(run.UnansweredWaits(), 2);
-  run.OnRobotState(20, State(600000, 4, 0, false));  // walking plan 4, never received
+  Feed(run, 20, 600000, 4, 0, false);  // walking plan 4, never received
   EXPECT_THROW(run.ExecutedPlan(), InputError);
   // Asked to, the record leaves the plan out and names it.
   std::vector<std::string> missing;

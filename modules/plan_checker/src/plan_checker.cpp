@@ -431,10 +431,12 @@ nlohmann::json FiniteOrNull(double value) {
 
 }  // namespace
 
-PlanCheckConfig PlanCheckConfig::FromConfigs(const RobotModel& robot, const EquilibriumConfig& equilibrium) {
+PlanCheckConfig PlanCheckConfig::FromConfigs(const RobotModel& robot, const EquilibriumConfig& equilibrium,
+                                             const StanceRules& stance) {
   PlanCheckConfig config;
   config.robustness_threshold_N = equilibrium.robustness_threshold_N;
-  config.support_margin_m = equilibrium.support_margin_m;
+  config.support_margin_m = stance.config.support_margin_m;
+  config.min_normal_force_N = stance.config.min_normal_force_N;
   config.torque_limit_Nm = robot.ContinuousTorqueLimit();
   config.equilibrium = equilibrium;
   return config;
@@ -502,7 +504,8 @@ PlanCheckReport CheckPlanForScenario(const std::string& config_dir, const Scenar
   const EquilibriumConfig equilibrium = EquilibriumConfig::LoadFile(config_dir + "/equilibrium.yaml");
   AffordanceExtractor extractor(AffordanceConfig::LoadFile(config_dir + "/affordance.yaml"));
   const std::vector<AffordanceSurface> surfaces = extractor.Extract(scenario.terrain_mesh);
-  return CheckPlan(robot, scenario.terrain_mesh, surfaces, plan, PlanCheckConfig::FromConfigs(robot, equilibrium));
+  return CheckPlan(robot, scenario.terrain_mesh, surfaces, plan,
+                   PlanCheckConfig::FromConfigs(robot, equilibrium, StanceRules::LoadFromDir(config_dir)));
 }
 
 nlohmann::json PlanCheckReportToJson(const PlanCheckReport& report) {

@@ -55,7 +55,9 @@ class StateReader {
   }
 
   /// Rejects missing and unknown keys of an object.
-  void RequireKeys(const json& object, const std::string& path, const std::vector<std::string>& keys) const {
+  /// Every key of `keys` present, and no other key than those and the `optional` ones.
+  void RequireKeys(const json& object, const std::string& path, const std::vector<std::string>& keys,
+                   const std::vector<std::string>& optional = {}) const {
     for (const auto& key : keys) {
       if (!object.contains(key)) {
         throw InputError(where_ + ": " + (path.empty() ? "" : path + ": ") + "expected a key '" + key +
@@ -65,9 +67,11 @@ class StateReader {
     for (const auto& item : object.items()) {
       bool known = false;
       for (const auto& key : keys) known = known || item.key() == key;
+      for (const auto& key : optional) known = known || item.key() == key;
       if (!known) {
         std::string list;
         for (const auto& key : keys) list += (list.empty() ? "" : ", ") + key;
+        for (const auto& key : optional) list += (list.empty() ? "" : ", ") + key + " (optional)";
         throw InputError(where_ + ": " + (path.empty() ? "" : path + ": ") + "expected only the keys " + list +
                          ", got an unknown key '" + item.key() + "'");
       }
@@ -100,7 +104,7 @@ class StateReader {
   WholeBodyState Read(const json& value) const {
     WholeBodyState state;
     Object(value, "");
-    RequireKeys(value, "", {"base", "joints", "feet", "moving_leg"});
+    RequireKeys(value, "", {"base", "joints", "feet", "moving_leg"}, {"swing"});
 
     const json& base = Object(value["base"], "'base'");
     RequireKeys(base, "'base'", {"position", "rpy"});
@@ -130,6 +134,14 @@ class StateReader {
 
     const json& moving = value["moving_leg"];
     state.moving_leg = moving.is_null() ? -1 : Index(LegName(moving, "'moving_leg'"));
+    if (value.contains("swing") && !value["swing"].is_null()) {
+      const json& swing = Object(value["swing"], "'swing'");
+      RequireKeys(swing, "'swing'", {"apex_z", "bow"});
+      const json& apex = swing["apex_z"];
+      if (!apex.is_number() || !std::isfinite(apex.get<double>())) Fail("'swing'.'apex_z'", "a finite number", apex);
+      state.swing_apex_z = apex.get<double>();
+      state.swing_bow = Numbers<2>(swing["bow"], "'swing'.'bow'");
+    }
     return state;
   }
 
@@ -161,11 +173,14 @@ json ContactPlanToJson(const ContactPlan& plan) {
       throw InputError("state " + std::to_string(i) + ": moving_leg: expected -1 or a leg index in [0, 3], got " +
                        std::to_string(state.moving_leg));
     }
-    states.push_back(json{{"base", json{{"position", Vector3Json(state.base_position)},
-                                        {"rpy", Vector3Json(state.base_rpy)}}},
-                          {"joints", std::move(joints)},
-                          {"feet", std::move(feet)},
-                          {"moving_leg", std::move(moving_leg)}});
+    json out{{"base", json{{"position", Vector3Json(state.base_position)}, {"rpy", Vector3Json(state.base_rpy)}}},
+             {"joints", std::move(joints)},
+             {"feet", std::move(feet)},
+             {"moving_leg", std::move(moving_leg)}};
+    if (state.HasSwing()) {
+      out["swing"] = json{{"apex_z", state.swing_apex_z}, {"bow", json::array({state.swing_bow.x(), state.swing_bow.y()})}};
+    }
+    states.push_back(std::move(out));
   }
   return states;
 }

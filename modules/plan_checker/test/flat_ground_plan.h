@@ -37,7 +37,8 @@ struct FlatGroundWorld {
       AffordanceExtractor extractor(AffordanceConfig::LoadFile(ConfigDir() + "/affordance.yaml"));
       std::vector<AffordanceSurface> surfaces = extractor.Extract(scenario.terrain_mesh);
       PlanCheckConfig config =
-          PlanCheckConfig::FromConfigs(robot, EquilibriumConfig::LoadFile(ConfigDir() + "/equilibrium.yaml"));
+          PlanCheckConfig::FromConfigs(robot, EquilibriumConfig::LoadFile(ConfigDir() + "/equilibrium.yaml"),
+                                       StanceRules::LoadFromDir(ConfigDir()));
       return FlatGroundWorld{std::move(scenario), std::move(robot), std::move(surfaces), config};
     }();
     return world;

@@ -38,9 +38,9 @@ class PlanCheckerTest : public ::testing::Test {
 
 TEST_F(PlanCheckerTest, ConfigFromThePlannersConfigs) {
   const EquilibriumConfig eq = EquilibriumConfig::LoadFile(test::ConfigDir() + "/equilibrium.yaml");
-  const PlanCheckConfig config = PlanCheckConfig::FromConfigs(world.robot, eq);
+  const PlanCheckConfig config = PlanCheckConfig::FromConfigs(world.robot, eq, StanceRules::LoadFromDir(test::ConfigDir()));
   EXPECT_EQ(config.robustness_threshold_N, eq.robustness_threshold_N);
-  EXPECT_EQ(config.support_margin_m, eq.support_margin_m);
+  EXPECT_EQ(config.support_margin_m, StanceRules::LoadFromDir(test::ConfigDir()).config.support_margin_m);
   EXPECT_EQ(config.torque_limit_Nm, world.robot.ContinuousTorqueLimit());
   EXPECT_EQ(config.equilibrium.friction, eq.friction);
   EXPECT_NO_THROW(config.Validate());

@@ -32,6 +32,10 @@ ContactPlan AwkwardPlan() {
       foot.normal = Eigen::Vector3d(uniform(rng), uniform(rng), 1.0).normalized();
     }
     s.moving_leg = i == 0 ? -1 : (i - 1) % kNumLegs;
+    if (i % 2 == 1) {  // some states carry their swing path
+      s.swing_apex_z = 1.0 / 7.0 + i;
+      s.swing_bow = Eigen::Vector2d(uniform(rng), -0.0);
+    }
     plan.states.push_back(s);
   }
   return plan;
@@ -53,6 +57,11 @@ void ExpectBitwiseEqual(const ContactPlan& a, const ContactPlan& b) {
     }
     for (int j = 0; j < 12; ++j) EXPECT_TRUE(same(s.joints[j], t.joints[j])) << i;
     EXPECT_EQ(s.moving_leg, t.moving_leg);
+    EXPECT_EQ(s.HasSwing(), t.HasSwing()) << i;
+    if (s.HasSwing() && t.HasSwing()) {
+      EXPECT_TRUE(same(s.swing_apex_z, t.swing_apex_z)) << i;
+      EXPECT_TRUE(same(s.swing_bow.x(), t.swing_bow.x()) && same(s.swing_bow.y(), t.swing_bow.y())) << i;
+    }
   }
 }
 
@@ -160,7 +169,7 @@ INSTANTIATE_TEST_SUITE_P(
         Corruption{"missing_joints", [](json& j) { j[2].erase("joints"); },
                    "state 2: expected a key 'joints', got an object without it"},
         Corruption{"unknown_key", [](json& j) { j[1]["velocity"] = 0; },
-                   "state 1: expected only the keys base, joints, feet, moving_leg, got an unknown key 'velocity'"},
+                   "state 1: expected only the keys base, joints, feet, moving_leg, swing (optional), got an unknown key 'velocity'"},
         Corruption{"short_joints", [](json& j) { j[3]["joints"].erase(0); },
                    "state 3: 'joints': expected an array of 12 numbers, got an array of 11 elements"},
         Corruption{"string_joint", [](json& j) { j[3]["joints"][4] = "0.5"; },

@@ -1,4 +1,4 @@
-#include "rbcp/controller/swing_trajectory.h"
+#include "rbcp/stance/swing_trajectory.h"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,6 @@
 #include <utility>
 #include <vector>
 
-#include "rbcp/scenario/scenario.h"
 
 namespace rbcp {
 namespace {
@@ -35,13 +34,13 @@ double SmoothStep(double u, double* rate = nullptr) {
 /// The vertical gap [m] between the foot sphere (radius r, resting on a contact point at height z
 /// above xy) and the terrain under it is z + SphereGapOffset(terrain, xy, r): sampled on rings
 /// around the sphere's centre; +inf with no terrain below.
-double SphereGapOffset(const TriangleMesh& terrain, const Eigen::Vector2d& xy, double r) {
+double SphereGapOffset(const TerrainHeightMap& terrain, const Eigen::Vector2d& xy, double r) {
   double offset = std::numeric_limits<double>::infinity();
   for (double d : {0.0, 0.5 * r, 0.9 * r}) {
     const double rise = r - std::sqrt(r * r - d * d);  // sphere surface above its lowest point
     for (int k = 0; k < (d > 0.0 ? 8 : 1); ++k) {
       const double a = k * M_PI / 4.0;
-      const std::optional<double> h = TerrainHeightAt(terrain, xy + d * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      const std::optional<double> h = terrain.At(xy + d * Eigen::Vector2d(std::cos(a), std::sin(a)));
       if (h) offset = std::min(offset, rise - *h);
     }
   }
@@ -76,16 +75,17 @@ Eigen::Vector3d SwingTrajectory::At(double s, Eigen::Vector3d* ds) const {
 }
 
 SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
-                                      const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config,
+                                      const TerrainHeightMap* terrain, double foot_radius_m, const SwingPathConfig& config,
                                       const LegCheck& leg_clear, const Eigen::Vector2d& inward_W,
-                                      const LegCheck& leg_preferred) {
+                                      const LegCheck& leg_preferred, SwingSearch search) {
   SwingTrajectory s;
   s.start_ = start_W;
   s.end_ = target_W - Eigen::Vector3d(0, 0, config.touchdown_depth_m);
   const double base_apex = std::max(start_W.z(), target_W.z()) + config.height_m;
   s.apex_z_ = base_apex;
   s.clearance_m_ = std::numeric_limits<double>::infinity();
-  const bool check_terrain = terrain != nullptr && !terrain->triangles.empty();
+  const bool check_terrain = terrain != nullptr && !terrain->Empty();
+  const bool first_clear = search == SwingSearch::kFirstClear;
   if (check_terrain || leg_clear) {
     std::optional<SwingTrajectory> best;
     // Bows tried: none, then towards the body, then back against the swing direction (a knee
@@ -121,33 +121,42 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
         c.apex_z_ = base_apex + rise;
         c.leg_collisions_ = 0;
         c.preferred_misses_ = 0;
+        // The foot over the terrain.
         double middle = std::numeric_limits<double>::infinity();
         bool enters = false;
         for (int k = 1; k < kSamples; ++k) {
           const std::size_t i = static_cast<std::size_t>(k);
           const double u = static_cast<double>(k) / kSamples;
           if (u > kEndSkip) break;
+          if (!std::isfinite(offset[i])) continue;
           const Eigen::Vector3d p = c.At(u);
-          if (std::isfinite(offset[i])) {
-            const double gap = (near_end[i] ? std::max(p.z(), target_W.z()) : p.z()) + offset[i];
-            if (away[i]) middle = std::min(middle, gap);
-            if (gap < (away[i] ? 0.005 : -0.003)) enters = true;
-          }
-          // The leg is checked once the foot is off the ground: 2 cm above the foothold it rises
-          // from, then above the one it descends to (at its footholds the plan's own stances
-          // hold, and a foot on the ground touches it). From a lower foothold the knee passes
-          // the riser of the higher one on the way up.
-          const bool lifted = p.z() > (u <= 0.5 ? start_W.z() : target_W.z()) + 0.02;
-          if (leg_clear && lifted && k % 2 == 0) {
-            if (!leg_clear(p)) {
-              c.leg_collisions_ += 1;
-            } else if (leg_preferred && !leg_preferred(p)) {
-              c.preferred_misses_ += 1;
-            }
-          }
+          const double gap = (near_end[i] ? std::max(p.z(), target_W.z()) : p.z()) + offset[i];
+          if (away[i]) middle = std::min(middle, gap);
+          if (gap < (away[i] ? 0.005 : -0.003)) enters = true;
         }
         c.clearance_m_ = middle;
         const bool terrain_ok = !enters && middle >= config.terrain_clearance_m;
+        c.terrain_clear_ = terrain_ok;
+        if (first_clear && !terrain_ok) continue;  // a higher apex may clear it
+        // The leg, once the foot is off the ground: 2 cm above the foothold it rises from, then
+        // above the one it descends to (at its footholds the plan's own stances hold, and a foot
+        // on the ground touches it). From a lower foothold the knee passes the riser of the
+        // higher one on the way up.
+        for (int k = 2; leg_clear && k < kSamples; k += 2) {
+          const double u = static_cast<double>(k) / kSamples;
+          if (u > kEndSkip) break;
+          const Eigen::Vector3d p = c.At(u);
+          const bool lifted = p.z() > (u <= 0.5 ? start_W.z() : target_W.z()) + 0.02;
+          if (!lifted) continue;
+          if (!leg_clear(p)) {
+            c.leg_collisions_ += 1;
+          } else if (leg_preferred && !leg_preferred(p)) {
+            c.preferred_misses_ += 1;
+          } else {
+            continue;
+          }
+          if (first_clear) break;
+        }
         if (terrain_ok && c.leg_collisions_ == 0 && c.preferred_misses_ == 0) {
           best = c;
           found = true;
@@ -168,15 +177,32 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
       s = *best;
     } else {
       s.apex_z_ = base_apex + kMaxRise;
+      s.terrain_clear_ = false;
     }
   }
-  // Duration: no part of the path faster than speed_mps at its peak. The rise and the descent
-  // each take 40 % of the swing and the crossing 60 %, all on smooth steps (peak 1.5 x mean).
-  const double up = std::max(s.apex_z_ - s.start_.z(), s.apex_z_ - s.end_.z());
-  const double across = (s.end_.head<2>() - s.start_.head<2>()).norm();
-  s.duration_s_ = std::max({config.min_duration_s, 1.5 * std::hypot(up, s.bow_.norm()) / (kRiseEnd * config.speed_mps),
-                            1.5 * across / ((1.0 - 2.0 * kCrossBegin) * config.speed_mps)});
+  s.SetDuration(config);
   return s;
+}
+
+SwingTrajectory SwingTrajectory::Given(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
+                                       double apex_z, const Eigen::Vector2d& bow_W, const SwingPathConfig& config) {
+  SwingTrajectory s;
+  s.start_ = start_W;
+  s.end_ = target_W - Eigen::Vector3d(0, 0, config.touchdown_depth_m);
+  s.apex_z_ = std::max(apex_z, std::max(start_W.z(), target_W.z()));
+  s.bow_ = bow_W;
+  s.clearance_m_ = std::numeric_limits<double>::quiet_NaN();
+  s.SetDuration(config);
+  return s;
+}
+
+void SwingTrajectory::SetDuration(const SwingPathConfig& config) {
+  // No part of the path faster than speed_mps at its peak. The rise and the descent each take
+  // 40 % of the swing and the crossing 60 %, all on smooth steps (peak 1.5 x mean).
+  const double up = std::max(apex_z_ - start_.z(), apex_z_ - end_.z());
+  const double across = (end_.head<2>() - start_.head<2>()).norm();
+  duration_s_ = std::max({config.min_duration_s, 1.5 * std::hypot(up, bow_.norm()) / (kRiseEnd * config.speed_mps),
+                          1.5 * across / ((1.0 - 2.0 * kCrossBegin) * config.speed_mps)});
 }
 
 double SwingTrajectory::Phase(double t) const { return std::clamp(t / duration_s_, 0.0, 1.0); }

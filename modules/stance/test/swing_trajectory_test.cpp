@@ -1,4 +1,4 @@
-#include "rbcp/controller/swing_trajectory.h"
+#include "rbcp/stance/swing_trajectory.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@ TriangleMesh Box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
 }
 
 TEST(SwingTrajectory, StartsAndEndsAtRestOnItsFootholds) {
-  const SwingConfig config;
+  const SwingPathConfig config;
   const Eigen::Vector3d a(0, 0, 0), b(0.2, 0.0, 0.0);
   const SwingTrajectory s =
       SwingTrajectory::Plan(a, b, nullptr, 0.031, config);
@@ -32,7 +32,7 @@ TEST(SwingTrajectory, StartsAndEndsAtRestOnItsFootholds) {
 
 TEST(SwingTrajectory, VelocityIsTheDerivativeOfPosition) {
   const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0.1, 0.15), nullptr,
-                                                  0.031, SwingConfig());
+                                                  0.031, SwingPathConfig());
   for (double t = 0.05; t < s.Duration() - 0.05; t += 0.05) {
     const double h = 1e-6;
     const Eigen::Vector3d fd = (s.Position(t + h) - s.Position(t - h)) / (2 * h);
@@ -41,14 +41,15 @@ TEST(SwingTrajectory, VelocityIsTheDerivativeOfPosition) {
 }
 
 TEST(SwingTrajectory, RisesOverAnObstacleBetweenTheFootholds) {
-  SwingConfig config;
+  SwingPathConfig config;
   // Ground at z = 0 and a 0.15 m high, 6 cm wide wall half-way.
   TriangleMesh terrain = Box(Eigen::Vector3d(-1, -1, -0.1), Eigen::Vector3d(1, 1, 0.0));
   const TriangleMesh wall = Box(Eigen::Vector3d(0.12, -1, 0.0), Eigen::Vector3d(0.18, 1, 0.15));
   const int offset = static_cast<int>(terrain.vertices.size());
   terrain.vertices.insert(terrain.vertices.end(), wall.vertices.begin(), wall.vertices.end());
   for (auto t : wall.triangles) terrain.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0, 0), &terrain, 0.031,
+  const TerrainHeightMap heights(terrain);
+  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0, 0), &heights, 0.031,
                                                   config);
   EXPECT_GE(s.Clearance(), config.terrain_clearance_m);
   for (int k = 0; k <= 200; ++k) {
@@ -61,14 +62,15 @@ TEST(SwingTrajectory, RisesOverAnObstacleBetweenTheFootholds) {
 
 TEST(SwingTrajectory, StepsOntoARiserWithoutTouchingItsEdge) {
   // A 0.17 m step whose riser is 4.5 cm ahead of the lifting foot (as on the plinth).
-  SwingConfig config;
+  SwingPathConfig config;
   TriangleMesh terrain = Box(Eigen::Vector3d(-1, -1, -0.5), Eigen::Vector3d(0.045, 1, 0.0));
   const TriangleMesh step = Box(Eigen::Vector3d(0.045, -1, -0.5), Eigen::Vector3d(1, 1, 0.17));
   const int offset = static_cast<int>(terrain.vertices.size());
   terrain.vertices.insert(terrain.vertices.end(), step.vertices.begin(), step.vertices.end());
   for (auto t : step.triangles) terrain.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
   const Eigen::Vector3d target(0.13, 0.0, 0.17);
-  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), target, &terrain, 0.031, config);
+  const TerrainHeightMap heights(terrain);
+  const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), target, &heights, 0.031, config);
   for (int k = 0; k <= 400; ++k) {
     const Eigen::Vector3d p = s.Position(s.Duration() * k / 400.0);
     // The sphere (centre 0.031 above the contact point) stays off the riser's top edge.
@@ -85,7 +87,7 @@ TEST(SwingTrajectory, StepsOntoARiserWithoutTouchingItsEdge) {
 }
 
 TEST(SwingTrajectory, RaisesTheApexUntilTheLegIsClear) {
-  SwingConfig config;
+  SwingPathConfig config;
   // A leg check that fails below 0.2 m at the middle of the path.
   const SwingTrajectory::LegCheck clear = [](const Eigen::Vector3d& p) {
     return !(std::abs(p.x() - 0.1) < 0.05 && p.z() < 0.2);
@@ -98,7 +100,7 @@ TEST(SwingTrajectory, RaisesTheApexUntilTheLegIsClear) {
 }
 
 TEST(SwingTrajectory, KeepsThePreferredCheckWhereItCanAndTheRequiredOneAlways) {
-  SwingConfig config;
+  SwingPathConfig config;
   const SwingTrajectory::LegCheck clear = [](const Eigen::Vector3d&) { return true; };
   // A preferred check that fails below 0.2 m at the middle of the path: the apex rises over it.
   const SwingTrajectory::LegCheck high = [](const Eigen::Vector3d& p) {
@@ -134,7 +136,7 @@ TEST(SwingTrajectory, BowsTowardsTheBodyWhenRaisingDoesNotClearTheLeg) {
     return !(std::abs(p.y()) < 0.02 && p.z() > 0.03);
   };
   const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0, 0), nullptr, 0.031,
-                                                  SwingConfig(), clear, Eigen::Vector2d(0, 1));
+                                                  SwingPathConfig(), clear, Eigen::Vector2d(0, 1));
   EXPECT_EQ(s.LegCollisions(), 0);
   EXPECT_GT(s.Bow().y(), 0.02);
   EXPECT_EQ(s.Bow().x(), 0.0);
@@ -147,7 +149,7 @@ TEST(SwingTrajectory, DrawsTheFootBackWhenItsKneeWouldMeetTheRiserAhead) {
     return !(p.z() > 0.05 && p.z() < 0.15 && p.x() > -0.01);
   };
   const SwingTrajectory s = SwingTrajectory::Plan(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, 0, 0.2), nullptr, 0.031,
-                                                  SwingConfig(), clear, Eigen::Vector2d(0, 1));
+                                                  SwingPathConfig(), clear, Eigen::Vector2d(0, 1));
   EXPECT_EQ(s.LegCollisions(), 0);
   EXPECT_LT(s.Bow().x(), -0.02);
   EXPECT_EQ(s.Bow().y(), 0.0);

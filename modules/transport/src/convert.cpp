@@ -22,6 +22,10 @@ void CheckRows(const Rows& rows, int32_t count, std::size_t width, const std::st
 
 Eigen::Vector3d Vec3(const double* v) { return {v[0], v[1], v[2]}; }
 
+/// A plan state's swing: its apex within this of the base height, its bow at most this long [m].
+constexpr double kMaxSwingApexOffsetM = 2.0;
+constexpr double kMaxSwingBowM = 0.5;
+
 /// Finite and within kMaxCoordinate_m of the origin along every axis.
 bool Sane(const Eigen::Vector3d& p) { return p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxCoordinate_m; }
 
@@ -151,6 +155,9 @@ rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utim
       }
     }
     out.moving_leg = static_cast<int8_t>(s.moving_leg);
+    out.swing_apex_z = s.swing_apex_z;
+    out.swing_bow[0] = s.swing_bow.x();
+    out.swing_bow[1] = s.swing_bow.y();
     msg.states.push_back(out);
   }
   return msg;
@@ -188,17 +195,25 @@ ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg) {
       throw InputError(what + ": moving_leg expected -1..3, got " + std::to_string(in.moving_leg));
     }
     s.moving_leg = in.moving_leg;
+    // A swing is given (a finite apex within reach of the footholds, a small bow) or not at all.
+    if (std::isfinite(in.swing_apex_z)) {
+      const Eigen::Vector2d bow(in.swing_bow[0], in.swing_bow[1]);
+      if (in.moving_leg < 0 || !bow.allFinite() || bow.norm() > kMaxSwingBowM ||
+          std::abs(in.swing_apex_z - s.base_position.z()) > kMaxSwingApexOffsetM) {
+        throw InputError(what + ": expected a swing apex within " + FixedNumber(kMaxSwingApexOffsetM, 1) +
+                         " m of the base height and a bow up to " + FixedNumber(kMaxSwingBowM, 1) + " m, got apex " +
+                         FixedNumber(in.swing_apex_z, 3) + " m and bow " + FixedNumber(bow.norm(), 3) + " m");
+      }
+      s.swing_apex_z = in.swing_apex_z;
+      s.swing_bow = bow;
+    }
     plan.states.push_back(s);
   }
   return plan;
 }
 
-rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state, const ControllerProgress& progress) {
+rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state) {
   rbcp_msgs::robot_state_t msg{};
-  msg.plan_seq = progress.plan_seq;
-  msg.steps_done = progress.steps_done;
-  msg.awaiting_plan = progress.awaiting_since.has_value();
-  msg.awaiting_since = progress.awaiting_since.value_or(0);
   msg.utime = static_cast<int64_t>(std::llround(state.t * 1e6));
   for (int k = 0; k < 3; ++k) {
     msg.base_position[k] = state.base_position_W[k];
@@ -252,18 +267,47 @@ RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg) {
   return state;
 }
 
-ControllerProgress ProgressFromRobotStateMsg(const rbcp_msgs::robot_state_t& msg) {
-  if (msg.steps_done < 0) {
-    throw InputError("robot state: steps_done expected >= 0, got " + std::to_string(msg.steps_done));
-  }
+rbcp_msgs::controller_status_t ToControllerStatusMsg(int64_t utime, const ControllerProgress& progress) {
+  rbcp_msgs::controller_status_t msg{};
+  msg.utime = utime;
+  msg.plan_seq = progress.plan_seq;
+  msg.steps_done = progress.steps_done;
+  msg.awaiting_plan = progress.awaiting_since.has_value();
+  msg.awaiting_since = progress.awaiting_since.value_or(0);
+  msg.phase = progress.phase;
+  msg.step = progress.step;
+  msg.swing_leg = static_cast<int8_t>(progress.swing_leg);
+  msg.base_error = progress.base_error_m;
+  msg.step_max_base_error = progress.step_max_base_error_m;
+  msg.support_margin = progress.support_margin_m;
+  return msg;
+}
+
+ControllerProgress FromControllerStatusMsg(const rbcp_msgs::controller_status_t& msg) {
+  const std::string what = "controller status: ";
+  if (msg.steps_done < 0) throw InputError(what + "steps_done expected >= 0, got " + std::to_string(msg.steps_done));
+  if (msg.step < 0) throw InputError(what + "step expected >= 0, got " + std::to_string(msg.step));
   if (msg.awaiting_plan && msg.awaiting_since > msg.utime) {
-    throw InputError("robot state: awaiting_since " + std::to_string(msg.awaiting_since) +
+    throw InputError(what + "awaiting_since " + std::to_string(msg.awaiting_since) +
                      " us expected at or before the message's utime " + std::to_string(msg.utime) + " us");
   }
+  if (msg.swing_leg < -1 || msg.swing_leg >= kNumLegs) {
+    throw InputError(what + "swing_leg expected -1..3, got " + std::to_string(msg.swing_leg));
+  }
+  if (!std::isfinite(msg.base_error) || !std::isfinite(msg.step_max_base_error) || !std::isfinite(msg.support_margin)) {
+    throw InputError(what + "expected finite base errors and support margin");
+  }
+  if (msg.phase.size() > 32) throw InputError(what + "phase expected a short name, got " + std::to_string(msg.phase.size()) + " bytes");
   ControllerProgress progress;
   progress.plan_seq = msg.plan_seq;
   progress.steps_done = msg.steps_done;
   if (msg.awaiting_plan) progress.awaiting_since = msg.awaiting_since;
+  progress.phase = msg.phase;
+  progress.step = msg.step;
+  progress.swing_leg = msg.swing_leg;
+  progress.base_error_m = msg.base_error;
+  progress.step_max_base_error_m = msg.step_max_base_error;
+  progress.support_margin_m = msg.support_margin;
   return progress;
 }
 

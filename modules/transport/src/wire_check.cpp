@@ -70,9 +70,13 @@ const WireLayout kRobotState{
     {Bytes("utime", kInt64), Bytes("base_position", 3 * kDouble), Bytes("base_orientation", 4 * kDouble),
      Bytes("base_linear_velocity", 3 * kDouble), Bytes("base_angular_velocity", 3 * kDouble),
      Bytes("joint_position", 12 * kDouble), Bytes("joint_velocity", 12 * kDouble),
-     Bytes("joint_torque", 12 * kDouble), Bytes("foot_contact", 4 * kBoolean), Bytes("foot_force", 12 * kDouble),
-     Bytes("plan_seq", kInt64), Bytes("steps_done", kInt32), Bytes("awaiting_plan", kBoolean),
-     Bytes("awaiting_since", kInt64)}};
+     Bytes("joint_torque", 12 * kDouble), Bytes("foot_contact", 4 * kBoolean), Bytes("foot_force", 12 * kDouble)}};
+
+const WireLayout kControllerStatus{
+    "controller_status_t",
+    {Bytes("utime", kInt64), Bytes("plan_seq", kInt64), Bytes("steps_done", kInt32), Bytes("awaiting_plan", kBoolean),
+     Bytes("awaiting_since", kInt64), String("phase"), Bytes("step", kInt32), Bytes("swing_leg", kInt8),
+     Bytes("base_error", kDouble), Bytes("step_max_base_error", kDouble), Bytes("support_margin", kDouble)}};
 
 constexpr int64_t kRootPathPointBytes = kDouble + 3 * kDouble + 3 * kDouble + 4 * kDouble;
 const WireLayout kRootPath{"root_path_t",
@@ -80,7 +84,7 @@ const WireLayout kRootPath{"root_path_t",
                             Array("points", "num_points", kRootPathPointBytes)}};
 
 constexpr int64_t kWholeBodyStateBytes =
-    3 * kDouble + 3 * kDouble + 12 * kDouble + 12 * kDouble + 12 * kDouble + kInt8;
+    3 * kDouble + 3 * kDouble + 12 * kDouble + 12 * kDouble + 12 * kDouble + kInt8 + kDouble + 2 * kDouble;
 const WireLayout kContactPlan{"contact_plan_t",
                               {Bytes("utime", kInt64), Bytes("request_id", kInt64), Bytes("plan_seq", kInt64),
                                Bytes("start_utime", kInt64), Bytes("reaches_goal", kBoolean), Count("num_states"),
@@ -193,6 +197,7 @@ const WireLayout& LayoutOf(const rbcp_msgs::terrain_mesh_t*) { return kTerrainMe
 const WireLayout& LayoutOf(const rbcp_msgs::affordance_set_t*) { return kAffordanceSet; }
 const WireLayout& LayoutOf(const rbcp_msgs::plan_request_t*) { return kPlanRequest; }
 const WireLayout& LayoutOf(const rbcp_msgs::robot_state_t*) { return kRobotState; }
+const WireLayout& LayoutOf(const rbcp_msgs::controller_status_t*) { return kControllerStatus; }
 const WireLayout& LayoutOf(const rbcp_msgs::root_path_t*) { return kRootPath; }
 const WireLayout& LayoutOf(const rbcp_msgs::contact_plan_t*) { return kContactPlan; }
 const WireLayout& LayoutOf(const rbcp_msgs::process_status_t*) { return kProcessStatus; }

@@ -79,27 +79,75 @@ TEST(Convert, RobotStateRoundTripAndValidation) {
   EXPECT_THROW(FromRobotStateMsg(bad), InputError);
 }
 
-TEST(Convert, ControllerProgressRidesWithTheRobotState) {
-  RobotState state;
-  state.t = 2.0;
-  const auto walking = ToRobotStateMsg(state, ControllerProgress{4, 17, std::nullopt});
-  EXPECT_FALSE(walking.awaiting_plan);
-  ControllerProgress back = ProgressFromRobotStateMsg(walking);
+TEST(Convert, ControllerStatusRoundTripAndValidation) {
+  ControllerProgress walking;
+  walking.plan_seq = 4;
+  walking.steps_done = 17;
+  walking.phase = "swing";
+  walking.step = 3;
+  walking.swing_leg = 2;
+  walking.base_error_m = 0.004;
+  walking.step_max_base_error_m = 0.009;
+  walking.support_margin_m = 0.05;
+  const auto msg = ToControllerStatusMsg(2000000, walking);
+  EXPECT_FALSE(msg.awaiting_plan);
+  ControllerProgress back = FromControllerStatusMsg(msg);
   EXPECT_EQ(back.plan_seq, 4);
   EXPECT_EQ(back.steps_done, 17);
   EXPECT_FALSE(back.awaiting_since.has_value());
+  EXPECT_EQ(back.phase, "swing");
+  EXPECT_EQ(back.step, 3);
+  EXPECT_EQ(back.swing_leg, 2);
+  EXPECT_EQ(back.base_error_m, 0.004);
+  EXPECT_EQ(back.step_max_base_error_m, 0.009);
+  EXPECT_EQ(back.support_margin_m, 0.05);
 
-  auto waiting = ToRobotStateMsg(state, ControllerProgress{4, 18, 1990000});
+  ControllerProgress at_boundary = walking;
+  at_boundary.awaiting_since = 1990000;
+  auto waiting = ToControllerStatusMsg(2000000, at_boundary);
   EXPECT_TRUE(waiting.awaiting_plan);
-  back = ProgressFromRobotStateMsg(waiting);
+  back = FromControllerStatusMsg(waiting);
   ASSERT_TRUE(back.awaiting_since.has_value());
   EXPECT_EQ(*back.awaiting_since, 1990000);
 
-  waiting.awaiting_since = waiting.utime + 1;  // a wait that begins after the state
-  EXPECT_THROW(ProgressFromRobotStateMsg(waiting), InputError);
-  waiting.awaiting_since = 0;
-  waiting.steps_done = -1;
-  EXPECT_THROW(ProgressFromRobotStateMsg(waiting), InputError);
+  auto bad = waiting;
+  bad.awaiting_since = waiting.utime + 1;  // a wait that begins after the status
+  EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
+  bad = waiting;
+  bad.steps_done = -1;
+  EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
+  bad = waiting;
+  bad.swing_leg = 4;
+  EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
+  bad = waiting;
+  bad.base_error = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
+  bad = waiting;
+  bad.phase = std::string(100, 'x');
+  EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
+}
+
+TEST(Convert, APlanStateCarriesItsSwing) {
+  ContactPlan plan;
+  plan.states.resize(2);
+  plan.states[1].moving_leg = 1;
+  plan.states[1].base_position = Eigen::Vector3d(0, 0, 0.45);
+  plan.states[1].swing_apex_z = 0.12;
+  plan.states[1].swing_bow = Eigen::Vector2d(0.03, -0.01);
+  const ContactPlan back = FromContactPlanMsg(ToContactPlanMsg(plan, 1, 1));
+  EXPECT_FALSE(back.states[0].HasSwing());
+  ASSERT_TRUE(back.states[1].HasSwing());
+  EXPECT_EQ(back.states[1].swing_apex_z, 0.12);
+  EXPECT_EQ(back.states[1].swing_bow, Eigen::Vector2d(0.03, -0.01));
+  auto msg = ToContactPlanMsg(plan, 1, 1);
+  msg.states[1].swing_apex_z = 30.0;  // far above the base
+  EXPECT_THROW(FromContactPlanMsg(msg), InputError);
+  msg = ToContactPlanMsg(plan, 1, 1);
+  msg.states[1].swing_bow[0] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(FromContactPlanMsg(msg), InputError);
+  msg = ToContactPlanMsg(plan, 1, 1);
+  msg.states[0].swing_apex_z = 0.1;  // the first state has no swing
+  EXPECT_THROW(FromContactPlanMsg(msg), InputError);
 }
 
 TEST(Convert, AffordanceRoundTripAndValidation) {

@@ -55,6 +55,9 @@ TEST(WireCheck, EveryLayoutMatchesTheGeneratedEncoding) {
 
   ExpectLayoutMatches(rbcp_msgs::plan_request_t{});
   ExpectLayoutMatches(rbcp_msgs::robot_state_t{});
+  rbcp_msgs::controller_status_t controller{};
+  controller.phase = "swing";
+  ExpectLayoutMatches(controller);
 
   rbcp_msgs::root_path_t path{};
   path.num_points = 2;

@@ -92,9 +92,10 @@ struct ExecutionOutcome {
 class PlanExecution {
  public:
   /// Builds the world of `scenario` (its terrain: the world may differ from the one the plan was
-  /// made on) and a controller that knows that terrain. The models must outlive this object.
+  /// made on) and a controller that knows that terrain and walks by `stance_rules` (those the
+  /// plans were checked with). The models must outlive this object.
   PlanExecution(const RobotModel& robot, const std::string& urdf_path, const Scenario& scenario,
-                const SimConfig& sim_config, const ControllerConfig& controller_config);
+                const SimConfig& sim_config, const ControllerConfig& controller_config, const StanceRules& stance_rules);
   ~PlanExecution();
 
   /// Puts the robot at rest in the plan's first state (lifted by drop_height_m over the terrain)

@@ -1,14 +1,15 @@
 #pragma once
 /// The simulator as a process (anymal_sim): it is the world. It publishes TERRAIN (at start and
 /// again every terrain_period_s of simulated time, so a late process gets it), ROBOT_STATE at the
-/// control rate of simulated time, and STATUS; it takes CONTACT_PLAN and has the onboard
-/// controller walk it. Before the first plan the robot stands at the scenario's start.
+/// control rate of simulated time with the onboard controller's CONTROLLER_STATUS beside it (same
+/// utime), and STATUS; it takes CONTACT_PLAN and has the onboard controller walk it. Before the
+/// first plan the robot stands at the scenario's start.
 ///
 /// STATUS: ALIVE while standing without a plan, BUSY while walking one ("step 3/40"), then OK
 /// ("goal reached: ...") or FAILED with the simulator's verdict ("fall at 12.3 s, step 7: ...").
 ///
 /// Replanning (SimNodeOptions::replan): the controller stops at every step boundary and
-/// ROBOT_STATE says so (awaiting_plan, awaiting_since). It takes only a CONTACT_PLAN that starts
+/// CONTROLLER_STATUS says so (awaiting_plan, awaiting_since). It takes only a CONTACT_PLAN that starts
 /// from a state of that wait (start_utime >= awaiting_since); older plans are stale and dropped.
 /// When the contact planner answers that wait with FAILED, or no plan comes within
 /// await_timeout_s of wall time, the robot goes on with the rest of its current plan; with none

@@ -77,6 +77,7 @@
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/equilibrium/config.h"
 #include "rbcp/root_planner/root_path.h"
+#include "rbcp/stance/stance_config.h"
 
 namespace rbcp {
 
@@ -105,6 +106,7 @@ struct ContactPlanStats {
   int candidates = 0;            ///< database candidates returned by the queries
   int candidates_evaluated = 0;  ///< distinct projected footholds tested
   int stability_evaluations = 0; ///< footholds that reached the equilibrium LPs
+  int swing_checks = 0;          ///< swing paths planned and checked (footholds that passed every other test)
   int backtracks = 0;            ///< steps undone
   int steps_merged = 0;          ///< steps removed from the found plan by step merging
 
@@ -131,9 +133,10 @@ struct ContactPlanResult {
 /// must not be shared between threads. The robot model and limb database must outlive it.
 class ContactPlanner {
  public:
-  /// Throws InputError for an invalid configuration.
+  /// `stance`: the stance rules every stance and step must satisfy, the controller's (with the
+  /// equilibrium configuration's friction). Throws InputError for an invalid configuration.
   ContactPlanner(const RobotModel& robot, const LimbDatabase& database, const EquilibriumConfig& equilibrium,
-                 const ContactPlannerConfig& config);
+                 const ContactPlannerConfig& config, const StanceConfig& stance);
   ~ContactPlanner();
   ContactPlanner(ContactPlanner&&) noexcept;
   ContactPlanner& operator=(ContactPlanner&&) noexcept;

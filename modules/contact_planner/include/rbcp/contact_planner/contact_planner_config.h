@@ -44,13 +44,17 @@ struct FootholdConfig {
   /// [m] candidates are first taken from a square of this half-size around the target, then from
   /// the rest of the workspace (0: the whole workspace at once).
   double near_query_half_m = 0.1;
+  /// A foothold whose swing cannot keep clear (StanceChecker::SwingClearance) rules out the
+  /// candidates within this distance of it [m] (their swings rarely differ) ...
+  double swing_failure_radius_m = 0.05;
+  /// ... and after this many such footholds the step attempt gives up [-], >= 1.
+  int max_swing_failures = 3;
 };
 
 /// Body shift that puts the CoM inside the three-foot support triangle of a swing.
 struct BaseShiftConfig {
   double max_base_shift_m = 0.12;      ///< [m] horizontal offset of the base from the path
   double shift_extra_margin_m = 0.01;  ///< [m] aimed beyond the required support margin
-  int transit_checks = 6;              ///< intermediate poses checked between consecutive states
   /// [-] fraction of a swing's horizontal shift the base keeps after touch-down, while the trunk
   /// advances to the next step (1: all of it, 0: back onto the path).
   double keep_fraction = 1.0;
@@ -127,17 +131,6 @@ struct ContactPlannerConfig {
   double gait_advance_s = 0.25;
   FootWorkspace workspace;
   FootholdConfig foothold;
-  /// Joint torques of every quasi-static stance, with the weight spread over the feet as the
-  /// controller spreads it (ComputeStanceTorques), stay below this fraction of the actuators'
-  /// command limit (RobotModel::ContinuousTorqueLimit, 40 N m for ANYmal B).
-  double torque_limit_fraction = 0.9;
-  /// [N] least normal force of each stance foot in that distribution (the controller's).
-  double stance_min_normal_force_N = 20.0;
-  /// Clearance of the thighs (knee actuators) from the terrain in every stance and swing check
-  /// [m], in [0, 0.1).
-  double thigh_clearance_m = 0.02;
-  /// Clearance of the trunk (body, belly plate, hip actuators) from the terrain [m], in [0, 0.1).
-  double trunk_clearance_m = 0.01;
   BaseShiftConfig base_shift;
   BasePoseConfig base_pose;
   double goal_foot_tolerance_m = 0.05;  ///< [m] feet farther from their goal position are re-placed

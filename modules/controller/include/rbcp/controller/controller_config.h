@@ -1,6 +1,7 @@
 #pragma once
-/// Parameters of the onboard plan controller (config/controller.yaml). Every key is required and
-/// no other key is accepted.
+/// Parameters of the onboard plan controller (config/controller.yaml): gains and timings. What a
+/// stance and a swing must satisfy is the stance rules' (config/stance.yaml), shared with the
+/// planner. Every key is required and no other key is accepted.
 
 #include <Eigen/Core>
 #include <string>
@@ -16,26 +17,14 @@ struct BaseMotionConfig {
   double min_shift_s = 0.3;         ///< shortest shift [s]
   double settle_s = 0.5;            ///< hold of the start stance before the first step [s]
   double final_hold_s = 0.5;        ///< hold of the final stance after the last step [s]
-  /// Before a lift-off the base moves so that the CoM's ground projection lies this far inside
-  /// the triangle of the three feet that stay [m] ...
-  double support_margin_m = 0.04;
-  /// ... moving at most this far from the planned base position to get there [m].
-  double max_margin_shift_m = 0.06;
   Eigen::Vector3d kp_linear = Eigen::Vector3d(435, 400, 350);   ///< [N/m], base axes
   Eigen::Vector3d kd_linear = Eigen::Vector3d(80, 90, 95);      ///< [N s/m], base axes
   Eigen::Vector3d kp_angular = Eigen::Vector3d(40, 90, 40);     ///< [N m/rad], base axes
   Eigen::Vector3d kd_angular = Eigen::Vector3d(8, 20, 17);      ///< [N m s/rad], base axes
 };
 
-/// The swing of a foot from its old foothold to its new one.
+/// The swing of a foot from its old foothold to its new one (its path: StanceConfig::swing).
 struct SwingConfig {
-  double height_m = 0.08;              ///< apex above the higher of the two footholds [m]
-  double terrain_clearance_m = 0.05;   ///< least height of the foot above the terrain under its path [m]
-  double thigh_clearance_m = 0.01;     ///< the swinging leg's thigh keeps this clear of the terrain [m], in [0, 0.1)
-  double min_hip_distance_m = 0.25;    ///< the swinging foot stays this far from its hip (HAA origin) [m]
-  double speed_mps = 0.8;              ///< peak foot speed along the swing path [m/s]
-  double min_duration_s = 0.45;        ///< shortest swing [s]
-  double touchdown_depth_m = 0.01;     ///< the path ends this far below the foothold [m]
   /// A contact in the swing's first part is a late lift-off or a bump; from this phase [0, 1] on
   /// it is an (early) touchdown.
   double touchdown_phase = 0.6;
@@ -45,10 +34,8 @@ struct SwingConfig {
   Eigen::Vector3d kd = Eigen::Vector3d(3, 5.7, 4.9);   ///< [N m s/rad]
 };
 
-/// Stance legs: contact forces and joint PD.
-struct StanceConfig {
-  double friction = 0.5;               ///< friction coefficient the force distribution assumes [-]
-  double min_normal_force_N = 20.0;    ///< least normal force of a loaded stance foot [N]
+/// Stance legs: load ramps and joint PD (their contact forces: StanceRules).
+struct StanceLegConfig {
   double unload_s = 0.15;              ///< load ramp of a leg before lift-off [s]
   double load_s = 0.1;                 ///< load ramp of a leg after touchdown [s]
   Eigen::Vector3d kp = Eigen::Vector3d(30, 30, 15);    ///< joint PD of a stance leg [N m/rad]
@@ -59,7 +46,7 @@ struct ControllerConfig {
   double torque_limit_Nm = 40.0;  ///< command limit of the actuators [N m]
   BaseMotionConfig base;
   SwingConfig swing;
-  StanceConfig stance;
+  StanceLegConfig stance;
 
   static ControllerConfig Load(const YamlMap& map);
   static ControllerConfig LoadFile(const std::string& path);

@@ -2,22 +2,22 @@
 /// The robot's onboard controller: it executes a contact plan as a static crawl, from the
 /// measured state only (RobotState) and the terrain, at the control rate.
 ///
-/// For each state i of the plan, reached from state i-1 by moving leg L:
-///  1. shift: with four feet down, the base moves to the state's base pose, moved further (at most
-///     base.max_margin_shift_m) until the CoM's ground projection lies base.support_margin_m
-///     inside the triangle of the three feet that stay; when the swing from there cannot keep
-///     the leg off the terrain, base poses a few centimetres aside, along or higher are tried, and when the three
-///     feet that stay would ask a joint for more than 85 % of the torque limit, base poses a few
-///     centimetres lower, higher, along or across that ask less;
+/// The plan is the contract: the contact planner checked every step as this controller walks it
+/// (StanceChecker::CheckStep: the base on the plan's poses, the swing on the path StanceChecker
+/// plans), so the controller chooses nothing itself. For each state i of the plan, reached from
+/// state i-1 by moving leg L:
+///  1. shift: with four feet down, the base moves to the state's base pose;
 ///  2. unload: L's share of the load ramps to zero;
-///  3. swing: L's foot follows a SwingTrajectory that clears the terrain under its path; a contact
-///     after swing.touchdown_phase is a touchdown (early if the path was not finished) when it is
-///     within 2 cm of the foothold's height or pushes along its normal (at least 5 N within 37
-///     degrees of it: the terrain is higher than planned); a sideways contact above the foothold,
-///     such as the face of a riser beside it, is not;
+///  3. swing: L's foot follows the swing path the plan carries for the step (without one, the
+///     path StanceChecker::PlanSwing gives from state i-1's foothold to state i's, the base at
+///     state i's pose), started where the foot is; a contact after swing.touchdown_phase is a touchdown (early if the path was not
+///     finished) when it is within 2 cm of the foothold's height or pushes along its normal (at
+///     least 5 N within 37 degrees of it: the terrain is higher than planned); a sideways contact
+///     above the foothold, such as the face of a riser beside it, is not;
 ///  4. search: a foot that reaches the end of its path without contact reaches down along the
 ///     normal (a late touchdown), and fails as "no ground" beyond swing.search_depth_m;
 ///  5. load: L's share ramps back to one; the step is done.
+/// The status reports how far the measured base is from the reference it tracks.
 /// After the last state the base moves to the final base pose and holds it.
 ///
 /// Replanning (SetAwaitPlans): after each step the controller stands on its four feet, the base
@@ -41,12 +41,12 @@
 
 #include "rbcp/controller/controller_config.h"
 #include "rbcp/equilibrium/force_distribution.h"
-#include "rbcp/collision/robot_terrain_collision.h"
-#include "rbcp/controller/swing_trajectory.h"
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/robot/robot_state.h"
+#include "rbcp/stance/stance_checker.h"
+#include "rbcp/stance/swing_trajectory.h"
 
 namespace rbcp {
 
@@ -77,6 +77,8 @@ struct ControllerStatus {
   int late_touchdowns = 0;
   std::string failure;            ///< kFailed: why
   std::optional<Leg> failure_leg;
+  double base_error_m = 0.0;      ///< distance of the measured base from its reference [m]
+  double step_max_base_error_m = 0.0;  ///< the largest base_error_m since the current step began [m]
   double phase_start_s = 0.0;     ///< when the current phase began [s]
   double plan_start_s = 0.0;      ///< when the current plan began [s]
 };
@@ -91,10 +93,11 @@ struct BaseReference {
 
 class PlanController {
  public:
-  /// `robot` and `terrain` (may be null: no clearance planning) must outlive the controller.
-  /// With a terrain, swing paths are raised until the whole swinging leg clears it, and base
-  /// shifts stay collision-free. Throws InputError for an invalid config or terrain mesh.
-  PlanController(const RobotModel& robot, const ControllerConfig& config, const TriangleMesh* terrain);
+  /// `robot` and `terrain` (may be null: swing paths without terrain checks) must outlive the
+  /// controller; `rules` are the stance rules the planner checked the plans with. Throws
+  /// InputError for an invalid config or terrain mesh.
+  PlanController(const RobotModel& robot, const ControllerConfig& config, const StanceRules& rules,
+                 const TriangleMesh* terrain);
 
   /// Executes `plan` from its first state, starting at the next Update. The robot should stand
   /// on the first state's footholds. Throws InputError for an empty plan, a state with non-finite
@@ -114,7 +117,7 @@ class PlanController {
   /// plan that does not reach the goal and has no step left keeps waiting. No effect elsewhere.
   void ContinuePlan();
 
-  /// The terrain used for swing clearance (may be null); it must outlive the controller.
+  /// The terrain of the swing paths (may be null).
   void SetTerrain(const TriangleMesh* terrain);
 
   /// One control tick: joint torque commands [N m] for the measured state.
@@ -125,6 +128,8 @@ class PlanController {
   /// The plan being executed (empty before StartPlan).
   const ContactPlan& Plan() const { return plan_; }
   const ControllerConfig& Config() const { return config_; }
+  /// The stance rules it walks by, with the terrain of its swing paths.
+  const StanceChecker& Stance() const { return stance_; }
 
  private:
   struct BaseSegment {
@@ -145,25 +150,15 @@ class PlanController {
   void BeginFinalShift(const Measured& m);
   void Fail(const Measured& m, Leg leg, const std::string& why);
   void MoveBaseTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double min_duration);
-  struct LiftOff;
-  double Margin(const LiftOff& lift_off, const Eigen::Vector3d& shift) const;
-  bool Reachable(const LiftOff& lift_off, const Eigen::Vector3d& shift, const Measured& m) const;
-  Eigen::Vector3d MarginShift(const LiftOff& lift_off, const Measured& m) const;
-  double StanceTorque(const LiftOff& lift_off, const Eigen::Vector3d& shift) const;
-  /// The swing path of `leg` with the base held at base_W / orientation_W; `q` holds the other
-  /// legs' joints (for the self-collision check of the swinging leg).
-  SwingTrajectory PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
-                            const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W,
-                            const JointVector& q) const;
+  /// The swing path of plan state `index`'s step, started at the measured foot foot_W.
+  SwingTrajectory PlanSwing(int index, const Eigen::Vector3d& foot_W) const;
   void EvaluateReference(double t);
   JointVector Torques(const Measured& m);
   static void CheckPlan(const ContactPlan& plan);
 
   const RobotModel& robot_;
   ControllerConfig config_;
-  const TriangleMesh* terrain_ = nullptr;
-  std::unique_ptr<RobotTerrainCollision> collision_;        // exact shapes: stances
-  std::unique_ptr<RobotTerrainCollision> swing_collision_;  // thighs swing.thigh_clearance_m larger: swing paths
+  StanceChecker stance_;
 
   ContactPlan plan_;
   std::optional<ContactPlan> pending_;

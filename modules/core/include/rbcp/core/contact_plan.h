@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "rbcp/core/leg.h"
@@ -22,6 +24,12 @@ struct WholeBodyState {
   Eigen::Matrix<double, 12, 1> joints = Eigen::Matrix<double, 12, 1>::Zero();  ///< [rad], LF, RF, LH, RH x (HAA, HFE, KFE)
   std::array<FootContact, kNumLegs> feet{};                 ///< indexed by Index(Leg)
   int moving_leg = -1;  ///< Index(Leg) of the leg that stepped to reach this state; -1 for the first state
+  /// The swing path of moving_leg that reached this state, as the planner checked it
+  /// (SwingTrajectory::Given): the apex height [m, world z] and the path's sideways bow at the
+  /// apex [m, world xy]. NaN apex: no path planned (the controller plans one by the stance rules).
+  double swing_apex_z = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Vector2d swing_bow = Eigen::Vector2d::Zero();
+  bool HasSwing() const { return std::isfinite(swing_apex_z); }
 };
 
 struct ContactPlan {

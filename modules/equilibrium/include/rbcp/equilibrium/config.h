@@ -15,8 +15,6 @@ struct EquilibriumConfig {
   /// Minimum robustness [N] for a stance to count as statically stable (see EquilibriumResult).
   /// The reference runs used 3 (flat), 5 (slalom debris), 2 (plinth) and 0 (DARPA).
   double robustness_threshold_N = 2.0;
-  /// Minimum distance [m] of the CoM's ground projection inside the support polygon.
-  double support_margin_m = 0.03;
   /// Force distribution: relative slack [-] on the smallest achievable maximum normal force
   /// within which the friction margin is then maximised (0 keeps the exact minimum).
   double normal_force_slack = 0.01;

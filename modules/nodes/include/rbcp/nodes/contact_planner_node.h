@@ -7,8 +7,8 @@
 ///    the path start;
 ///  * horizon_steps = K > 0 (receding horizon, the onboard loop): the node keeps the newest
 ///    ROOT_PATH and answers every wait of the robot's controller at a step boundary (a
-///    ROBOT_STATE with awaiting_plan; each awaiting_since once) with at most K steps from the
-///    measured stance (searched lookahead_steps further, so the K steps do not walk into a dead
+///    CONTROLLER_STATUS with awaiting_plan, each awaiting_since once, and the ROBOT_STATE of that
+///    wait) with at most K steps from the measured stance (searched lookahead_steps further, so the K steps do not walk into a dead
 ///    end that only shows later): the measured base pose, and the feet where forward kinematics of the
 ///    measured joints puts them, each moved onto the nearest contact surface (at most
 ///    max_foot_offset_m away); a foot within foothold_match_m of a foothold of the same leg in the
@@ -38,6 +38,7 @@
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
@@ -47,6 +48,7 @@ namespace rbcp::nodes {
 struct ContactPlannerNodeOptions {
   std::string root_path_channel = channels::kRootPath;
   std::string robot_state_channel = channels::kRobotState;
+  std::string controller_status_channel = channels::kControllerStatus;
   std::string terrain_channel = channels::kTerrain;
   std::string affordances_channel = channels::kAffordances;
   std::string contact_plan_channel = channels::kContactPlan;
@@ -70,13 +72,12 @@ struct ContactPlannerNodeOptions {
   /// the trunk less far, while it holds horizon_steps + reuse_margin_steps steps after the next
   /// one (or reaches the goal).
   int reuse_margin_steps = 4;
+  /// Horizon mode: the controller walks the plan's base poses; a measured base within
+  /// base_match_m and base_match_rad (roll, pitch, yaw) of the pose the plan put it in, with every
+  /// foot on the plan's footholds, is that pose (the controller's tracking error, not a new
+  /// stance): the next plan starts from the planned pose.
   double base_match_m = 0.03;    ///< [m]
   double base_match_rad = 0.05;  ///< [rad] roll, pitch and yaw
-  /// Horizon mode: with every foot on a foothold of the plan the robot walks, a measured base
-  /// within planned_base_m and planned_base_rad (roll, pitch, yaw) of that plan's base pose at the
-  /// step walked stands at the planned pose (the controller's own base offsets are no new stance).
-  double planned_base_m = 0.08;    ///< [m]
-  double planned_base_rad = 0.1;   ///< [rad]
   /// Horizon mode: while the robot still waits at the stance the last plan answered, that plan
   /// is sent again this often [s, wall clock], so a lost message costs a resend, not the
   /// simulator's whole wait; 0: never.
@@ -101,7 +102,7 @@ class ContactPlannerNode {
   /// configuration.
   ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, const LimbDatabase& database,
                      const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config,
-                     ContactPlannerNodeOptions options = {});
+                     const StanceConfig& stance, ContactPlannerNodeOptions options = {});
 
   /// Takes the newest inputs; when a root path is pending and the terrain and its surfaces are
   /// known, plans and publishes CONTACT_PLAN (or FAILED with the reason on STATUS). Returns true
@@ -127,10 +128,10 @@ class ContactPlannerNode {
   void TakePath(const rbcp_msgs::root_path_t& msg);
   /// Horizon mode: plans from the measured stance of a waiting robot (or takes the plan made
   /// ahead when the robot stands where it starts), then plans ahead.
-  void Replan(const rbcp_msgs::robot_state_t& state);
+  void Replan(const rbcp_msgs::robot_state_t& state, const rbcp_msgs::controller_status_t& controller);
   /// Horizon mode: sends the last plan again when the robot still waits for it after
   /// resend_period_s; true if it did.
-  bool ResendIfStillAwaited(const rbcp_msgs::robot_state_t& state);
+  bool ResendIfStillAwaited(const rbcp_msgs::controller_status_t& state);
   /// Horizon mode: plans from the stance the published plan's first step leads to.
   void PlanAhead();
   /// Path sample nearest to a base pose, not behind path_progress_; its horizontal distance in
@@ -150,6 +151,7 @@ class ContactPlannerNode {
   ContactPlanner planner_;
   transport::LatestMessage<rbcp_msgs::root_path_t> root_path_;
   transport::LatestMessage<rbcp_msgs::robot_state_t> robot_state_;
+  transport::LatestMessage<rbcp_msgs::controller_status_t> controller_;
   WorldInput world_;
   transport::StatusReporter status_;
 

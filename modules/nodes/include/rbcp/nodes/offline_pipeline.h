@@ -52,7 +52,7 @@ struct PipelineResult {
 class OfflinePipeline {
  public:
   /// Reads config_dir/{robots/anymal_b.*, affordance.yaml, root_planner.yaml, equilibrium.yaml,
-  /// contact_planner.yaml, limb_database.yaml, sim.yaml, controller.yaml}. Throws InputError. The limb database itself is
+  /// stance.yaml, contact_planner.yaml, limb_database.yaml, sim.yaml, controller.yaml}. Throws InputError. The limb database itself is
   /// loaded (or built and cached) by the first contact stage.
   explicit OfflinePipeline(const std::string& config_dir);
 
@@ -77,6 +77,7 @@ class OfflinePipeline {
   LimbDatabaseConfig limb_database_config_;
   sim::SimConfig sim_config_;
   ControllerConfig controller_config_;
+  StanceRules stance_rules_;
   mutable std::once_flag limb_database_once_;
   mutable std::unique_ptr<LimbDatabase> limb_database_;
 };

@@ -15,6 +15,7 @@
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
@@ -24,6 +25,7 @@ namespace rbcp::nodes {
 struct RootPlannerNodeOptions {
   std::string request_channel = channels::kPlanRequest;
   std::string robot_state_channel = channels::kRobotState;
+  std::string controller_status_channel = channels::kControllerStatus;
   std::string terrain_channel = channels::kTerrain;
   std::string affordances_channel = channels::kAffordances;
   std::string root_path_channel = channels::kRootPath;
@@ -73,6 +75,7 @@ class RootPlannerNode {
   RootPlanner planner_;
   transport::LatestMessage<rbcp_msgs::plan_request_t> request_;
   transport::LatestMessage<rbcp_msgs::robot_state_t> robot_state_;
+  transport::LatestMessage<rbcp_msgs::controller_status_t> controller_;
   WorldInput world_;
   transport::StatusReporter status_;
 

@@ -1,8 +1,9 @@
 #pragma once
-/// A run of the replanning loop as its LCM traffic shows it: the robot's states (ROBOT_STATE) and
-/// the plans (CONTACT_PLAN), in the order they were received and with their receive times. Fed
-/// live (scenario_publisher) or from a recorded log (run_log), it gives the plan the robot walked,
-/// the replans and their latency, and the robot's trace.
+/// A run of the replanning loop as its LCM traffic shows it: the robot's states (ROBOT_STATE), the
+/// controller's progress (CONTROLLER_STATUS) and the plans (CONTACT_PLAN), in the order they were
+/// received and with their receive times. Fed live (scenario_publisher) or from a recorded log
+/// (run_log), it gives the plan the robot walked, the replans and their latency, and the robot's
+/// trace.
 
 #include <cstdint>
 #include <map>
@@ -12,17 +13,25 @@
 
 #include "rbcp/core/contact_plan.h"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 
 namespace rbcp::nodes {
 
 class RunRecord {
  public:
+  /// A sample of the trace: the measured state and the controller's status last heard with it.
+  struct TraceEntry {
+    rbcp_msgs::robot_state_t state;
+    std::optional<rbcp_msgs::controller_status_t> controller;
+  };
+
   /// `trace_rate_hz`: ROBOT_STATE is kept for the trace at this rate of simulated time.
   explicit RunRecord(double trace_rate_hz = 20.0);
 
-  /// `receive_us`: when the message was received [us] (any clock, the same for both kinds).
+  /// `receive_us`: when the message was received [us] (any clock, the same for every kind).
   void OnRobotState(int64_t receive_us, const rbcp_msgs::robot_state_t& msg);
+  void OnControllerStatus(int64_t receive_us, const rbcp_msgs::controller_status_t& msg);
   /// Throws InputError for a malformed plan.
   void OnContactPlan(int64_t receive_us, const rbcp_msgs::contact_plan_t& msg);
 
@@ -37,11 +46,15 @@ class RunRecord {
   /// Waits of the robot that got no plan (the planner failed or did not answer in time).
   int UnansweredWaits() const { return unanswered_ + (wait_ && !wait_->answered ? 1 : 0); }
   const std::optional<rbcp_msgs::robot_state_t>& Latest() const { return latest_; }
+  const std::optional<rbcp_msgs::controller_status_t>& LatestController() const { return latest_controller_; }
   /// ROBOT_STATE every 1 / trace_rate_hz of simulated time.
-  const std::vector<rbcp_msgs::robot_state_t>& Trace() const { return trace_; }
+  const std::vector<TraceEntry>& Trace() const { return trace_; }
+  /// The largest distance of the measured base from the controller's reference over the run [m].
+  double MaxBaseErrorM() const { return max_base_error_m_; }
 
   /// The plan the robot walked: the first walked plan's first state, then the states of each plan
-  /// for the steps walked while it was the robot's plan (ROBOT_STATE's plan_seq and steps_done).
+  /// for the steps walked while it was the robot's plan (CONTROLLER_STATUS's plan_seq and
+  /// steps_done).
   /// Throws InputError when a walked plan was not received; with `missing`, such a plan's steps
   /// are left out instead (the plan then jumps there) and *missing names each one.
   ContactPlan ExecutedPlan(std::vector<std::string>* missing = nullptr) const;
@@ -64,7 +77,10 @@ class RunRecord {
   std::vector<double> latency_times_s_;
   std::optional<Wait> wait_;
   std::optional<rbcp_msgs::robot_state_t> latest_;
-  std::vector<rbcp_msgs::robot_state_t> trace_;
+  std::optional<int64_t> latest_receive_us_;
+  std::optional<rbcp_msgs::controller_status_t> latest_controller_;
+  double max_base_error_m_ = 0.0;
+  std::vector<TraceEntry> trace_;
   std::map<int64_t, ContactPlan> plans_by_seq_;
   std::vector<Segment> segments_;
 };

@@ -47,6 +47,7 @@
 #include "rbcp/equilibrium/config.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/scenario/scenario.h"
+#include "rbcp/stance/stance_config.h"
 
 namespace rbcp {
 
@@ -67,9 +68,9 @@ struct PlanCheckConfig {
   double support_margin_m = std::numeric_limits<double>::quiet_NaN();
   /// Largest static joint torque [N m].
   double torque_limit_Nm = std::numeric_limits<double>::quiet_NaN();
-  /// Least normal force of a stance foot in the torque check's force distribution [N] (the
-  /// controller's stance.min_normal_force_N).
-  double min_normal_force_N = 20.0;
+  /// Least normal force of a stance foot in the torque check's force distribution [N] (the stance
+  /// rules' min_normal_force_N).
+  double min_normal_force_N = 15.0;
   /// Friction cone model of the stability and torque checks (friction, generators per contact,
   /// normal force slack). Its thresholds are not used: the two fields above are.
   EquilibriumConfig equilibrium;
@@ -78,10 +79,11 @@ struct PlanCheckConfig {
   /// At most this many violations are kept in the report; all are counted.
   int max_violations = 100;
 
-  /// The thresholds of the planners: robustness and support margin from `equilibrium`, the
-  /// actuators' command torque limit (RobotModel::ContinuousTorqueLimit), the default
-  /// tolerances above.
-  static PlanCheckConfig FromConfigs(const RobotModel& robot, const EquilibriumConfig& equilibrium);
+  /// The thresholds of the planners: robustness from `equilibrium`, support margin and least
+  /// normal force from the stance rules, the actuators' command torque limit
+  /// (RobotModel::ContinuousTorqueLimit), the default tolerances above.
+  static PlanCheckConfig FromConfigs(const RobotModel& robot, const EquilibriumConfig& equilibrium,
+                                     const StanceRules& stance);
 
   /// Throws InputError naming the first missing or out-of-range field ("PlanCheckConfig:
   /// 'torque_limit_Nm': expected a finite value > 0, got nan").
@@ -124,7 +126,7 @@ PlanCheckReport CheckPlan(const RobotModel& robot, const TriangleMesh& terrain,
 
 /// CheckPlan with everything taken from a configuration folder, as check_plan does: the robot
 /// (robots/anymal_b.*), the surfaces extracted from the scenario's terrain with affordance.yaml,
-/// and PlanCheckConfig::FromConfigs with equilibrium.yaml. Throws InputError for bad files.
+/// and PlanCheckConfig::FromConfigs with equilibrium.yaml and stance.yaml. Throws InputError for bad files.
 PlanCheckReport CheckPlanForScenario(const std::string& config_dir, const Scenario& scenario,
                                      const ContactPlan& plan);
 

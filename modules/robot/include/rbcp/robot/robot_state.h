@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "rbcp/core/leg.h"
 #include "rbcp/robot/robot_model.h"
@@ -32,13 +33,20 @@ struct RobotState {
                                                      Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
 };
 
-/// What the onboard controller is doing, published with the measured state (ROBOT_STATE).
+/// What the onboard controller is doing, published beside the measured state on its own channel
+/// (CONTROLLER_STATUS): a state estimator's ROBOT_STATE does not carry it.
 struct ControllerProgress {
   int64_t plan_seq = 0;  ///< sequence number of the plan being walked (0: none yet)
   int steps_done = 0;    ///< steps executed since the start, over all plans
   /// Set while the controller stands at a step boundary waiting for a plan that starts from this
   /// stance: the time [us] the wait began (it identifies the boundary).
   std::optional<int64_t> awaiting_since;
+  std::string phase = "hold";  ///< the controller's phase (ToString(ControllerPhase))
+  int step = 0;                ///< plan state being walked to
+  int swing_leg = -1;          ///< Index(Leg) of the leg unloading, swinging or reloading; -1 none
+  double base_error_m = 0.0;   ///< measured base to the reference it tracks [m]
+  double step_max_base_error_m = 0.0;  ///< the largest base_error_m of the current step [m]
+  double support_margin_m = 0.0;       ///< CoM inside the polygon of the loaded feet [m]
 };
 
 }  // namespace rbcp

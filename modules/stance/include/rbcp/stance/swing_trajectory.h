@@ -13,10 +13,20 @@
 #include <Eigen/Core>
 #include <functional>
 
-#include "rbcp/controller/controller_config.h"
-#include "rbcp/core/triangle_mesh.h"
+#include "rbcp/scenario/scenario.h"
+#include "rbcp/stance/stance_config.h"
 
 namespace rbcp {
+
+/// How far SwingTrajectory::Plan searches.
+enum class SwingSearch {
+  /// Every apex and bow until a path passes every check; without one, the path with the fewest
+  /// failing samples.
+  kFewestFailures,
+  /// The first path that passes every check, each candidate given up at its first failing
+  /// sample (a planner that only needs a clear path, or none).
+  kFirstClear,
+};
 
 class SwingTrajectory {
  public:
@@ -36,11 +46,26 @@ class SwingTrajectory {
   /// may bow back against the swing direction, in the same steps.
   /// `leg_preferred` (if given, with leg_clear): a check the path passes where it can. A path
   /// that passes every check is kept as above; otherwise the one with the fewest leg collisions,
-  /// and among those the fewest samples (where leg_clear holds) that fail leg_preferred.
+  /// and among those the fewest samples (where leg_clear holds) that fail leg_preferred
+  /// (kFewestFailures; with kFirstClear such a path's counts are not meaningful).
   static SwingTrajectory Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
-                              const TriangleMesh* terrain, double foot_radius_m, const SwingConfig& config,
+                              const TerrainHeightMap* terrain, double foot_radius_m, const SwingPathConfig& config,
                               const LegCheck& leg_clear = {}, const Eigen::Vector2d& inward_W = Eigen::Vector2d::Zero(),
-                              const LegCheck& leg_preferred = {});
+                              const LegCheck& leg_preferred = {}, SwingSearch search = SwingSearch::kFewestFailures);
+
+  /// The path from start_W to target_W with a given apex height [m, world z] (at least the
+  /// higher foothold's) and sideways bow at the apex [m, world xy], as Plan chose them: a plan's
+  /// swing, walked as planned. Its clearance is not known (NaN).
+  static SwingTrajectory Given(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W, double apex_z,
+                               const Eigen::Vector2d& bow_W, const SwingPathConfig& config);
+
+  /// The same path (apex, bow, end, duration) started at start_W instead: for a foot that stands
+  /// a little off the foothold the path was planned from.
+  SwingTrajectory StartingAt(const Eigen::Vector3d& start_W) const {
+    SwingTrajectory s = *this;
+    s.start_ = start_W;
+    return s;
+  }
 
   double Duration() const { return duration_s_; }
   /// Phase in [0, 1] after t [s] of swing.
@@ -51,6 +76,9 @@ class SwingTrajectory {
 
   /// Least height of the foot above the terrain over the middle of the swing [m] (+inf without terrain).
   double Clearance() const { return clearance_m_; }
+  /// Whether the path keeps the foot terrain_clearance_m above the terrain over its middle and out
+  /// of it near its ends (true without a terrain).
+  bool TerrainClear() const { return terrain_clear_; }
   /// Height of the apex [m, world z].
   double Apex() const { return apex_z_; }
   /// Samples at which `leg_clear` failed (0 when it held everywhere or was not given).
@@ -63,6 +91,8 @@ class SwingTrajectory {
  private:
   /// Position and d/ds at path parameter s in [0, 1].
   Eigen::Vector3d At(double s, Eigen::Vector3d* ds = nullptr) const;
+  /// The duration that keeps every part of the path below config.speed_mps.
+  void SetDuration(const SwingPathConfig& config);
 
   Eigen::Vector3d start_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d end_ = Eigen::Vector3d::Zero();
@@ -72,6 +102,7 @@ class SwingTrajectory {
   double clearance_m_ = 0.0;
   int leg_collisions_ = 0;
   int preferred_misses_ = 0;
+  bool terrain_clear_ = true;
 };
 
 }  // namespace rbcp

@@ -14,6 +14,7 @@
 #include "rbcp/robot/robot_state.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
@@ -57,16 +58,19 @@ rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utim
 /// kMaxCoordinate_m, a foot normal is not a unit vector or a moving leg is out of range.
 ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg);
 
-/// The message of a measured state with the controller's progress; utime = round(state.t * 1e6).
-rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state, const ControllerProgress& progress = {});
+/// The message of a measured state; utime = round(state.t * 1e6).
+rbcp_msgs::robot_state_t ToRobotStateMsg(const RobotState& state);
 
 /// Throws InputError if a value is not finite, the base is beyond kMaxCoordinate_m or the
 /// orientation is not a unit quaternion (within kUnitTolerance).
 RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg);
 
-/// The controller's progress in a ROBOT_STATE. Throws InputError for a negative step count or a
-/// wait that begins after the message's time.
-ControllerProgress ProgressFromRobotStateMsg(const rbcp_msgs::robot_state_t& msg);
+/// The controller's progress as CONTROLLER_STATUS carries it at `utime` [us].
+rbcp_msgs::controller_status_t ToControllerStatusMsg(int64_t utime, const ControllerProgress& progress);
+
+/// Throws InputError for a negative step count or step, a wait that begins after the message's
+/// time, a swing leg out of range, a non-finite error or margin, or a phase name over 32 bytes.
+ControllerProgress FromControllerStatusMsg(const rbcp_msgs::controller_status_t& msg);
 
 /// The samples of a root path (yaw from the orientations, rest_yaw = yaw). Throws InputError if
 /// the count disagrees, the path is empty, a value is not finite, a position is beyond

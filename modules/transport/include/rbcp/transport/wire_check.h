@@ -12,6 +12,7 @@
 
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
+#include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/message_part_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
@@ -28,6 +29,7 @@ const WireLayout& LayoutOf(const rbcp_msgs::terrain_mesh_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::affordance_set_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::plan_request_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::robot_state_t*);
+const WireLayout& LayoutOf(const rbcp_msgs::controller_status_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::root_path_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::contact_plan_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::process_status_t*);
