@@ -11,6 +11,7 @@
 #include <rbcp/contact_planner/contact_planner_config.h>
 #include <rbcp/equilibrium/config.h>
 #include <rbcp/limb_database/limb_database.h>
+#include <rbcp/stance/stance_config.h>
 #include <rbcp/robot/robot_model.h>
 #include <rbcp/scenario/scenario.h>
 
@@ -25,7 +26,8 @@ int main() {
     const std::vector<rbcp::AffordanceSurface> surfaces = extractor.Extract(scenario.terrain_mesh);
 
     rbcp::ContactPlanner planner(robot, database, rbcp::EquilibriumConfig::LoadFile(config + "/equilibrium.yaml"),
-                                 rbcp::ContactPlannerConfig::LoadFile(config + "/contact_planner.yaml"));
+                                 rbcp::ContactPlannerConfig::LoadFile(config + "/contact_planner.yaml"),
+                                 rbcp::StanceConfig::LoadFile(config + "/stance.yaml"));
     planner.SetTerrain(scenario.terrain_mesh, surfaces);
     // The floor's top is at z = 0: the trunk at its nominal height, 1 m straight ahead in 10 s.
     std::vector<rbcp::RootPathSample> path;

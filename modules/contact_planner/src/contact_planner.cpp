@@ -252,7 +252,7 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
     ContactPlanResult again = m.SearchFrom(root, max_steps);
     if (again.ok) result_from = std::move(again);
   }
-  if (!result_from.plan.states.empty()) result_from.plan.states.front().moving_leg = -1;
+  if (!result_from.plan.states.empty()) result_from.plan.states.front().MarkAsStart();
   return result_from;
 }
 

@@ -428,7 +428,7 @@ void ContactPlannerNode::PlanAhead() {
   const int depth = options_.horizon_steps + options_.lookahead_steps;
   ContactPlan continuation;
   continuation.states.assign(searched_.states.begin() + 1, searched_.states.end());
-  continuation.states.front().moving_leg = -1;
+  continuation.states.front().MarkAsStart();
   continuation.reaches_goal = searched_.reaches_goal;
   const auto take = [&](ContactPlan plan, const std::string& how) {
     next.result = ContactPlanResult{};

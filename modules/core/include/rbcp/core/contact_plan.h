@@ -30,6 +30,12 @@ struct WholeBodyState {
   double swing_apex_z = std::numeric_limits<double>::quiet_NaN();
   Eigen::Vector2d swing_bow = Eigen::Vector2d::Zero();
   bool HasSwing() const { return std::isfinite(swing_apex_z); }
+  /// This state as the first of a plan: no leg stepped to reach it, so no swing either.
+  void MarkAsStart() {
+    moving_leg = -1;
+    swing_apex_z = std::numeric_limits<double>::quiet_NaN();
+    swing_bow.setZero();
+  }
 };
 
 struct ContactPlan {
