@@ -1,8 +1,10 @@
 // sim_bench: the paper's yardstick, success in dynamic simulation. For every scenario and seed it
-// plans (affordances, root path, contacts) and walks the plan in the simulator, in parallel jobs,
-// and prints per scenario: plans, goals reached, the failures by kind, mean simulated time to the
-// goal, mean speed, steps, and the real-time factor of the simulation with the controller in the
-// loop (median over runs). Markdown on stdout; --json FILE also writes every run.
+// plans (affordances, root path, contacts), checks the plan with the plan checker and walks it in
+// the simulator, in parallel jobs, and prints per scenario: plans, plans passing the checker,
+// goals reached, the failures by kind, mean simulated time to the goal, mean speed, steps, and the
+// real-time factor of the simulation with the controller in the loop (median over runs). Markdown
+// on stdout; --json FILE also writes every run. By default the box scenarios and the paper's
+// meshes.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -16,6 +18,7 @@
 #include "rbcp/core/format.h"
 #include "rbcp/nodes/offline_pipeline.h"
 #include "rbcp/nodes/process.h"
+#include "rbcp/plan_checker/plan_checker.h"
 
 namespace {
 
@@ -25,6 +28,7 @@ struct Run {
   std::string scenario;
   unsigned seed = 0;
   bool planned = false;
+  bool checked = false;  // the plan passes check_plan
   bool reached = false;
   std::string failure;  // "" or what failed ("contact", "fall", ...)
   std::string detail;
@@ -45,7 +49,8 @@ double Median(std::vector<double> v) {
 int main(int argc, char** argv) {
   CLI::App app{"Plans and simulates every scenario over several seeds; prints the success table. Talks no LCM."};
   std::string config_dir = nodes::DefaultConfigDir(), json_path;
-  std::vector<std::string> scenarios = {"flat_ground", "slalom_debris", "plinth", "darpa_rubble"};
+  std::vector<std::string> scenarios = {"flat_ground",       "slalom_debris",       "plinth",       "darpa_rubble",
+                                        "paper_flat_ground", "paper_slalom_debris", "paper_plinth", "paper_darpa"};
   unsigned seeds = 20, first_seed = 1;
   int jobs = 2;
   double budget = 5.0;
@@ -92,6 +97,14 @@ int main(int argc, char** argv) {
         }
         run.planned = r.contact && r.contact->ok;
         run.steps = run.planned ? r.contact->steps : 0;
+        if (run.planned) {
+          const PlanCheckReport check = CheckPlanForScenario(config_dir, scenario, r.contact->plan);
+          run.checked = check.ok;
+          if (!check.ok) {
+            std::lock_guard<std::mutex> lock(print);
+            std::cerr << "sim_bench: " << run.scenario << " seed " << seed << ": check_plan: " << check.Summary() << "\n";
+          }
+        }
         if (r.sim) {
           run.reached = r.sim->ok();
           run.sim_s = r.sim->sim_time_s;
@@ -119,17 +132,18 @@ int main(int argc, char** argv) {
     for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
     for (std::thread& t : threads) t.join();
 
-    std::cout << "| scenario | plans | goal reached | failures | mean time to goal | mean speed | mean steps | "
-                 "max torque / limit | real-time factor (median) |\n|---|---|---|---|---|---|---|---|---|\n";
+    std::cout << "| scenario | plans | pass check_plan | goal reached | failures | mean time to goal | mean speed | "
+                 "mean steps | max torque / limit | real-time factor (median) |\n|---|---|---|---|---|---|---|---|---|---|\n";
     nlohmann::json all = nlohmann::json::array();
     for (const Scenario& scenario : loaded) {
-      int planned = 0, reached = 0;
+      int planned = 0, checked = 0, reached = 0;
       double time = 0.0, speed = 0.0, steps = 0.0, torque = 0.0;
       std::vector<double> rtf;
       std::map<std::string, int> failures;
       for (const Run& r : runs) {
         if (r.scenario != scenario.name) continue;
         planned += r.planned;
+        checked += r.checked;
         if (r.planned) steps += r.steps;
         if (r.wall_s > 0.0) rtf.push_back(r.sim_s / r.wall_s);
         torque = std::max(torque, r.max_torque_ratio);
@@ -140,7 +154,8 @@ int main(int argc, char** argv) {
         } else {
           failures[r.failure] += 1;
         }
-        all.push_back({{"scenario", r.scenario}, {"seed", r.seed}, {"planned", r.planned}, {"reached_goal", r.reached},
+        all.push_back({{"scenario", r.scenario}, {"seed", r.seed}, {"planned", r.planned}, {"checked", r.checked},
+                       {"reached_goal", r.reached},
                        {"failure", r.failure.empty() ? nlohmann::json() : nlohmann::json(r.failure)},
                        {"detail", r.detail}, {"steps", r.steps}, {"sim_time_s", r.sim_s}, {"sim_wall_s", r.wall_s},
                        {"distance_m", r.distance_m}, {"max_torque_ratio", r.max_torque_ratio},
@@ -148,7 +163,8 @@ int main(int argc, char** argv) {
       }
       std::string failure_text;
       for (const auto& [what, n] : failures) failure_text += (failure_text.empty() ? "" : ", ") + what + " " + std::to_string(n);
-      std::cout << "| " << scenario.name << " | " << planned << "/" << seeds << " | " << reached << "/" << seeds << " | "
+      std::cout << "| " << scenario.name << " | " << planned << "/" << seeds << " | " << checked << "/" << planned << " | "
+                << reached << "/" << seeds << " | "
                 << (failure_text.empty() ? "-" : failure_text) << " | "
                 << (reached ? FixedNumber(time / reached, 1) + " s" : "-") << " | "
                 << (reached ? FixedNumber(speed / reached, 3) + " m/s" : "-") << " | "

@@ -47,9 +47,19 @@ constexpr PaperRow kPaper[] = {
     {"darpa_rubble", "DARPA", 25.4, 2.18, 8.94, 29.9, 7, 20},
 };
 
+/// The paper's row of a scenario: of its box re-creation (darpa_rubble) or of its own mesh
+/// (paper_darpa, the paper's environments under our names).
 const PaperRow* PaperFor(const std::string& scenario) {
+  static const std::pair<const char*, const char*> kMeshes[] = {{"paper_flat_ground", "flat_ground"},
+                                                                {"paper_slalom_debris", "slalom_debris"},
+                                                                {"paper_plinth", "plinth"},
+                                                                {"paper_darpa", "darpa_rubble"}};
+  std::string name = scenario;
+  for (const auto& [mesh, box] : kMeshes) {
+    if (name == mesh) name = box;
+  }
   for (const PaperRow& row : kPaper) {
-    if (scenario == row.scenario) return &row;
+    if (name == row.scenario) return &row;
   }
   return nullptr;
 }

@@ -16,6 +16,8 @@
 #include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
+#include "rbcp/core/angle.h"
+#include "rbcp/stance/stance_checker.h"
 
 namespace rbcp {
 namespace {
@@ -129,9 +131,13 @@ class PlanChecker {
         config_(config),
         report_(report),
         sink_(report, config.max_violations),
-        equilibrium_(robot.TotalMass(), config.equilibrium) {
+        equilibrium_(robot.TotalMass(), config.equilibrium),
+        stance_(robot, config.stance) {
     for (const auto& surface : surfaces) surfaces_.emplace_back(surface);
-    if (config.check_collision) collision_ = std::make_unique<RobotTerrainCollision>(robot, terrain);
+    if (config.check_collision) {
+      collision_ = std::make_unique<RobotTerrainCollision>(robot, terrain);
+      stance_.SetTerrain(&terrain);
+    }
   }
 
   void Check(const ContactPlan& plan) {
@@ -147,6 +153,8 @@ class PlanChecker {
       if (collision_) CheckCollision(i, state);
       CheckStabilityAndTorques(i, state);
       if (lift_off) CheckSupportMargin(i, plan.states[k - 1], state, *lift_off);
+      if (lift_off) CheckShift(i, plan.states[k - 1], state);
+      if (lift_off && collision_ && lift_off->ik.ok()) CheckSwing(i, plan.states[k - 1], state, *lift_off);
     }
   }
 
@@ -416,11 +424,89 @@ class PlanChecker {
     }
   }
 
+  /// The trunk's straight move from `previous`'s pose to `state`'s on previous's four feet.
+  void CheckShift(int i, const WholeBodyState& previous, const WholeBodyState& state) {
+    const int n = config_.shift_checks;
+    const std::array<bool, kNumLegs> all_feet = {true, true, true, true};
+    for (int k = 1; k <= n; ++k) {
+      const double w = static_cast<double>(k) / static_cast<double>(n + 1);
+      Eigen::Vector3d rpy = previous.base_rpy + w * (state.base_rpy - previous.base_rpy);
+      rpy.z() = WrapAngle(previous.base_rpy.z() + w * WrapAngle(state.base_rpy.z() - previous.base_rpy.z()));
+      const Eigen::Isometry3d base_W =
+          PoseFromRpy(previous.base_position + w * (state.base_position - previous.base_position), rpy);
+      const std::string phase = "at " + Num(w, 2) + " of the shift from state " + std::to_string(i - 1);
+      const std::string at = phase + ": ";
+      JointVector q = JointVector::Zero();
+      for (Leg leg : kAllLegs) {
+        const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * previous.feet[static_cast<std::size_t>(Index(leg))].position);
+        if (!ik.ok()) {
+          sink_.Add(i, "shift", at + Name(leg) + " cannot keep its foothold: " + ik.reason);
+          return;
+        }
+        SetLegJoints(q, leg, ik.q);
+      }
+      const Eigen::Vector3d com_W = CenterOfMass(base_W, q);
+      std::vector<Eigen::Vector3d> feet;
+      for (const FootContact& f : previous.feet) feet.push_back(f.position);
+      const double margin = SupportPolygonMargin(feet, com_W);
+      report_->min_support_margin_m = std::min(report_->min_support_margin_m, margin);
+      if (!(margin >= config_.support_margin_m)) {
+        sink_.Add(i, "shift", at + "the CoM projection is " + Num(margin, 4) + " m inside the four feet's polygon, expected at least " +
+                                  Num(config_.support_margin_m, 4) + " m");
+        return;
+      }
+      if (collision_) {
+        const CollisionReport hit = collision_->CheckRobot(base_W, q, all_feet);
+        if (hit.collision) {
+          sink_.Add(i, "shift", at + hit.first_shape + " hits the " + hit.obstacle);
+          return;
+        }
+      }
+      const int before = report_->violation_count;
+      CheckTorques(i, phase, base_W, q, previous.feet, -1, com_W);
+      if (report_->violation_count > before) return;
+    }
+  }
+
+  /// The moving leg along the swing path the controller walks.
+  void CheckSwing(int i, const WholeBodyState& previous, const WholeBodyState& state, const LiftOff& lift_off) {
+    const Leg leg = lift_off.swing;
+    const std::size_t l = static_cast<std::size_t>(Index(leg));
+    const Eigen::Isometry3d base_W = BasePose(state);
+    const Eigen::Vector3d& from = previous.feet[l].position;
+    const Eigen::Vector3d& to = state.feet[l].position;
+    const SwingTrajectory path =
+        state.HasSwing() ? SwingTrajectory::Given(from, to, state.swing_apex_z, state.swing_bow, config_.stance.config.swing)
+                         : stance_.PlanSwing(leg, from, to, base_W, state.joints);
+    for (const Eigen::Vector3d& foot_W : path.LegCheckPoints()) {
+      const std::string at = Name(leg) + "'s swing, foot at " + Point(foot_W) + ": ";
+      const IkResult ik = robot_.SolveLegIk(leg, base_W.inverse() * foot_W);
+      if (!ik.ok()) {
+        sink_.Add(i, "swing", at + "out of reach: " + ik.reason);
+        return;
+      }
+      // The foot itself as a stance foot's: its clearance is the path's (apex over the terrain).
+      const CollisionReport hit = collision_->CheckLeg(leg, base_W, ik.q, true);
+      if (hit.collision) {
+        sink_.Add(i, "swing", at + hit.first_shape + " hits the " + hit.obstacle);
+        return;
+      }
+      JointVector q = state.joints;
+      SetLegJoints(q, leg, ik.q);
+      const CollisionReport self = collision_->CheckSelf(q);
+      if (self.collision) {
+        sink_.Add(i, "swing", at + self.first_shape + " hits " + self.obstacle);
+        return;
+      }
+    }
+  }
+
   const RobotModel& robot_;
   const PlanCheckConfig& config_;
   PlanCheckReport* report_;
   ViolationSink sink_;
   StaticEquilibrium equilibrium_;
+  StanceChecker stance_;
   std::vector<SurfaceGeometry> surfaces_;
   std::unique_ptr<RobotTerrainCollision> collision_;
 };
@@ -437,6 +523,8 @@ PlanCheckConfig PlanCheckConfig::FromConfigs(const RobotModel& robot, const Equi
   config.robustness_threshold_N = equilibrium.robustness_threshold_N;
   config.support_margin_m = stance.config.support_margin_m;
   config.min_normal_force_N = stance.config.min_normal_force_N;
+  config.shift_checks = stance.config.transit_checks;
+  config.stance = stance;
   config.torque_limit_Nm = robot.ContinuousTorqueLimit();
   config.equilibrium = equilibrium;
   return config;
@@ -467,6 +555,8 @@ void PlanCheckConfig::Validate() const {
     fail("min_normal_force_N", "a finite value >= 0", min_normal_force_N);
   }
   if (max_violations < 0) fail("max_violations", "a count >= 0", max_violations);
+  if (shift_checks < 1) fail("shift_checks", "a count >= 1", shift_checks);
+  stance.config.Validate("PlanCheckConfig: stance");
   equilibrium.Validate("PlanCheckConfig: equilibrium");
 }
 

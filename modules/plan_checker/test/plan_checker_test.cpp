@@ -355,14 +355,19 @@ TEST_F(PlanCheckerTest, TorqueLimit) {
     EXPECT_EQ(v.check, "torque");
     EXPECT_NE(v.detail.find("over the limit"), std::string::npos);
   }
-  // Torques scale with the weight: a tenth of the limit fails every state on four feet, and
-  // every step's three-foot stance at lift-off.
+  // Torques scale with the weight: a tenth of the limit fails every state on four feet, every
+  // step's three-foot stance at lift-off and its shift (at the first pose checked, which ends it).
   config.torque_limit_Nm = 0.1 * valid.max_torque_Nm;
   const PlanCheckReport low = Check(plan, config);
-  EXPECT_EQ(low.violation_count, 2 * static_cast<int>(plan.states.size()) - 1) << Describe(low);
-  int lift_off = 0;
-  for (const auto& v : low.violations) lift_off += v.detail.rfind("at lift-off ", 0) == 0 ? 1 : 0;
-  EXPECT_EQ(lift_off, static_cast<int>(plan.states.size()) - 1);
+  const int steps = static_cast<int>(plan.states.size()) - 1;
+  EXPECT_EQ(low.violation_count, 3 * steps + 1) << Describe(low);
+  int lift_off = 0, shift = 0;
+  for (const auto& v : low.violations) {
+    lift_off += v.detail.rfind("at lift-off ", 0) == 0 ? 1 : 0;
+    shift += v.detail.find("of the shift from state") != std::string::npos ? 1 : 0;
+  }
+  EXPECT_EQ(lift_off, steps);
+  EXPECT_EQ(shift, steps);
 }
 
 TEST_F(PlanCheckerTest, TorquesOfTheThreeFootStanceAtLiftOff) {
@@ -392,16 +397,16 @@ TEST_F(PlanCheckerTest, TorquesOfTheThreeFootStanceAtLiftOff) {
 TEST_F(PlanCheckerTest, EveryViolationIsCountedButOnlyTheFirstAreKept) {
   PlanCheckConfig config = world.config;
   config.max_violations = 5;
-  config.torque_limit_Nm = 0.5;  // every state fails, and every lift-off
+  config.torque_limit_Nm = 0.5;  // every state fails, every lift-off and every shift
   config.robustness_threshold_N = 1e4;  // every state fails
   const PlanCheckReport report = Check(plan, config);
-  EXPECT_EQ(report.violation_count, 3 * static_cast<int>(plan.states.size()) - 1);
+  EXPECT_EQ(report.violation_count, 4 * static_cast<int>(plan.states.size()) - 2);
   EXPECT_EQ(report.violations.size(), 5u);
   EXPECT_EQ(report.violations[0].state, 0);
   EXPECT_EQ(report.violations[0].check, "stability");
   EXPECT_EQ(report.violations[1].state, 0);
   EXPECT_EQ(report.violations[1].check, "torque");
-  EXPECT_NE(report.Summary().find("plan fails: 26 violations in 9 states (stability, torque)"), std::string::npos)
+  EXPECT_NE(report.Summary().find("plan fails: 34 violations in 9 states (stability, torque)"), std::string::npos)
       << report.Summary();
 }
 
@@ -419,13 +424,35 @@ TEST_F(PlanCheckerTest, BadInputThrows) {
   }
 }
 
+TEST_F(PlanCheckerTest, ASwingThroughAWallFailsTheSwingCheck) {
+  // A 0.3 m high, 2 cm thin wall half-way between LF's footholds of states 0 and 1: the swing
+  // the state carries (8 cm high) passes through it, though every stance stands clear of it.
+  const auto& w = FlatGroundWorld::Get();
+  ASSERT_EQ(plan.states[1].moving_leg, Index(Leg::kLF));
+  const Eigen::Vector3d from = plan.states[0].feet[static_cast<std::size_t>(Index(Leg::kLF))].position;
+  const Eigen::Vector3d to = plan.states[1].feet[static_cast<std::size_t>(Index(Leg::kLF))].position;
+  TerrainBox wall;
+  wall.size = Eigen::Vector3d(0.02, 0.1, 0.3);
+  wall.position = 0.5 * (from + to) + Eigen::Vector3d(0, 0, 0.15);
+  TriangleMesh terrain = w.scenario.terrain_mesh;
+  terrain.Append(ElementMesh(wall));
+  ContactPlan two;
+  two.states = {plan.states[0], plan.states[1]};
+  two.states[1].swing_apex_z = from.z() + 0.08;
+  const PlanCheckReport report = CheckPlan(w.robot, terrain, w.surfaces, two, w.config);
+  EXPECT_TRUE(Has(report, 1, "swing")) << Describe(report);
+  EXPECT_FALSE(Has(report, 0, "collision")) << Describe(report);
+  // On the flat floor alone the same swing is clear.
+  EXPECT_FALSE(Has(Check(two), 1, "swing"));
+}
+
 TEST_F(PlanCheckerTest, ReportAsJson) {
   PlanCheckConfig config = world.config;
   config.torque_limit_Nm = 0.5;
   const nlohmann::json j = PlanCheckReportToJson(Check(plan, config));
   EXPECT_EQ(j["ok"], false);
   EXPECT_EQ(j["states"], 9);
-  EXPECT_EQ(j["violation_count"], 17);  // 9 states on four feet, 8 lift-offs
+  EXPECT_EQ(j["violation_count"], 25);  // 9 states on four feet, 8 lift-offs, 8 shifts
   EXPECT_EQ(j["violations"][0]["check"], "torque");
   EXPECT_EQ(j["violations"][0]["state"], 0);
   EXPECT_TRUE(j["min_support_margin_m"].is_number());

@@ -81,6 +81,7 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
   SwingTrajectory s;
   s.start_ = start_W;
   s.end_ = target_W - Eigen::Vector3d(0, 0, config.touchdown_depth_m);
+  s.target_z_ = target_W.z();
   const double base_apex = std::max(start_W.z(), target_W.z()) + config.height_m;
   s.apex_z_ = base_apex;
   s.clearance_m_ = std::numeric_limits<double>::infinity();
@@ -138,16 +139,8 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
         const bool terrain_ok = !enters && middle >= config.terrain_clearance_m;
         c.terrain_clear_ = terrain_ok;
         if (first_clear && !terrain_ok) continue;  // a higher apex may clear it
-        // The leg, once the foot is off the ground: 2 cm above the foothold it rises from, then
-        // above the one it descends to (at its footholds the plan's own stances hold, and a foot
-        // on the ground touches it). From a lower foothold the knee passes the riser of the
-        // higher one on the way up.
-        for (int k = 2; leg_clear && k < kSamples; k += 2) {
-          const double u = static_cast<double>(k) / kSamples;
-          if (u > kEndSkip) break;
-          const Eigen::Vector3d p = c.At(u);
-          const bool lifted = p.z() > (u <= 0.5 ? start_W.z() : target_W.z()) + 0.02;
-          if (!lifted) continue;
+        // The leg, once the foot is off the ground (LegCheckPoints).
+        for (const Eigen::Vector3d& p : leg_clear ? c.LegCheckPoints() : std::vector<Eigen::Vector3d>{}) {
           if (!leg_clear(p)) {
             c.leg_collisions_ += 1;
           } else if (leg_preferred && !leg_preferred(p)) {
@@ -189,6 +182,7 @@ SwingTrajectory SwingTrajectory::Given(const Eigen::Vector3d& start_W, const Eig
   SwingTrajectory s;
   s.start_ = start_W;
   s.end_ = target_W - Eigen::Vector3d(0, 0, config.touchdown_depth_m);
+  s.target_z_ = target_W.z();
   s.apex_z_ = std::max(apex_z, std::max(start_W.z(), target_W.z()));
   s.bow_ = bow_W;
   s.clearance_m_ = std::numeric_limits<double>::quiet_NaN();
@@ -203,6 +197,20 @@ void SwingTrajectory::SetDuration(const SwingPathConfig& config) {
   const double across = (end_.head<2>() - start_.head<2>()).norm();
   duration_s_ = std::max({config.min_duration_s, 1.5 * std::hypot(up, bow_.norm()) / (kRiseEnd * config.speed_mps),
                           1.5 * across / ((1.0 - 2.0 * kCrossBegin) * config.speed_mps)});
+}
+
+std::vector<Eigen::Vector3d> SwingTrajectory::LegCheckPoints() const {
+  // 2 cm above the foothold it rises from, then above the one it descends to: at its footholds
+  // the plan's own stances hold, and a foot on the ground touches it. From a lower foothold the
+  // knee passes the riser of the higher one on the way up.
+  std::vector<Eigen::Vector3d> points;
+  for (int k = 2; k < kSamples; k += 2) {
+    const double u = static_cast<double>(k) / kSamples;
+    if (u > kEndSkip) break;
+    const Eigen::Vector3d p = At(u);
+    if (p.z() > (u <= 0.5 ? start_.z() : target_z_) + 0.02) points.push_back(p);
+  }
+  return points;
 }
 
 double SwingTrajectory::Phase(double t) const { return std::clamp(t / duration_s_, 0.0, 1.0); }

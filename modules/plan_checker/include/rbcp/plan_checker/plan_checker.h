@@ -34,6 +34,16 @@
 ///    moving_leg swings from its old foothold to its new one. The CoM's ground projection must
 ///    lie support_margin_m inside the support polygon of the three stance feet both at lift-off
 ///    (trunk at pose i, swing leg still on its old foothold) and at touchdown (state i).
+///  - "shift": while the trunk moves in a straight line (position and yaw) from the pose of state
+///    i-1 to that of state i on state i-1's four feet, at shift_checks poses in between: every
+///    foot within reach (joint bounds), the CoM support_margin_m inside the four feet's polygon,
+///    no robot shape on the terrain, the torques within torque_limit_Nm.
+///  - "swing": the path the moving leg's foot follows, with the trunk at the pose of state i (the
+///    swing the state carries, else the one the stance rules plan), at the points its leg is
+///    planned clear at (SwingTrajectory::LegCheckPoints: once the foot is 2 cm off its
+///    footholds): the foot within reach, no shape of the leg on the terrain (the foot sphere with a
+///    stance foot's tolerance: the path keeps it swing.terrain_clearance_m above the terrain over
+///    its middle), none on the trunk or another leg.
 
 #include <nlohmann/json.hpp>
 
@@ -74,8 +84,12 @@ struct PlanCheckConfig {
   /// Friction cone model of the stability and torque checks (friction, generators per contact,
   /// normal force slack). Its thresholds are not used: the two fields above are.
   EquilibriumConfig equilibrium;
-  /// Terrain and self collision are checked only when set.
+  /// Terrain and self collision are checked only when set (the swing check needs them).
   bool check_collision = true;
+  /// Trunk poses checked during a shift [-], >= 1.
+  int shift_checks = 6;
+  /// The stance rules, for the swing path of a state that carries none.
+  StanceRules stance;
   /// At most this many violations are kept in the report; all are counted.
   int max_violations = 100;
 

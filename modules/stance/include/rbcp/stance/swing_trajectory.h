@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <vector>
 
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/stance/stance_config.h"
@@ -74,6 +75,10 @@ class SwingTrajectory {
   Eigen::Vector3d Position(double t) const;
   Eigen::Vector3d Velocity(double t) const;
 
+  /// The foot positions at which Plan checks the leg [m, world]: every other of its path samples,
+  /// once the foot is 2 cm above the foothold it rises from, or then descends to.
+  std::vector<Eigen::Vector3d> LegCheckPoints() const;
+
   /// Least height of the foot above the terrain over the middle of the swing [m] (+inf without terrain).
   double Clearance() const { return clearance_m_; }
   /// Whether the path keeps the foot terrain_clearance_m above the terrain over its middle and out
@@ -96,6 +101,7 @@ class SwingTrajectory {
 
   Eigen::Vector3d start_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d end_ = Eigen::Vector3d::Zero();
+  double target_z_ = 0.0;  // the foothold's height (the path ends touchdown_depth_m below it)
   double apex_z_ = 0.0;
   Eigen::Vector2d bow_ = Eigen::Vector2d::Zero();
   double duration_s_ = 1.0;
