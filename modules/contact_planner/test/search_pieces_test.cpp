@@ -1,0 +1,157 @@
+// The pieces of the contact search on their own: the keep phase, one step attempt, step merging.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "keep_phase.h"
+#include "merge_steps.h"
+#include "planner_context.h"
+#include "rbcp/core/pose.h"
+#include "rbcp/limb_database/limb_database.h"
+#include "start_stance.h"
+#include "step.h"
+#include "test_world.h"
+
+namespace rbcp::contact_planner_detail {
+namespace {
+
+using test::Equilibrium;
+using test::PlannerConfig;
+using test::Robot;
+using test::Rules;
+using test::SmallDatabase;
+
+/// A planner context on a 6 x 2 m floor (top at z = 0) with a straight path along x from the
+/// origin, 1.5 m in 10 s at the nominal base height.
+class SearchPieces : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    TriangleMesh floor = MakeBoxMesh(Eigen::Vector3d(6.0, 2.0, 0.5));
+    floor.Transform(Eigen::Isometry3d(Eigen::Translation3d(1.0, 0.0, -0.25)));
+    terrain_ = floor;
+    for (const AffordanceSurface& s : test::ExtractSurfaces(terrain_)) surfaces_.emplace_back(s.vertices, s.normal);
+    stance_.SetTerrain(&terrain_);
+    std::vector<RootPathSample> samples;
+    for (int i = 0; i <= 100; ++i) {
+      RootPathSample s;
+      s.t = 0.1 * i;
+      s.p = Eigen::Vector3d(0.015 * i, 0.0, Robot().NominalBaseHeight());
+      samples.push_back(s);
+    }
+    path_ = std::make_unique<PathTrack>(samples, config_.path_yaw_smoothing_s);
+    budget_.Start(600.0);
+  }
+
+  /// The node standing at the path start.
+  Node Start() {
+    const StandingResult standing = StandingAt(ctx_, path_->At(0.0).p, 0.0);
+    EXPECT_TRUE(standing.state.has_value()) << standing.why;
+    Node node;
+    node.state = *standing.state;
+    node.t = 0.0;
+    return node;
+  }
+
+  ContactPlannerConfig config_ = PlannerConfig();
+  TriangleMesh terrain_;
+  std::vector<ConvexPolygon3d> surfaces_;
+  StanceChecker stance_{Robot(), Rules()};
+  StaticEquilibrium equilibrium_{Robot().TotalMass(), Equilibrium()};
+  ContactPlanStats stats_;
+  TimeBudget budget_;
+  PlannerContext ctx_{Robot(), SmallDatabase(), Equilibrium(), config_, stance_, surfaces_, equilibrium_, stats_, budget_};
+  std::unique_ptr<PathTrack> path_;
+};
+
+TEST_F(SearchPieces, TheKeepPhaseAdvancesUntilAFootCanNoLongerBeKept) {
+  const Node start = Start();
+  const KeepResult keep = KeepPhase(ctx_, *path_, start);
+  EXPECT_FALSE(keep.reached_end);
+  EXPECT_GT(keep.t_good, start.t) << "the trunk advances some way on the standing feet";
+  EXPECT_LT(keep.t_good, path_->End());
+  EXPECT_TRUE(KeepAt(ctx_, *path_, start, keep.t_good).ok);
+  const KeepCheck beyond = KeepAt(ctx_, *path_, start, keep.t_good + 2.0 * config_.step_time_resolution_s);
+  EXPECT_FALSE(beyond.ok);
+  EXPECT_FALSE(beyond.why.empty());
+  // Every leg ranked once, the failing ones first.
+  ASSERT_EQ(keep.ranking.size(), static_cast<std::size_t>(kNumLegs));
+  EXPECT_TRUE(keep.ranking.front().failing);
+  for (std::size_t k = 1; k < keep.ranking.size(); ++k) {
+    EXPECT_FALSE(!keep.ranking[k - 1].failing && keep.ranking[k].failing) << "failing legs first";
+  }
+  EXPECT_GT(stats_.keep_checks, 0);
+}
+
+TEST_F(SearchPieces, AStepAttemptFindsAFootholdTheControllerCanWalkTo) {
+  const Node start = Start();
+  const KeepResult keep = KeepPhase(ctx_, *path_, start);
+  const Leg leg = keep.ranking.front().leg;
+  const StepAttempt attempt = TryStep(ctx_, *path_, start, Node::Option{leg, keep.t_good, 0, false, 0}, CrawlProfile{});
+  ASSERT_EQ(attempt.outcome, StepOutcome::kFound) << attempt.why;
+  const WholeBodyState& after = attempt.child.state;
+  EXPECT_EQ(after.moving_leg, Index(leg));
+  EXPECT_DOUBLE_EQ(attempt.child.t, keep.t_good);
+  const std::size_t i = static_cast<std::size_t>(Index(leg));
+  EXPECT_GT(after.feet[i].position.x(), start.state.feet[i].position.x()) << "the foot steps ahead";
+  for (std::size_t other = 0; other < after.feet.size(); ++other) {
+    if (other != i) EXPECT_EQ(after.feet[other].position, start.state.feet[other].position);
+  }
+  const StanceVerdict verdict = stance_.CheckStep(start.state, after);
+  EXPECT_TRUE(verdict.ok()) << verdict.Describe();
+  EXPECT_GT(stats_.swing_checks, 0) << "the swing was checked";
+}
+
+TEST_F(SearchPieces, AStepAttemptFailsWithAReasonWhereNoStanceIsValid) {
+  // Far along the path the trunk has left the standing feet behind: no stance before lift-off.
+  const Node start = Start();
+  const StepAttempt attempt =
+      TryStep(ctx_, *path_, start, Node::Option{Leg::kLF, 0.8 * path_->End(), 0, false, 0}, CrawlProfile{});
+  EXPECT_EQ(attempt.outcome, StepOutcome::kPoseInvalid);
+  EXPECT_NE(attempt.why.find("out of reach"), std::string::npos) << attempt.why;
+}
+
+TEST_F(SearchPieces, MergingRemovesAStepAndKeepsEveryStepWalkable) {
+  // LF steps 6 cm, RH steps, then LF another 6 cm, the trunk advancing 4.5 cm along the path
+  // before each step: LF may stand on its first foothold until it steps 12 cm at once.
+  std::vector<WholeBodyState> states = {Start().state};
+  const auto step = [&](Leg leg, double dx) {
+    Node parent;
+    parent.state = states.back();
+    // The body shift of the swing, as the search finds it.
+    const PathPose pose = path_->At(0.3 * static_cast<double>(states.size()));
+    const SwingShiftResult shifted = SwingShift(ctx_, pose, parent, leg, Eigen::Vector3d::Zero());
+    ASSERT_TRUE(shifted.shift.has_value()) << shifted.why;
+    WholeBodyState next = states.back();
+    next.moving_leg = Index(leg);
+    next.feet[static_cast<std::size_t>(Index(leg))].position.x() += dx;
+    next.base_position = shifted.base.base_W.translation();
+    next.base_rpy = shifted.base.rpy;
+    const std::optional<JointVector> q = stance_.SolveStance(shifted.base.base_W, next.feet, -1);
+    ASSERT_TRUE(q.has_value());
+    next.joints = *q;
+    states.push_back(next);
+  };
+  step(Leg::kLF, 0.06);
+  step(Leg::kRH, 0.06);
+  step(Leg::kLF, 0.06);
+  ASSERT_EQ(states.size(), 4u);
+  for (std::size_t k = 1; k < states.size(); ++k) {
+    const StanceVerdict v = stance_.CheckStep(states[k - 1], states[k]);
+    ASSERT_TRUE(v.ok()) << "state " << k << ": " << v.Describe();
+  }
+  int removed = 0;
+  const std::vector<WholeBodyState> merged = MergeSteps(ctx_, states, &removed);
+  EXPECT_EQ(removed, 1);
+  ASSERT_EQ(merged.size(), states.size() - 1);
+  EXPECT_EQ(merged.front().feet[0].position, states.front().feet[0].position);
+  for (std::size_t leg = 0; leg < static_cast<std::size_t>(kNumLegs); ++leg) {
+    EXPECT_EQ(merged.back().feet[leg].position, states.back().feet[leg].position) << "each leg's last foothold";
+  }
+  for (std::size_t k = 1; k < merged.size(); ++k) {
+    const StanceVerdict v = stance_.CheckStep(merged[k - 1], merged[k]);
+    EXPECT_TRUE(v.ok()) << "state " << k << ": " << v.Describe();
+  }
+}
+
+}  // namespace
+}  // namespace rbcp::contact_planner_detail
