@@ -207,7 +207,58 @@ ExecutionFailure PlanExecution::Failure(const std::string& what, const std::stri
   f.leg = leg;
   f.phase = ToString(status.phase);
   f.detail = detail;
+  f.should_have_caught = ShouldHaveCaught(f);
   return f;
+}
+
+std::string PlanExecution::ShouldHaveCaught(const ExecutionFailure& f) const {
+  const ControllerStatus& status = controller_->Status();
+  // The phase of the step the failure happened in (StanceChecker::CheckStep's).
+  std::optional<StepPhase> phase;
+  switch (status.phase) {
+    case ControllerPhase::kShift: phase = StepPhase::kShift; break;
+    case ControllerPhase::kUnload: phase = StepPhase::kLiftOff; break;
+    case ControllerPhase::kSwing:
+    case ControllerPhase::kSearch: phase = StepPhase::kSwing; break;
+    case ControllerPhase::kLoad: phase = StepPhase::kTouchDown; break;
+    default: break;
+  }
+  if (f.what == "no_ground") phase = StepPhase::kSwing;  // the foot reached down at the end of its swing
+  if (!phase) return "";
+  const std::string swing_leg = status.swing_leg ? std::string(LegName(*status.swing_leg)) : "";
+  const bool of_swing_leg = !swing_leg.empty() && f.leg.rfind(swing_leg, 0) == 0;
+  StanceCheck check = StanceCheck::kOk;
+  std::string why;
+  if (f.what == "torque_saturation") {
+    if (*phase == StepPhase::kSwing && of_swing_leg) {
+      check = StanceCheck::kSwingBody;
+      why = "the swinging leg held against the trunk or the terrain";
+    } else {
+      check = StanceCheck::kTorque;
+    }
+  } else if (f.what == "fall") {
+    const bool tilt = f.detail.rfind("roll or pitch", 0) == 0;
+    check = tilt ? StanceCheck::kSupport
+                 : (*phase == StepPhase::kSwing && of_swing_leg ? StanceCheck::kSwingTerrain : StanceCheck::kCollision);
+  } else if (f.what == "foot_slip") {
+    check = StanceCheck::kBalance;
+    why = "the stance's friction";
+  } else if (f.what == "no_ground") {
+    check = StanceCheck::kReach;
+    why = "the foothold is not where the plan has it";
+  } else {
+    return "";
+  }
+  std::string out = std::string(ToString(*phase)) + ": " + ToString(check) + (why.empty() ? "" : " (" + why + ")");
+  // Where the plan's own step fails the stance rules on the world as it is, say so.
+  const ContactPlan& plan = controller_->Plan();
+  const int k = status.step;
+  if (k >= 1 && k < static_cast<int>(plan.states.size())) {
+    const StanceVerdict verdict = controller_->Stance().CheckStep(plan.states[static_cast<std::size_t>(k - 1)],
+                                                                   plan.states[static_cast<std::size_t>(k)]);
+    if (!verdict.ok()) out += "; the step fails it: " + verdict.Describe();
+  }
+  return out;
 }
 
 void PlanExecution::Abort(const std::string& what, const std::string& detail) {
@@ -367,7 +418,10 @@ nlohmann::json OutcomeToJson(const ExecutionOutcome& o) {
     j["failure"] = {{"what", o.failure->what}, {"t", o.failure->t}, {"step", o.failure->step},
                     {"leg", o.failure->leg.empty() ? nlohmann::json() : nlohmann::json(o.failure->leg)},
                     {"phase", o.failure->phase},
-                    {"detail", o.failure->detail}};
+                    {"detail", o.failure->detail},
+                    {"should_have_caught", o.failure->should_have_caught.empty()
+                                               ? nlohmann::json()
+                                               : nlohmann::json(o.failure->should_have_caught)}};
   } else {
     j["failure"] = nullptr;
   }

@@ -21,6 +21,7 @@ std::string OutcomeSummary(const ExecutionOutcome& o) {
     if (!f.leg.empty()) os << " (" << f.leg << ")";
     if (!f.phase.empty()) os << " during " << f.phase;
     os << ": " << f.detail;
+    if (!f.should_have_caught.empty()) os << " [should have been caught: " << f.should_have_caught << "]";
   } else {
     os << "undecided after " << FixedNumber(o.sim_time_s, 1) << " s";
   }

@@ -165,6 +165,8 @@ TEST(PlanExecution, FeetOnIceSlideAndTheJudgeSaysFootSlip) {
   EXPECT_EQ(o.failure->what, "foot_slip") << o.failure->detail;
   EXPECT_NE(o.failure->detail.find("slid"), std::string::npos) << o.failure->detail;
   EXPECT_GT(o.max_slip_m, g.sim.outcome.max_slip_m);
+  // The stance check that should have caught it: the friction the force distribution assumes.
+  EXPECT_NE(o.failure->should_have_caught.find(": balance"), std::string::npos) << o.failure->should_have_caught;
 }
 
 TEST(PlanExecution, TheTraceCarriesJointsTorquesAndTheSupportMargin) {
@@ -230,6 +232,7 @@ TEST(PlanExecution, AFootholdThatIsNotThereEndsTheRunAsNoGround) {
   EXPECT_EQ(o.failure->what, "no_ground") << o.failure->detail;
   EXPECT_EQ(o.failure->step, 1);
   EXPECT_EQ(o.failure->leg, std::string(LegName(static_cast<Leg>(first_step.moving_leg))));
+  EXPECT_EQ(o.failure->should_have_caught.rfind("swing: reach", 0), 0u) << o.failure->should_have_caught;
 }
 
 TEST(PlanExecution, WithoutTorquesTheRobotCollapsesAndTheJudgeSaysFall) {

@@ -97,7 +97,9 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
     const auto& f = result.sim->failure;
     result.failure = "sim: " + (f ? f->what + " at " + FixedNumber(f->t, 2) + " s, step " + std::to_string(f->step) +
                                         (f->leg.empty() ? "" : " (" + f->leg + ")") + " during " + f->phase + ": " +
-                                        f->detail
+                                        f->detail +
+                                        (f->should_have_caught.empty() ? "" : " [should have been caught: " +
+                                                                                   f->should_have_caught + "]")
                                   : std::string("the goal was not reached"));
   }
   return result;

@@ -14,7 +14,8 @@
 ///  - "controller": the controller stopped for another reason;
 ///  - "timeout": the run outlasts timeout_base_s + timeout_per_step_s per step;
 ///  - "no_plan": the planners gave up on the robot's stance (Abort).
-/// Other robot-terrain contacts (hips, shanks, foot adapters) are counted as collisions.
+/// Other robot-terrain contacts (hips, shanks, foot adapters) are counted as collisions. A failure
+/// names the stance check that should have caught it (ExecutionFailure::should_have_caught).
 
 #include <Eigen/Core>
 #include <array>
@@ -44,6 +45,11 @@ struct ExecutionFailure {
   std::string leg;     ///< leg or joint concerned ("LF", "RH_KFE", "" when none)
   std::string phase;   ///< what the controller was doing ("swing", "shift", ...; see ControllerPhase)
   std::string detail;  ///< what was seen, with numbers
+  /// The stance check that should have caught it (StanceChecker, "<phase>: <check>"), and, where
+  /// the plan's step fails that check on the world as it is, the verdict: e.g. "swing: swing_body
+  /// (the swinging leg held)", "shift: torque; the step fails it: shift: torque: ...". Empty for
+  /// failures no stance check is about (timeout, no_plan).
+  std::string should_have_caught;
 };
 
 /// The robot at one instant of a run (the 20 Hz trace of a simulated run or of a run's log).
@@ -148,6 +154,8 @@ class PlanExecution {
   void Decide(std::optional<ExecutionFailure> failure);
   /// A failure at the current time, step and phase.
   ExecutionFailure Failure(const std::string& what, const std::string& leg, const std::string& detail) const;
+  /// ExecutionFailure::should_have_caught of `failure`, from the controller's phase and step.
+  std::string ShouldHaveCaught(const ExecutionFailure& failure) const;
   void Sample(const RobotState& state);
 
   const RobotModel& robot_;
@@ -172,7 +180,7 @@ class PlanExecution {
 };
 
 /// The outcome as JSON: sim_ok, reached_goal, fell, sim_time_s, failure (null or {what, t, step,
-/// leg, phase, detail}), max_torque_ratio, collisions, collision_links, steps_total, steps_executed,
+/// leg, phase, detail, should_have_caught}), max_torque_ratio, collisions, collision_links, steps_total, steps_executed,
 /// early_touchdowns, late_touchdowns, final_base_error_m, min_support_margin_m, max_slip_m and sim_trace
 /// (TraceSampleToJson; docs/json_schema.md).
 nlohmann::json OutcomeToJson(const ExecutionOutcome& outcome);
