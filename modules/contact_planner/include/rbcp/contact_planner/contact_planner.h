@@ -18,11 +18,12 @@
 ///  * no collision with the terrain (whole robot, stance feet allowed to touch) nor with itself;
 ///  * static equilibrium of the new four-foot stance with the configured robustness (LP over
 ///    linearised friction cones);
-///  * static joint torques (from the force distribution of the equilibrium LP) below the
-///    configured fraction of the actuator limit, for the four-foot stances before and after the
-///    step and for the three-foot stance of the swing;
-///  * during the swing, the CoM's ground projection at least support_margin_m inside the triangle
-///    of the three stance feet, with the swing leg both at lift-off and at touch-down.
+///  * the stance rules the controller walks by (StanceChecker, config/stance.yaml): the torques of
+///    the four-foot stances and the three-foot stance of the swing, with the controller's force
+///    distribution, below the ceiling; the CoM's ground projection support_margin_m inside the
+///    triangle of the three stance feet with the swing leg both at lift-off and at touch-down; the
+///    base's shift to the step pose (reach, support, clearance, torques); and, last, the swing
+///    path to the foothold clear of the terrain and the body, which the plan then carries.
 /// To meet the last test the base may be shifted horizontally off the path (at most
 /// max_base_shift_m); base_shift.keep_fraction of it is kept while the trunk advances to the
 /// next step. The shift search of a step
