@@ -210,6 +210,13 @@ std::string ToString(RootPlanStatus status) {
   return "unknown";
 }
 
+unsigned GuideSeed(unsigned seed, int k) {
+  RBCP_CHECK(k >= 0, "guide " + std::to_string(k));
+  // A large odd stride (unsigned arithmetic wraps): seed s's guides never meet seed s+1's first few.
+  constexpr unsigned kStride = 1000003u;
+  return seed + static_cast<unsigned>(k) * kStride;
+}
+
 RootPlannerConfig RootPlannerConfig::Load(const YamlMap& map, const std::string& config_dir) {
   RootPlannerConfig c;
   c.rom_folder = map.String("rom_folder");
@@ -240,6 +247,7 @@ RootPlannerConfig RootPlannerConfig::Load(const YamlMap& map, const std::string&
   c.straighten_knot_spacing = map.Double("straighten_knot_spacing");
   c.max_piece_duration = map.Double("max_piece_duration");
   c.max_surface_gap = map.Double("max_surface_gap");
+  c.guide_retries = map.Int("guide_retries");
   map.RejectUnknownKeys();
   const std::string problem = c.Problem();
   if (!problem.empty()) map.Fail("", problem);
@@ -294,6 +302,9 @@ std::string RootPlannerConfig::Problem() const {
   }
   if (!(max_piece_duration > time_step)) {
     return "'max_piece_duration': expected more than time_step, got " + ConfigNumber(max_piece_duration);
+  }
+  if (guide_retries < 0 || guide_retries > 100) {
+    return "'guide_retries': expected a count in [0, 100], got " + std::to_string(guide_retries);
   }
   return "";
 }

@@ -77,6 +77,11 @@ struct RootPlannerConfig {
   /// [m] two contact surfaces this close are joined (a step bridges the gap); a goal whose
   /// surfaces are joined to none of the start's is answered kGoalUnreachable before any search.
   double max_surface_gap = 0.45;
+  /// A root path is a guide for the contact planner. When the contact planner finds no plan
+  /// along it (no foothold, or out of its budget), the pipeline (the offline pipeline, and the
+  /// root planner process on the contact planner's FAILED status) plans the same request again
+  /// with the next guide seed (GuideSeed), at most this many times per request (0: never).
+  int guide_retries = 2;
 
   /// Reads the keys of config/root_planner.yaml (strict) and the ROMs of rom_folder, resolved
   /// against config_dir when relative. Throws InputError.
@@ -99,6 +104,11 @@ enum class RootPlanStatus {
 
 /// "ok", "start_invalid", "goal_invalid", "goal_unreachable", "timeout".
 std::string ToString(RootPlanStatus status);
+
+/// The seed of a request's k-th guide (root path): k = 0 is the request's own seed; the next
+/// ones, planned when no contact plan follows the previous guide (guide_retries), lie far apart
+/// so that two requests' guides do not repeat each other.
+unsigned GuideSeed(unsigned seed, int k);
 
 /// One planning query. Positions are base positions in the world frame [m]; yaw [rad].
 struct RootPlanRequest {
