@@ -37,12 +37,17 @@ int main(int argc, char** argv) {
       if (result.contact) {
         std::cout << "; contact " << ToString(result.contact->status) << " in " << result.contact->planning_time_s << " s";
         if (result.contact->ok) std::cout << ", " << result.contact->steps << " steps";
+        if (!result.failed_guides.empty()) {
+          std::cout << " along guide " << result.failed_guides.size() + 1 << " (" << result.contact_total_s
+                    << " s over every guide)";
+        }
       }
       if (result.sim) {
         std::cout << "; sim " << (result.sim->ok() ? "goal reached" : "failed") << " after " << result.sim->sim_time_s
                   << " s simulated in " << result.sim_wall_s << " s";
       }
       std::cout << "\n";
+      for (const std::string& g : result.failed_guides) std::cout << "no contact plan along the guide of " << g << "\n";
       if (!result.ok()) std::cout << "failure: " << result.failure << "\n";
     }
     return result.ok() ? 0 : 1;

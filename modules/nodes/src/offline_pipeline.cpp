@@ -70,20 +70,33 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
     result.failure = std::string("root: no terrain under the ") + (!start_W ? "start" : "goal");
     return result;
   }
-  result.root = root_planner_->Plan(scenario.terrain_mesh, result.surfaces, *start_W, scenario.start.yaw, *goal_W,
-                                    scenario.goal.yaw, seed, root_time_budget_s);
-  if (!result.root->ok()) {
-    result.failure = "root: " + ToString(result.root->status) + ": " + result.root->reason;
-    return result;
-  }
-  if (stage == PipelineStage::kRoot) return result;
-
-  ContactPlanner contact_planner(*robot_, limb_database(), equilibrium_config_, contact_config_, stance_rules_.config);
-  contact_planner.SetTerrain(scenario.terrain_mesh, result.surfaces);
-  result.contact = contact_planner.Plan(result.root->samples);
-  if (!result.contact->ok) {
-    result.failure = "contact: " + ToString(result.contact->status) + ": " + result.contact->reason;
-    return result;
+  // Each guide (root path) in turn until the contact planner follows one: a guide along which
+  // it finds no foothold, or runs out of budget, is replaced by the next (guide_retries).
+  std::optional<ContactPlanner> contact_planner;
+  for (int guide = 0;; ++guide) {
+    const unsigned guide_seed = GuideSeed(seed, guide);
+    result.root = root_planner_->Plan(scenario.terrain_mesh, result.surfaces, *start_W, scenario.start.yaw, *goal_W,
+                                      scenario.goal.yaw, guide_seed, root_time_budget_s);
+    if (!result.root->ok()) {
+      result.failure = "root: " + ToString(result.root->status) + ": " + result.root->reason;
+      return result;
+    }
+    if (stage == PipelineStage::kRoot) return result;
+    if (!contact_planner) {
+      contact_planner.emplace(*robot_, limb_database(), equilibrium_config_, contact_config_, stance_rules_.config);
+      contact_planner->SetTerrain(scenario.terrain_mesh, result.surfaces);
+    }
+    result.contact = contact_planner->Plan(result.root->samples);
+    result.contact_total_s += result.contact->planning_time_s;
+    if (result.contact->ok) break;
+    const std::string why = ToString(result.contact->status) + ": " + result.contact->reason;
+    const bool next_guide = result.contact->status == ContactPlanStatus::kNoFoothold ||
+                            result.contact->status == ContactPlanStatus::kTimeout;
+    if (!next_guide || guide >= root_planner_->config().guide_retries) {
+      result.failure = "contact: " + why;
+      return result;
+    }
+    result.failed_guides.push_back("seed " + std::to_string(guide_seed) + ": " + why);
   }
   if (stage == PipelineStage::kContact) return result;
 
@@ -133,13 +146,17 @@ nlohmann::json ToJson(const PipelineResult& result) {
     const ContactPlanResult& contact = *result.contact;
     j["contact_ok"] = contact.ok;
     j["contact_s"] = contact.planning_time_s;
+    j["contact_total_s"] = result.contact_total_s;
     j["contact_status"] = ToString(contact.status);
+    j["failed_guides"] = result.failed_guides;
     j["steps"] = contact.ok ? contact.steps : 0;
     j["reached_goal"] = contact.reached_goal;
     j["states"] = contact.ok ? ContactPlanToJson(contact.plan) : nlohmann::json::array();
   } else if (result.stage == PipelineStage::kContact || result.stage == PipelineStage::kSim) {
     j["contact_ok"] = false;
     j["contact_s"] = 0.0;
+    j["contact_total_s"] = 0.0;
+    j["failed_guides"] = nlohmann::json::array();
     j["steps"] = 0;
     j["states"] = nlohmann::json::array();
   }

@@ -42,6 +42,40 @@ TEST(OfflinePipeline, RootStageOnFlatGroundGivesAStablePathAndJson) {
   }
 }
 
+TEST(OfflinePipeline, AGuideNoContactPlanFollowsIsReplacedByTheNext) {
+  // A contact search bounded to a handful of evaluations follows no guide: each of the
+  // guide_retries (2) next guides is tried, then the run fails with the last guide's reason.
+  const auto dir = std::filesystem::temp_directory_path() / ("rbcp_guides_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::copy(kConfig, dir, std::filesystem::copy_options::recursive);
+  {
+    std::ifstream in(dir / "contact_planner.yaml");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    const std::string key = "max_evaluations: 3000000";
+    ASSERT_NE(yaml.find(key), std::string::npos);
+    yaml.replace(yaml.find(key), key.size(), "max_evaluations: 20");
+    std::ofstream(dir / "contact_planner.yaml") << yaml;
+  }
+  const OfflinePipeline pipeline(dir.string());
+  const Scenario scenario = LoadScenario(kConfig + "/scenarios/flat_ground.yaml");
+  const PipelineResult r = pipeline.Run(scenario, PipelineStage::kContact, 4, 5.0);
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(r.failure.rfind("contact: no_foothold", 0), 0u) << r.failure;
+  ASSERT_EQ(r.failed_guides.size(), 2u);
+  EXPECT_EQ(r.failed_guides[0].rfind("seed " + std::to_string(GuideSeed(4, 0)) + ": no_foothold", 0), 0u)
+      << r.failed_guides[0];
+  EXPECT_EQ(r.failed_guides[1].rfind("seed " + std::to_string(GuideSeed(4, 1)) + ": no_foothold", 0), 0u)
+      << r.failed_guides[1];
+  EXPECT_EQ(GuideSeed(4, 0), 4u);
+  EXPECT_NE(GuideSeed(4, 1), GuideSeed(5, 0));
+  EXPECT_GE(r.contact_total_s, r.contact->planning_time_s);
+  const auto json = ToJson(r);
+  EXPECT_EQ(json["failed_guides"].size(), 2u);
+  EXPECT_FALSE(json["contact_ok"].get<bool>());
+}
+
 TEST(OfflinePipeline, AffordanceStageOnlyAndBadStageName) {
   const OfflinePipeline pipeline(kConfig);
   const PipelineResult r =

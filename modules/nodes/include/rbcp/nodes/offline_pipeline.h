@@ -37,8 +37,14 @@ struct PipelineResult {
   std::vector<AffordanceSurface> surfaces;
   double affordance_ms = 0.0;  ///< wall time of affordance extraction [ms]
 
-  std::optional<RootPlanResult> root;  ///< set when the root stage ran
-  std::optional<ContactPlanResult> contact;  ///< set when the contact stage ran
+  /// Set when the root stage ran: the last guide planned (RootPlannerConfig::guide_retries).
+  std::optional<RootPlanResult> root;
+  /// Set when the contact stage ran: the plan along `root`, or the last failure.
+  std::optional<ContactPlanResult> contact;
+  /// The guides along which the contact planner found no plan before `root`, in order, as
+  /// "seed S: <status>: <reason>"; empty when it followed the first.
+  std::vector<std::string> failed_guides;
+  double contact_total_s = 0.0;  ///< wall time of contact planning over every guide [s]
   std::optional<sim::ExecutionOutcome> sim;   ///< set when the sim stage ran
   double sim_wall_s = 0.0;                    ///< wall time of the simulation [s]
 
@@ -57,7 +63,9 @@ class OfflinePipeline {
   explicit OfflinePipeline(const std::string& config_dir);
 
   /// Runs the stages up to `stage` on the scenario. The contact stage plans the whole root path
-  /// (its samples, as ROOT_PATH carries them) with the contact planner's own time budget; the sim
+  /// (its samples, as ROOT_PATH carries them) with the contact planner's own time budget; when it
+  /// finds no plan (no foothold, or out of budget), the next guide (root path of
+  /// GuideSeed(seed, k)) is planned and followed, at most guide_retries times. The sim
   /// stage walks the contact plan in the simulator (on the same scenario) and judges the run.
   /// Planning failures are reported in the result (failure), not thrown.
   PipelineResult Run(const Scenario& scenario, PipelineStage stage, unsigned seed, double root_time_budget_s) const;
@@ -83,8 +91,9 @@ class OfflinePipeline {
 };
 
 /// The JSON object printed by plan_scenario: affordance_ms, surfaces, root_ok, root_s,
-/// root_status, root_duration_s, root_path [{t, position, velocity, yaw}]; for the contact stage
-/// contact_ok, contact_s, contact_status, steps, reached_goal and states (the plan in the form of
+/// root_status, root_duration_s, root_path [{t, position, velocity, yaw}] (of the last guide); for
+/// the contact stage contact_ok, contact_s (the last guide's), contact_total_s (every guide's),
+/// contact_status, failed_guides, steps, reached_goal and states (the plan in the form of
 /// ContactPlanToJson, read back by check_plan); for the sim stage the keys of sim::OutcomeToJson
 /// (sim_ok, fell, sim_time_s, sim_trace, ...; its reached_goal replaces the contact stage's) and
 /// sim_wall_s; failure (null or the reason). Keys of earlier stages stay stable as later stages
