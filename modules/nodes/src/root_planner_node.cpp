@@ -6,6 +6,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
+#include "rbcp/nodes/contact_planner_node.h"
 #include "rbcp/transport/convert.h"
 
 namespace rbcp::nodes {
@@ -17,6 +18,14 @@ bool SameRequest(const rbcp_msgs::plan_request_t& a, const rbcp_msgs::plan_reque
   return a.request_id == b.request_id && a.use_start == b.use_start && a.seed == b.seed &&
          same3(a.goal_position, b.goal_position) && a.goal_yaw == b.goal_yaw &&
          (!a.use_start || (same3(a.start_position, b.start_position) && a.start_yaw == b.start_yaw));
+}
+
+/// A contact planner's answer that no contact plan follows the path: a planning query that found
+/// no foothold or ran out of its budget (not a rejected input).
+bool IsContactPlanningFailure(const rbcp_msgs::process_status_t& s) {
+  const auto starts = [&](ContactPlanStatus status) { return s.reason.rfind(ToString(status) + ":", 0) == 0; };
+  return s.process == ContactPlannerNode::kProcessName && s.state == rbcp_msgs::process_status_t::FAILED &&
+         (starts(ContactPlanStatus::kNoFoothold) || starts(ContactPlanStatus::kTimeout));
 }
 
 double YawOf(const double q[4]) {  // (w, x, y, z), base to world
@@ -33,6 +42,7 @@ RootPlannerNode::RootPlannerNode(lcm::LCM& lcm, const RobotModel& robot, RootPla
       request_(lcm, options_.request_channel),
       robot_state_(lcm, options_.robot_state_channel),
       controller_(lcm, options_.controller_status_channel),
+      contact_failure_(lcm, options_.status_channel, IsContactPlanningFailure),
       world_(lcm, options_.terrain_channel, options_.affordances_channel),
       status_(lcm, kProcessName, options_.status_channel) {}
 
@@ -42,6 +52,7 @@ std::optional<std::string> RootPlannerNode::TakeInputs() {
   if (auto e = request_.TakeDecodeError()) return e;
   if (auto e = robot_state_.TakeDecodeError()) return e;
   if (auto e = controller_.TakeDecodeError()) return e;
+  contact_failure_.TakeDecodeError();  // STATUS is every process's: another's bad message is not ours to report
   if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
   if (auto e = world_.Take(&latest_utime_)) return e;
   if (auto msg = request_.Take()) {
@@ -76,6 +87,7 @@ bool RootPlannerNode::Step() {
   rbcp_msgs::plan_request_t request = *pending_;
   pending_.reset();
   handled_ = request;
+  guide_ = 0;
   std::string why;
   if (request.use_start && robot_state_.Latest()) {
     // A request to start where the robot no longer stands (the robot walked on while this
@@ -101,6 +113,22 @@ std::string RootPlannerNode::ReplanReason(bool world_changed) {
   // Replans start where the robot stands at a step boundary: the world stands still there (the
   // robot waits for a plan), so the new path does not depend on when this process heard of it.
   if (!controller.awaiting_plan || state.utime < controller.awaiting_since) return "";
+  if (guide_stance_ != controller.steps_done) {  // the robot walked on since the last guide
+    guide_stance_ = controller.steps_done;
+    guides_this_stance_ = 0;
+  }
+  // The contact planner found no plan along this path for this wait: the next guide.
+  if (const auto& failed = contact_failure_.Latest();
+      failed && failed->input_utime >= controller.awaiting_since &&
+      failure_acted_ != std::make_pair(failed->pid, failed->handled)) {
+    failure_acted_ = std::make_pair(failed->pid, failed->handled);
+    if (guides_this_stance_ < planner_.config().guide_retries) {
+      ++guides_this_stance_;
+      ++guide_;
+      return "no contact plan follows the previous path (" + failed->reason.substr(0, 160) + "): guide " +
+             std::to_string(guide_ + 1);
+    }
+  }
   if (terrain_replan_due_) {
     terrain_replan_due_ = false;
     checked_wait_ = controller.awaiting_since;
@@ -152,7 +180,7 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     }
     const double budget = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
     last_result_ = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw,
-                                 static_cast<unsigned>(request.seed), budget);
+                                 GuideSeed(static_cast<unsigned>(request.seed), guide_), budget);
   } catch (const std::exception& e) {
     // The inputs were validated; what the planner still rejects fails this request, not the process.
     last_result_.reset();

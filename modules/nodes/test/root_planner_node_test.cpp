@@ -211,6 +211,81 @@ TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges)
   EXPECT_NE(status_.Latest()->reason.find("the terrain changed"), std::string::npos) << status_.Latest()->reason;
 }
 
+TEST_F(RootPlannerNodeTest, PlansTheNextGuideWhenNoContactPlanFollowsThePath) {
+  PublishWorld("flat_ground");
+  const auto request = Request(0.0, 1.5, 4);
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  ASSERT_TRUE(path_.Take().has_value()) << status_.Latest()->reason;
+
+  Robot robot;
+  robot.state.utime = 1000000;
+  robot.state.base_position[0] = 0.3;
+  robot.state.base_position[2] = 0.45;
+  robot.state.base_orientation[0] = 1.0;
+  robot.controller.utime = robot.state.utime;
+  robot.controller.awaiting_plan = true;
+  robot.controller.awaiting_since = robot.state.utime;
+  Publish(robot);
+  Pump();
+  EXPECT_FALSE(node_.Step()) << "the robot waits on the path";
+
+  rbcp_msgs::process_status_t failed{};
+  failed.process = "contact_planner";
+  failed.pid = 77;
+  failed.state = rbcp_msgs::process_status_t::FAILED;
+  failed.reason = "no_foothold: no valid step for LF at path time 3.10 s";
+  failed.input_utime = robot.state.utime;
+  failed.handled = 1;
+  const auto contact_planner_says = [&](int64_t handled, const std::string& reason) {
+    failed.handled = handled;
+    failed.reason = reason;
+    lcm_.publish(channels::kStatus, &failed);
+  };
+  contact_planner_says(1, "no_foothold: no valid step for LF at path time 3.10 s");
+  auto path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_EQ(path->request_id, 4);
+  EXPECT_NEAR(path->points.front().position[0], 0.3, 1e-9) << "from where the robot stands";
+  EXPECT_NE(status_.Latest()->reason.find("guide 2"), std::string::npos) << status_.Latest()->reason;
+
+  // The same failure again (a heartbeat) and a rejected input are no new planning failure.
+  contact_planner_says(1, "no_foothold: no valid step for LF at path time 3.10 s");
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  contact_planner_says(2, "cannot decode ROOT_PATH (12 bytes): truncated");
+  Pump();
+  EXPECT_FALSE(node_.Step());
+
+  // Out of budget along the second guide: the third; then guide_retries (2) are spent for this wait.
+  contact_planner_says(3, "timeout: time budget of 10.00 s exhausted");
+  path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_NE(status_.Latest()->reason.find("guide 3"), std::string::npos) << status_.Latest()->reason;
+  contact_planner_says(4, "no_foothold: no valid step for RH at path time 0.40 s");
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  EXPECT_FALSE(path_.Take().has_value());
+
+  // Asked again in the same stance: no more guides. After a step, a failure gets the next guide.
+  robot.state.utime = robot.controller.utime = robot.controller.awaiting_since = 1500000;
+  Publish(robot);
+  failed.input_utime = robot.state.utime;
+  contact_planner_says(5, "no_foothold: no valid step for RH at path time 0.40 s");
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  robot.state.utime = robot.controller.utime = robot.controller.awaiting_since = 2000000;
+  robot.controller.steps_done = 1;
+  Publish(robot);
+  failed.input_utime = robot.state.utime;
+  contact_planner_says(6, "no_foothold: no valid step for RH at path time 0.40 s");
+  path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_NE(status_.Latest()->reason.find("guide 4"), std::string::npos) << status_.Latest()->reason;
+}
+
 TEST_F(RootPlannerNodeTest, BadRequestsFailWithAReason) {
   PublishWorld("flat_ground");
   auto request = Request(0.0, 1.5, 9);

@@ -5,6 +5,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
+#include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
@@ -49,7 +51,10 @@ class RootPlannerNode {
   /// with use_start = false starts from the latest ROBOT_STATE. Once a path is out, the request
   /// is planned again from the measured base (same request_id and seed) when the terrain or its
   /// surfaces change, and when the robot waits at a step boundary more than
-  /// replan_path_offset_m from the path. A repeat of the request last taken (same id, start, goal
+  /// replan_path_offset_m from the path. When the contact planner reports FAILED (no foothold, or
+  /// out of its budget) while the robot waits, the request is planned again from the measured
+  /// base with the next guide seed (GuideSeed), at most RootPlannerConfig::guide_retries times
+  /// while the robot stands in one stance (the same steps_done). A repeat of the request last taken (same id, start, goal
   /// and seed: the operator repeats it for a restarted planner) is ignored; a request to start
   /// more than replan_path_offset_m from where the robot stands is planned from the robot.
   /// Returns true if it planned or rejected an input.
@@ -76,6 +81,8 @@ class RootPlannerNode {
   transport::LatestMessage<rbcp_msgs::plan_request_t> request_;
   transport::LatestMessage<rbcp_msgs::robot_state_t> robot_state_;
   transport::LatestMessage<rbcp_msgs::controller_status_t> controller_;
+  /// The contact planner's latest FAILED STATUS of a planning query (no foothold, out of budget).
+  transport::LatestMessage<rbcp_msgs::process_status_t> contact_failure_;
   WorldInput world_;
   transport::StatusReporter status_;
 
@@ -87,6 +94,11 @@ class RootPlannerNode {
   bool terrain_replan_due_ = false;                  ///< the terrain changed: replan at the next wait
   std::optional<RootPlanResult> last_result_;
   int64_t latest_utime_ = 0;
+  int guide_ = 0;  ///< the active request's guide: its paths use GuideSeed(seed, guide_)
+  int guides_this_stance_ = 0;  ///< guides planned since the robot last stepped
+  std::optional<int32_t> guide_stance_;  ///< CONTROLLER_STATUS steps_done when they were counted
+  /// (pid, handled) of the contact planner's last failure acted on.
+  std::optional<std::pair<int32_t, int64_t>> failure_acted_;
 };
 
 /// The LCM message of a planned path: samples every time step, orientation from the yaw.
