@@ -284,8 +284,7 @@ ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& 
   const auto describe = [](const CrawlProfile& p) {
     return "gait_advance_s " + FixedNumber(p.gait_advance_s, 2) + " s, keep_fraction " + FixedNumber(p.keep_fraction, 2);
   };
-  // A piece of a receding horizon counts its steps from the root: it restarts only from there.
-  const bool restart_near_failure = max_steps < 0 && config.retry.restart_back_s > 0.0;
+  const bool restart_near_failure = config.retry.restart_back_s > 0.0;
   std::vector<Node> furthest;
   ContactPlanResult first =
       Search(ctx, path, profiles.front(), root, max_steps, restart_near_failure ? &furthest : nullptr);
@@ -297,6 +296,9 @@ ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& 
     RBCP_CHECK(!furthest.empty(), "the furthest search holds at least the root");
     const double t_restart = furthest.back().t - config.retry.restart_back_s;
     for (std::size_t k = 0; k < furthest.size() && furthest[k].t <= t_restart + 1e-9; ++k) restart = k;
+    // A piece of a receding horizon counts its steps from the root: the restarted search makes
+    // the ones left, and none when the restart state already has them all.
+    if (max_steps >= 0 && static_cast<int>(restart) >= max_steps) restart = 0;
   }
   std::string tried;
   for (const bool from_root : {false, true}) {
@@ -311,7 +313,8 @@ ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& 
         return first;
       }
       if (EvaluationsSpent(ctx)) break;
-      ContactPlanResult again = Search(ctx, path, profiles[k], from_root ? root : furthest[restart], max_steps);
+      const int steps_left = max_steps < 0 || from_root ? max_steps : max_steps - static_cast<int>(restart);
+      ContactPlanResult again = Search(ctx, path, profiles[k], from_root ? root : furthest[restart], steps_left);
       if (again.ok && !from_root) {
         // The steps of the first search up to the restart state, then the new ones.
         std::vector<WholeBodyState> states;

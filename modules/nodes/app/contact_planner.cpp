@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
                  "0: plan the whole path; K > 0: at most K steps from the measured robot state")
       ->capture_default_str()->check(CLI::Range(0, 1000));
   app.add_option("--lookahead-steps", options.lookahead_steps,
-                 "with --horizon-steps K: steps searched beyond the K published, so they lead on")
+                 "with --horizon-steps K: steps searched beyond the K published, so they lead on (the default reaches the goal)")
       ->capture_default_str()->check(CLI::Range(0, 1000));
   return nodes::GuardedMain(nodes::ContactPlannerNode::kProcessName, app, argc, argv, [&] {
     const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
