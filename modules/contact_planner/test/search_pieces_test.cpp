@@ -94,7 +94,9 @@ TEST_F(SearchPieces, AStepAttemptFindsAFootholdTheControllerCanWalkTo) {
   const std::size_t i = static_cast<std::size_t>(Index(leg));
   EXPECT_GT(after.feet[i].position.x(), start.state.feet[i].position.x()) << "the foot steps ahead";
   for (std::size_t other = 0; other < after.feet.size(); ++other) {
-    if (other != i) EXPECT_EQ(after.feet[other].position, start.state.feet[other].position);
+    if (other != i) {
+      EXPECT_EQ(after.feet[other].position, start.state.feet[other].position);
+    }
   }
   const StanceVerdict verdict = stance_.CheckStep(start.state, after);
   EXPECT_TRUE(verdict.ok()) << verdict.Describe();
