@@ -53,6 +53,10 @@ std::string ToString(ContactPlanStatus status) {
   return "unknown";
 }
 
+bool FailedAlongPath(ContactPlanStatus status) {
+  return status == ContactPlanStatus::kNoFoothold || status == ContactPlanStatus::kTimeout;
+}
+
 namespace {
 
 /// Interpolation step of a RootPath handed to Plan() [s].

@@ -90,9 +90,7 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
     result.contact_total_s += result.contact->planning_time_s;
     if (result.contact->ok) break;
     const std::string why = ToString(result.contact->status) + ": " + result.contact->reason;
-    const bool next_guide = result.contact->status == ContactPlanStatus::kNoFoothold ||
-                            result.contact->status == ContactPlanStatus::kTimeout;
-    if (!next_guide || guide >= root_planner_->config().guide_retries) {
+    if (!FailedAlongPath(result.contact->status) || guide >= root_planner_->config().guide_retries) {
       result.failure = "contact: " + why;
       return result;
     }

@@ -20,12 +20,14 @@ bool SameRequest(const rbcp_msgs::plan_request_t& a, const rbcp_msgs::plan_reque
          (!a.use_start || (same3(a.start_position, b.start_position) && a.start_yaw == b.start_yaw));
 }
 
-/// A contact planner's answer that no contact plan follows the path: a planning query that found
-/// no foothold or ran out of its budget (not a rejected input).
+/// A contact planner's answer that no contact plan follows the path: a planning query that failed
+/// along it (FailedAlongPath; its reason starts "<status>:"), not a rejected input.
 bool IsContactPlanningFailure(const rbcp_msgs::process_status_t& s) {
-  const auto starts = [&](ContactPlanStatus status) { return s.reason.rfind(ToString(status) + ":", 0) == 0; };
-  return s.process == ContactPlannerNode::kProcessName && s.state == rbcp_msgs::process_status_t::FAILED &&
-         (starts(ContactPlanStatus::kNoFoothold) || starts(ContactPlanStatus::kTimeout));
+  if (s.process != ContactPlannerNode::kProcessName || s.state != rbcp_msgs::process_status_t::FAILED) return false;
+  for (const ContactPlanStatus status : kContactPlanStatuses) {
+    if (FailedAlongPath(status) && s.reason.rfind(ToString(status) + ":", 0) == 0) return true;
+  }
+  return false;
 }
 
 double YawOf(const double q[4]) {  // (w, x, y, z), base to world

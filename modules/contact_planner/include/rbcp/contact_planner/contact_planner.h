@@ -97,8 +97,18 @@ enum class ContactPlanStatus {
   kTimeout,         ///< time budget exhausted
 };
 
+/// Every status, in declaration order.
+inline constexpr ContactPlanStatus kContactPlanStatuses[] = {
+    ContactPlanStatus::kOk,         ContactPlanStatus::kInvalidInput,     ContactPlanStatus::kNoStartStance,
+    ContactPlanStatus::kNoFoothold, ContactPlanStatus::kGoalUnreachable, ContactPlanStatus::kTimeout};
+
 /// "ok", "invalid_input", "no_start_stance", "no_foothold", "goal_unreachable", "timeout".
 std::string ToString(ContactPlanStatus status);
+
+/// Whether the query failed along its root path, so that another path (the next guide,
+/// RootPlannerConfig::guide_retries) may succeed: no foothold, or out of budget. Bad input, no
+/// start stance and an unreachable goal fail along any path.
+bool FailedAlongPath(ContactPlanStatus status);
 
 /// Work done by one query.
 struct ContactPlanStats {

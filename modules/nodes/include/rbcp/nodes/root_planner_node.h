@@ -54,8 +54,9 @@ class RootPlannerNode {
   /// replan_path_offset_m from the path. When the contact planner reports FAILED (no foothold, or
   /// out of its budget) while the robot waits, the request is planned again from the measured
   /// base with the next guide seed (GuideSeed), at most RootPlannerConfig::guide_retries times
-  /// while the robot stands in one stance (the same steps_done). A repeat of the request last taken (same id, start, goal
-  /// and seed: the operator repeats it for a restarted planner) is ignored; a request to start
+  /// while the robot stands in one stance (the same steps_done). A repeat of the request last
+  /// taken (same id, start, goal and seed: the operator repeats it for a restarted planner) is
+  /// ignored; a request to start
   /// more than replan_path_offset_m from where the robot stands is planned from the robot.
   /// Returns true if it planned or rejected an input.
   bool Step();

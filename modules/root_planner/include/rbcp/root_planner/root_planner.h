@@ -80,7 +80,8 @@ struct RootPlannerConfig {
   /// A root path is a guide for the contact planner. When the contact planner finds no plan
   /// along it (no foothold, or out of its budget), the pipeline (the offline pipeline, and the
   /// root planner process on the contact planner's FAILED status) plans the same request again
-  /// with the next guide seed (GuideSeed), at most this many times per request (0: never).
+  /// with the next guide seed (GuideSeed), at most this many times (0: never): per request
+  /// offline, per stance the robot waits in for the process.
   int guide_retries = 2;
 
   /// Reads the keys of config/root_planner.yaml (strict) and the ROMs of rom_folder, resolved
