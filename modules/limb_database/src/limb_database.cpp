@@ -48,6 +48,17 @@ void LegData::Index(double resolution) {
       key_max[a] = std::max(key_max[a], key[a]);
     }
   }
+  columns_y = cells.empty() ? 0 : static_cast<std::size_t>(key_max[1] - key_min[1]) + 1;
+  const std::size_t columns =
+      cells.empty() ? 0 : (static_cast<std::size_t>(key_max[0] - key_min[0]) + 1) * columns_y;
+  // Counting sort by column; `cells` is sorted by (x, y, z), so each column's cells are contiguous.
+  column_begin.assign(columns + 1, 0);
+  for (const CellRecord& c : cells) ++column_begin[Column(c.key[0], c.key[1]) + 1];
+  for (std::size_t c = 0; c < columns; ++c) column_begin[c + 1] += column_begin[c];
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::size_t col = Column(cells[c].key[0], cells[c].key[1]);
+    RBCP_CHECK(c >= column_begin[col] && c < column_begin[col + 1], "limb database cells out of key order");
+  }
 }
 
 namespace {
@@ -266,20 +277,17 @@ void LimbDatabase::VisitCandidates(Leg leg, const Eigen::Isometry3d& base_pose_W
   if (!limb_database_detail::KeyRange(d, res, polygon.Min() - margin, polygon.Max() + margin, &key_lo, &key_hi)) {
     return;
   }
-  // The distance to the polygon is 1-Lipschitz: no point of a cube is nearer than the distance of
-  // its centre minus its half diagonal, so farther cubes (octree nodes or cells) are skipped whole.
-  const double sqrt3 = std::sqrt(3.0);
-  auto near = [&](const Eigen::Vector3d& centre, double half_edge) {
-    return polygon.Distance(centre) <= max_distance + sqrt3 * half_edge * (1.0 + 1e-9) + 1e-12;
-  };
   FootholdCandidate cand;
   cand.leg = leg;
   cand.surface = surface_index;
-  auto visit = [&](std::uint32_t c) {
-    RBCP_CHECK(c < d.cells.size(), "octree leaf without a cell");
-    const CellRecord& cell = d.cells[c];
+  // A sample within max_distance of the polygon lies within max_distance of its plane.
+  const double sign = polygon.Normal().z() < 0.0 ? -1.0 : 1.0;  // n points up
+  const Eigen::Vector3d n = sign * polygon.Normal();
+  const double plane_offset = -sign * polygon.PlaneHeight(Eigen::Vector3d::Zero());  // n . p on the plane
+  auto visit = [&](const CellRecord& cell) {
     for (std::uint32_t k = cell.first_sample; k < cell.first_sample + cell.num_samples; ++k) {
       const Eigen::Vector3d foot_B = d.Foot(k);
+      if (std::abs(polygon.PlaneHeight(foot_B)) > max_distance) continue;
       Eigen::Vector3d closest_B;
       const double dist = polygon.Distance(foot_B, &closest_B);
       if (dist > max_distance) continue;
@@ -291,7 +299,29 @@ void LimbDatabase::VisitCandidates(Leg leg, const Eigen::Isometry3d& base_pose_W
       visit_candidate(cand);
     }
   };
-  d.tree->VisitLeaves(key_lo, key_hi, near, visit);
+  // Column by column of (x, y) keys, the slab of the plane bounds the z keys: over a column's
+  // square, n.p - offset stays within max_distance only for n_z z within
+  // offset - n_x x_c - n_y y_c +- (max_distance + (|n_x| + |n_y|) res / 2).
+  const bool bounded_z = n.z() > 1e-3;
+  const double slack = max_distance + (std::abs(n.x()) + std::abs(n.y())) * 0.5 * res + 1e-9;
+  for (unsigned kx = key_lo[0]; kx <= key_hi[0]; ++kx) {
+    const double x = d.tree->keyToCoord(static_cast<octomap::key_type>(kx));
+    for (unsigned ky = key_lo[1]; ky <= key_hi[1]; ++ky) {
+      const std::size_t column = d.Column(kx, ky);
+      const auto begin = d.cells.begin() + d.column_begin[column];
+      const auto end = d.cells.begin() + d.column_begin[column + 1];
+      if (begin == end) continue;
+      double kz_lo = key_lo[2], kz_hi = key_hi[2];
+      if (bounded_z) {
+        const double s = plane_offset - n.x() * x - n.y() * d.tree->keyToCoord(static_cast<octomap::key_type>(ky));
+        kz_lo = std::max(kz_lo, limb_database_detail::KeyCoordinate(res, (s - slack) / n.z()));
+        kz_hi = std::min(kz_hi, limb_database_detail::KeyCoordinate(res, (s + slack) / n.z()));
+        if (kz_lo > kz_hi) continue;
+      }
+      auto it = std::lower_bound(begin, end, kz_lo, [](const CellRecord& c, double z) { return c.key[2] < z; });
+      for (; it != end && it->key[2] <= kz_hi; ++it) visit(*it);
+    }
+  }
 }
 
 std::vector<int> LimbDatabase::SamplesInBox(Leg leg, const Eigen::Vector3d& min_B, const Eigen::Vector3d& max_B) const {

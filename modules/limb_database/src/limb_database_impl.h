@@ -87,10 +87,17 @@ struct LegData {
   std::unique_ptr<CellTree> tree;
   octomap::OcTreeKey key_min;  ///< bounds of the occupied keys
   octomap::OcTreeKey key_max;
+  /// The cells by (x, y) key column, for queries that bound the z keys of each column: column
+  /// c = (x - key_min.x) * columns_y + (y - key_min.y) holds cells[column_begin[c],
+  /// column_begin[c + 1]), by ascending z key (as `cells` is sorted).
+  std::vector<std::uint32_t> column_begin;
+  std::size_t columns_y = 0;
 
   int NumSamples() const { return static_cast<int>(score.size()); }
   Eigen::Vector3d Foot(std::size_t i) const { return Eigen::Vector3d(foot[3 * i], foot[3 * i + 1], foot[3 * i + 2]); }
-  /// Builds the octree and key bounds from `cells`.
+  /// The column holding the cells of the (x, y) key, which must lie within [key_min, key_max].
+  std::size_t Column(unsigned x, unsigned y) const { return (x - key_min[0]) * columns_y + (y - key_min[1]); }
+  /// Builds the octree, the key bounds and the columns from `cells` (sorted by key).
   void Index(double resolution);
 };
 

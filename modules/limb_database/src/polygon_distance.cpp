@@ -38,7 +38,7 @@ ConvexPolygonDistance::ConvexPolygonDistance(std::vector<Eigen::Vector3d> vertic
 
 double ConvexPolygonDistance::Distance(const Eigen::Vector3d& p, Eigen::Vector3d* closest) const {
   RBCP_CHECK(!Degenerate(), "distance to a polygon without area");
-  const double height = (p - vertices_[0]).dot(normal_);
+  const double height = PlaneHeight(p);
   const Eigen::Vector3d p_plane = p - height * normal_;
   bool inside = true;
   for (std::size_t i = 0; i < vertices_.size() && inside; ++i) inside = (p_plane - vertices_[i]).dot(inward_[i]) >= 0.0;

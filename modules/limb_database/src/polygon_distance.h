@@ -18,6 +18,11 @@ class ConvexPolygonDistance {
   /// Distance [m] from p to the polygon; *closest (optional) receives the closest polygon point.
   double Distance(const Eigen::Vector3d& p, Eigen::Vector3d* closest = nullptr) const;
 
+  /// Signed distance [m] of p from the polygon's plane, along Normal().
+  double PlaneHeight(const Eigen::Vector3d& p) const { return (p - vertices_[0]).dot(normal_); }
+  /// Unit normal of the polygon's plane.
+  const Eigen::Vector3d& Normal() const { return normal_; }
+
   /// True when the polygon has no area about the normal (less than 1e-14 m^2 twice over).
   bool Degenerate() const { return inward_.empty(); }
 

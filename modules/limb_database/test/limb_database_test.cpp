@@ -284,6 +284,30 @@ TEST(LimbDatabase, RandomTrianglesMatchAnExhaustiveSearch) {
   EXPECT_GT(non_empty, 12);
 }
 
+TEST(LimbDatabase, SteepAndVerticalPolygonsMatchAnExhaustiveSearch) {
+  // The query bounds each key column's z range by the polygon's plane; a wall bounds none.
+  const Eigen::Isometry3d base = BasePose();
+  for (Leg leg : kAllLegs) {
+    const Eigen::Vector3d foot = base * Anymal().ReferenceFootPosition(leg);
+    for (const double tilt : {1.2, M_PI / 2}) {  // [rad] from horizontal
+      const Eigen::Vector3d up = Eigen::AngleAxisd(tilt, base.linear().col(1)) * Eigen::Vector3d::UnitZ();
+      const Eigen::Vector3d across = (base.linear().col(1) - base.linear().col(1).dot(up) * up).normalized();
+      const Eigen::Vector3d along = across.cross(up);  // with `across`, spans the polygon's plane
+      const double h = 0.12;
+      const Eigen::Vector3d a = foot + 0.05 * up - h * along - h * across;
+      const Eigen::Vector3d b = foot + 0.05 * up + h * along - h * across;
+      const Eigen::Vector3d c = foot + 0.05 * up + h * along + h * across;
+      const Eigen::Vector3d d = foot + 0.05 * up - h * along + h * across;
+      const std::vector<FootholdCandidate> candidates =
+          Database().Candidates(leg, base, ConvexSurface{{a, b, c, d}, up}, 0.06);
+      EXPECT_FALSE(candidates.empty()) << LegName(leg) << " tilt " << tilt;
+      ExpectCompleteAndSound(leg, base, 0.06, candidates, [&](const Eigen::Vector3d& p) {
+        return std::min((p - ClosestPointOnTriangle(p, a, b, c)).norm(), (p - ClosestPointOnTriangle(p, a, c, d)).norm());
+      });
+    }
+  }
+}
+
 TEST(LimbDatabase, SurfacesOutOfReachGiveNoCandidates) {
   const Eigen::Isometry3d base = BasePose();
   auto square_at = [&](const Eigen::Vector3d& c_W, double h) {

@@ -181,8 +181,9 @@ class LimbDatabase {
   // ---- Queries ---------------------------------------------------------------------------------
 
   /// Every sample of the leg whose foot lies within max_distance [m] of the surface polygon
-  /// when the base is at base_pose_W. All of them: no cap. Cells are visited in octree order and
-  /// the samples of a cell by descending score; callers rank them with their own heuristic.
+  /// when the base is at base_pose_W. All of them: no cap. Cells are visited in key order (x,
+  /// then y, then z; per key column only the z range the polygon's plane slab can reach) and the
+  /// samples of a cell by descending score; callers rank them with their own heuristic.
   /// A polygon without area (collinear or repeated vertices, e.g. a surface clipped to a sliver)
   /// gives no candidates. Throws InputError for fewer than 3 vertices, non-finite vertices, a
   /// zero or non-finite normal, or a negative or non-finite max_distance.
