@@ -47,12 +47,26 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
   // cell is kept (of the many samples near a surface, most project into a cell already seen).
   const Eigen::Matrix3d R_tW = Yaw(target_yaw).transpose();
   std::vector<Candidate> unique;
-  std::unordered_map<long long, std::size_t> cell_index;
   int raw = 0;
   const auto better = [](const Candidate& a, const Candidate& b) {
     if (a.score != b.score) return a.score > b.score;
     if (a.surface != b.surface) return a.surface < b.surface;
     return a.sample < b.sample;
+  };
+  // The best candidate of each foothold cell (FootholdCell) of the surface being queried: a dense
+  // grid over the clipped polygon's bounds (its projected footholds lie in the polygon), a map
+  // for any that rounding puts outside.
+  const double cell = fc.dedup_cell_m;
+  std::vector<int> grid;  // index into `unique` + 1, 0 for none
+  long long gx0 = 0, gy0 = 0, gnx = 0, gny = 0;
+  std::unordered_map<long long, std::size_t> outside;
+  const auto keep = [&](const Candidate& k, std::size_t* slot_index, bool found) {
+    if (!found) {
+      *slot_index = unique.size();
+      unique.push_back(k);
+    } else if (better(k, unique[*slot_index])) {
+      unique[*slot_index] = k;
+    }
   };
   const auto take = [&](const FootholdCandidate& c) {
     ++raw;
@@ -64,12 +78,18 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
     const Eigen::Vector3d d = R_tW * (k.foothold - target_W);
     k.score = fc.static_weight * c.static_score -
               (fc.weight_x * d.x() * d.x() + fc.weight_y * d.y() * d.y() + fc.weight_z * d.z() * d.z());
-    const auto [it, inserted] = cell_index.try_emplace(FootholdCell(k, fc.dedup_cell_m), unique.size());
-    if (inserted) {
-      unique.push_back(k);
-    } else if (better(k, unique[it->second])) {
-      unique[it->second] = k;
+    const long long ix = static_cast<long long>(std::floor(k.foothold.x() / cell)) - gx0;
+    const long long iy = static_cast<long long>(std::floor(k.foothold.y() / cell)) - gy0;
+    if (ix >= 0 && iy >= 0 && ix < gnx && iy < gny) {
+      int& slot = grid[static_cast<std::size_t>(ix * gny + iy)];
+      std::size_t index = slot > 0 ? static_cast<std::size_t>(slot - 1) : 0;
+      keep(k, &index, slot > 0);
+      slot = static_cast<int>(index) + 1;
+      return;
     }
+    const auto [it, inserted] = outside.try_emplace(FootholdCell(k, cell), unique.size());
+    std::size_t index = it->second;
+    keep(k, &index, !inserted);
   };
   for (std::size_t s = 0; s < ctx.surfaces.size(); ++s) {
     const ConvexPolygon3d& surface = ctx.surfaces[s];
@@ -83,6 +103,16 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
       clipped = ConvexPolygon3d(clipped, surface.Normal()).ClipToSquare(target_W.head<2>(), near_half);
       if (clipped.size() < 3) continue;
     }
+    Eigen::Vector2d lo_xy = clipped.front().head<2>(), hi_xy = lo_xy;
+    for (const Eigen::Vector3d& v : clipped) {
+      lo_xy = lo_xy.cwiseMin(v.head<2>());
+      hi_xy = hi_xy.cwiseMax(v.head<2>());
+    }
+    gx0 = static_cast<long long>(std::floor(lo_xy.x() / cell));
+    gy0 = static_cast<long long>(std::floor(lo_xy.y() / cell));
+    gnx = static_cast<long long>(std::floor(hi_xy.x() / cell)) - gx0 + 1;
+    gny = static_cast<long long>(std::floor(hi_xy.y() / cell)) - gy0 + 1;
+    grid.assign(static_cast<std::size_t>(gnx * gny), 0);
     ctx.db.VisitCandidates(leg, base_W, clipped, surface.Normal(), fc.query_distance_m, static_cast<int>(s), take);
   }
   ctx.stats.candidates += raw;
