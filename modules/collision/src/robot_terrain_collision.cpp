@@ -7,6 +7,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -105,6 +106,22 @@ struct Shape {
     }
   }
 
+  // Directions along which the shape has faces or an axis at pose T: a box's three face normals,
+  // a cylinder's axis, none for a sphere. Returns how many of axes[] it filled.
+  int Axes(const Eigen::Isometry3d& T, std::array<Eigen::Vector3d, 3>& axes) const {
+    switch (kind) {
+      case CollisionShape::Kind::kBox:
+        for (int i = 0; i < 3; ++i) axes[static_cast<std::size_t>(i)] = T.linear().col(i);
+        return 3;
+      case CollisionShape::Kind::kCylinder:
+        axes[0] = T.linear().col(2);
+        return 1;
+      case CollisionShape::Kind::kSphere:
+      default:
+        return 0;
+    }
+  }
+
   // Axis-aligned bounds of the shape at pose T.
   Aabb Bounds(const Eigen::Isometry3d& T) const {
     const Eigen::Vector3d c = T.translation();
@@ -128,6 +145,54 @@ struct Shape {
     return Aabb{c - e, c + e};
   }
 };
+
+// Gap [m] by which a separating axis must part two convex sets before the GJK test is skipped:
+// touching and nearly touching pairs are left to GJK and its own tolerance, so the pre-test never
+// changes a verdict.
+constexpr double kSeparationSlack = 1e-5;
+
+// True when the unit axis n separates the shapes a (at Ta) and b (at Tb) by more than the slack.
+bool ApartAlong(const Eigen::Vector3d& n, const Shape& a, const Eigen::Isometry3d& Ta, const Shape& b,
+                const Eigen::Isometry3d& Tb) {
+  return std::abs(n.dot(Tb.translation() - Ta.translation())) > a.Support(Ta, n) + b.Support(Tb, n) + kSeparationSlack;
+}
+
+// A cheap sufficient test that two placed shapes do not touch: the line through their centres,
+// the box face normals and the cylinder axes as separating axes (exact shapes, no tolerance).
+bool Separated(const Shape& a, const Eigen::Isometry3d& Ta, const Shape& b, const Eigen::Isometry3d& Tb) {
+  const Eigen::Vector3d d = Tb.translation() - Ta.translation();
+  const double length = d.norm();
+  if (length > 1e-12 && ApartAlong(d / length, a, Ta, b, Tb)) return true;
+  std::array<Eigen::Vector3d, 3> axes;
+  for (int k = a.Axes(Ta, axes) - 1; k >= 0; --k) {
+    if (ApartAlong(axes[static_cast<std::size_t>(k)], a, Ta, b, Tb)) return true;
+  }
+  for (int k = b.Axes(Tb, axes) - 1; k >= 0; --k) {
+    if (ApartAlong(axes[static_cast<std::size_t>(k)], a, Ta, b, Tb)) return true;
+  }
+  return false;
+}
+
+// The same for a shape against a terrain triangle (whose own normal the caller has tested): the
+// line from the shape's centre to the triangle's centroid, the box face normals, the cylinder axis.
+bool SeparatedFromTriangle(const Shape& s, const Eigen::Isometry3d& T, const GridTriangle& t) {
+  const auto& [p, q, r] = t.corners;
+  const auto apart = [&](const Eigen::Vector3d& n) {
+    const double c = n.dot(T.translation());
+    const double lo = std::min({n.dot(p), n.dot(q), n.dot(r)});
+    const double hi = std::max({n.dot(p), n.dot(q), n.dot(r)});
+    const double half = s.Support(T, n);
+    return c - half > hi + kSeparationSlack || c + half < lo - kSeparationSlack;
+  };
+  const Eigen::Vector3d d = (p + q + r) / 3.0 - T.translation();
+  const double length = d.norm();
+  if (length > 1e-12 && apart(d / length)) return true;
+  std::array<Eigen::Vector3d, 3> axes;
+  for (int k = s.Axes(T, axes) - 1; k >= 0; --k) {
+    if (apart(axes[static_cast<std::size_t>(k)])) return true;
+  }
+  return false;
+}
 
 struct Scratch {
   std::vector<Eigen::Isometry3d> link_poses;
@@ -211,7 +276,9 @@ struct RobotTerrainCollision::Impl {
     if (!box.Overlaps(grid->Bounds())) return false;
     if (box.lo.z() > grid->MaxHeightOver(box)) return false;
     double depth = 0.0;
-    if (AnyTriangleTouching(s, pose, box, [&](const GridTriangle& t) { return s.TouchesTriangle(pose, t, nullptr); })) {
+    if (AnyTriangleTouching(s, pose, box, [&](const GridTriangle& t) {
+          return !SeparatedFromTriangle(s, pose, t) && s.TouchesTriangle(pose, t, nullptr);
+        })) {
       if (options.measure_penetration) depth = TerrainDepth(shapes[static_cast<std::size_t>(s.report_index)], link_W);
     } else if (!grid->Bounds().Contains(box) || !grid->Inside(pose.translation(), &depth)) {
       return false;
@@ -260,6 +327,7 @@ struct RobotTerrainCollision::Impl {
   bool PairCollides(int a, int b, Scratch& scratch) const {
     const std::size_t ia = static_cast<std::size_t>(a), ib = static_cast<std::size_t>(b);
     if (!scratch.shape_boxes[ia].Overlaps(scratch.shape_boxes[ib])) return false;
+    if (Separated(shapes[ia], scratch.shape_poses[ia], shapes[ib], scratch.shape_poses[ib])) return false;
     scratch.result.clear();
     return fcl::collide(shapes[ia].geometry.get(), scratch.shape_poses[ia], shapes[ib].geometry.get(),
                         scratch.shape_poses[ib], FirstHitRequest(), scratch.result) > 0;
@@ -273,6 +341,32 @@ struct RobotTerrainCollision::Impl {
     fcl::collide(shapes[ia].geometry.get(), scratch.shape_poses[ia], shapes[ib].geometry.get(), scratch.shape_poses[ib],
                  request, scratch.result);
     return scratch.result.numContacts() > 0 ? std::abs(scratch.result.getContact(0).penetration_depth) : 0.0;
+  }
+
+  // Self-collision over the pair blocks, or only those of one group (1 + Index(leg)) when
+  // group >= 0.
+  CollisionReport Self(const JointVector& q, int group) const {
+    RBCP_CHECK(q.allFinite(), "self-collision query with a non-finite joint vector");
+    Scratch& scratch = ThreadScratch();
+    robot.LinkPoses(q, &scratch.link_poses);
+    PlaceRobotShapes(scratch);
+    CollisionReport report;
+    for (const PairBlock& block : self_blocks) {
+      if (group >= 0 && block.group_a != static_cast<std::size_t>(group) && block.group_b != static_cast<std::size_t>(group)) {
+        continue;
+      }
+      if (!scratch.groups_overlap[block.group_a][block.group_b]) continue;
+      for (std::size_t k = block.begin; k < block.end; ++k) {
+        const auto [a, b] = self_pairs[k];
+        if (!PairCollides(a, b, scratch)) continue;
+        report.collision = true;
+        report.first_shape = shapes[static_cast<std::size_t>(a)].name;
+        report.obstacle = shapes[static_cast<std::size_t>(b)].name;
+        if (options.measure_penetration) report.penetration = PairDepth(a, b, scratch);
+        return report;
+      }
+    }
+    return report;
   }
 };
 
@@ -469,26 +563,10 @@ CollisionReport RobotTerrainCollision::CheckTrunk(const Eigen::Isometry3d& base_
   return report;
 }
 
-CollisionReport RobotTerrainCollision::CheckSelf(const JointVector& q) const {
-  RBCP_CHECK(q.allFinite(), "self-collision query with a non-finite joint vector");
-  const Impl& m = *impl_;
-  Scratch& scratch = ThreadScratch();
-  m.robot.LinkPoses(q, &scratch.link_poses);
-  m.PlaceRobotShapes(scratch);
-  CollisionReport report;
-  for (const Impl::PairBlock& block : m.self_blocks) {
-    if (!scratch.groups_overlap[block.group_a][block.group_b]) continue;
-    for (std::size_t k = block.begin; k < block.end; ++k) {
-      const auto [a, b] = m.self_pairs[k];
-      if (!m.PairCollides(a, b, scratch)) continue;
-      report.collision = true;
-      report.first_shape = m.shapes[static_cast<std::size_t>(a)].name;
-      report.obstacle = m.shapes[static_cast<std::size_t>(b)].name;
-      if (m.options.measure_penetration) report.penetration = m.PairDepth(a, b, scratch);
-      return report;
-    }
-  }
-  return report;
+CollisionReport RobotTerrainCollision::CheckSelf(const JointVector& q) const { return impl_->Self(q, -1); }
+
+CollisionReport RobotTerrainCollision::CheckSelf(const JointVector& q, Leg leg) const {
+  return impl_->Self(q, 1 + Index(leg));
 }
 
 bool RobotTerrainCollision::InsideTerrain(const Eigen::Vector3d& p_W) const { return impl_->grid->Inside(p_W); }

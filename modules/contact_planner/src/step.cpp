@@ -305,7 +305,8 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
         last_reject = "leg collision";
         continue;
       }
-      if (ctx.stance.ExactCollision().CheckSelf(q_post).collision) {
+      // The lift-off stance passed the whole self-collision test; only the stepping leg moved.
+      if (ctx.stance.ExactCollision().CheckSelf(q_post, leg).collision) {
         last_reject = "self-collision";
         continue;
       }

@@ -178,13 +178,14 @@ SwingTrajectory StanceChecker::PlanSwing(Leg leg, const Eigen::Vector3d& from_W,
   };
   // The leg also keeps clear of the trunk and the other legs: a hind leg stepping down from a
   // tread close below its hip, lifted straight up, folds its thigh against the trunk and stalls
-  // the hip flexion at its torque limit. Checked with the exact shapes.
+  // the hip flexion at its torque limit. Checked with the exact shapes, for the swinging leg's
+  // pairs only: the rest of q is the lift-off stance, checked whole before the swing.
   const SwingTrajectory::LegCheck clear_of_body = [&](const Eigen::Vector3d& foot_W) {
     const IkResult ik = robot_->SolveLegIk(leg, T_BW * foot_W);
     if (!ik.ok()) return false;
     JointVector q_swing = q;
     SetLegJoints(q_swing, leg, ik.q);
-    return !exact_->CheckSelf(q_swing).collision;
+    return !exact_->CheckSelf(q_swing, leg).collision;
   };
   // Towards the body: from the middle of the swing to the base, across the swing direction.
   const Eigen::Vector2d across = (to_W - from_W).head<2>();

@@ -35,12 +35,20 @@ double SmoothStep(double u, double* rate = nullptr) {
 /// above xy) and the terrain under it is z + SphereGapOffset(terrain, xy, r): sampled on rings
 /// around the sphere's centre; +inf with no terrain below.
 double SphereGapOffset(const TerrainHeightMap& terrain, const Eigen::Vector2d& xy, double r) {
+  // The eight directions of a ring, k * 45 degrees.
+  static const std::array<Eigen::Vector2d, 8> kRing = [] {
+    std::array<Eigen::Vector2d, 8> ring;
+    for (int k = 0; k < 8; ++k) {
+      const double a = k * M_PI / 4.0;
+      ring[static_cast<std::size_t>(k)] = Eigen::Vector2d(std::cos(a), std::sin(a));
+    }
+    return ring;
+  }();
   double offset = std::numeric_limits<double>::infinity();
   for (double d : {0.0, 0.5 * r, 0.9 * r}) {
     const double rise = r - std::sqrt(r * r - d * d);  // sphere surface above its lowest point
     for (int k = 0; k < (d > 0.0 ? 8 : 1); ++k) {
-      const double a = k * M_PI / 4.0;
-      const std::optional<double> h = terrain.At(xy + d * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      const std::optional<double> h = terrain.At(xy + d * kRing[static_cast<std::size_t>(k)]);
       if (h) offset = std::min(offset, rise - *h);
     }
   }

@@ -111,6 +111,9 @@ class RobotTerrainCollision {
   /// Self-collision: leg against leg (different legs) and leg against trunk, with the exclusions
   /// listed by SelfCollisionExclusions(). Independent of the base pose.
   CollisionReport CheckSelf(const JointVector& q) const;
+  /// The pairs of CheckSelf(q) that hold a shape of `leg`: where a configuration differs from
+  /// one that passed CheckSelf only in that leg's joints (a swing), the same verdict for less work.
+  CollisionReport CheckSelf(const JointVector& q, Leg leg) const;
 
   /// True when the world point p_W lies inside the terrain solid (vertical-ray winding number > 0).
   bool InsideTerrain(const Eigen::Vector3d& p_W) const;

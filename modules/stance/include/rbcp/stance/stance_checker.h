@@ -121,7 +121,8 @@ class StanceChecker {
   StanceVerdict LiftOffCollision(const Eigen::Isometry3d& base_W, const JointVector& q, Leg lifting) const;
 
   /// The swing path of `leg` from from_W to to_W with the base held at base_W; q holds the other
-  /// legs' joints (for the check against them). Without a terrain, the plain path. kFirstClear:
+  /// legs' joints (for the check against them: the swinging leg's self-collision pairs are tested,
+  /// q's others are taken as checked, as LiftOffCollision does). Without a terrain, the plain path. kFirstClear:
   /// a planner's question (is there a clear path, and which), answered at a fraction of the cost.
   SwingTrajectory PlanSwing(Leg leg, const Eigen::Vector3d& from_W, const Eigen::Vector3d& to_W,
                             const Eigen::Isometry3d& base_W, const JointVector& q,
