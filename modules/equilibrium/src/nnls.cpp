@@ -2,66 +2,87 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
-#include <vector>
+#include <array>
 
 namespace rbcp::detail {
 namespace {
 
+/// Storage of the solver's vectors and matrices: on the stack up to kMaxUnknowns columns.
+template <int MaxN>
+struct Storage {
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MaxN, MaxN>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxN, 1>;
+  using Flags = Eigen::Matrix<bool, Eigen::Dynamic, 1, 0, MaxN, 1>;
+};
+
 /// The least-squares solution on the columns in `passive`, zero elsewhere: the normal equations
 /// (AtA, Atb precomputed) restricted to those columns, by LDLT; by QR of those columns of A when
 /// they are too close to dependent for the normal equations.
-Eigen::VectorXd SolveOnSet(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& AtA,
-                           const Eigen::VectorXd& Atb, const std::vector<bool>& passive) {
-  std::vector<Eigen::Index> cols;
+template <int MaxN>
+typename Storage<MaxN>::Vector SolveOnSet(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                                          const typename Storage<MaxN>::Matrix& AtA,
+                                          const typename Storage<MaxN>::Vector& Atb,
+                                          const typename Storage<MaxN>::Flags& passive) {
+  using Matrix = typename Storage<MaxN>::Matrix;
+  using Vector = typename Storage<MaxN>::Vector;
+  std::array<Eigen::Index, MaxN == Eigen::Dynamic ? 1 : MaxN> fixed_cols{};
+  std::vector<Eigen::Index> dynamic_cols;
+  Eigen::Index* cols = fixed_cols.data();
+  if (MaxN == Eigen::Dynamic) {
+    dynamic_cols.resize(static_cast<std::size_t>(A.cols()));
+    cols = dynamic_cols.data();
+  }
+  Eigen::Index k = 0;
   for (Eigen::Index j = 0; j < A.cols(); ++j) {
-    if (passive[static_cast<std::size_t>(j)]) cols.push_back(j);
+    if (passive[j]) cols[k++] = j;
   }
-  const auto k = static_cast<Eigen::Index>(cols.size());
-  Eigen::MatrixXd N(k, k);
-  Eigen::VectorXd r(k);
+  Matrix N(k, k);
+  Vector r(k);
   for (Eigen::Index i = 0; i < k; ++i) {
-    r[i] = Atb[cols[static_cast<std::size_t>(i)]];
-    for (Eigen::Index j = 0; j < k; ++j) N(i, j) = AtA(cols[static_cast<std::size_t>(i)], cols[static_cast<std::size_t>(j)]);
+    r[i] = Atb[cols[i]];
+    for (Eigen::Index j = 0; j < k; ++j) N(i, j) = AtA(cols[i], cols[j]);
   }
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(N);
-  Eigen::VectorXd zp;
+  const Eigen::LDLT<Matrix> ldlt(N);
+  Vector zp;
   const double smallest = ldlt.vectorD().cwiseAbs().minCoeff();
   const double largest = ldlt.vectorD().cwiseAbs().maxCoeff();
   if (ldlt.info() == Eigen::Success && ldlt.isPositive() && smallest > 1e-12 * std::max(1.0, largest)) {
     zp = ldlt.solve(r);
   } else {
     Eigen::MatrixXd Ap(A.rows(), k);
-    for (Eigen::Index i = 0; i < k; ++i) Ap.col(i) = A.col(cols[static_cast<std::size_t>(i)]);
+    for (Eigen::Index i = 0; i < k; ++i) Ap.col(i) = A.col(cols[i]);
     zp = Ap.colPivHouseholderQr().solve(b);
   }
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(A.cols());
-  for (Eigen::Index i = 0; i < k; ++i) z[cols[static_cast<std::size_t>(i)]] = zp[i];
+  Vector z = Vector::Zero(A.cols());
+  for (Eigen::Index i = 0; i < k; ++i) z[cols[i]] = zp[i];
   return z;
 }
 
-}  // namespace
-
-Eigen::VectorXd SolveNnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+template <int MaxN>
+Eigen::VectorXd Solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  using Matrix = typename Storage<MaxN>::Matrix;
+  using Vector = typename Storage<MaxN>::Vector;
+  using Flags = typename Storage<MaxN>::Flags;
   const Eigen::Index n = A.cols();
-  const Eigen::MatrixXd AtA = A.transpose() * A;
-  const Eigen::VectorXd Atb = A.transpose() * b;
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-  std::vector<bool> passive(static_cast<std::size_t>(n), false);
+  const Matrix AtA = A.transpose() * A;
+  const Vector Atb = A.transpose() * b;
+  Vector x = Vector::Zero(n);
+  Flags passive = Flags::Constant(n, false);
   const double tol = 1e-10 * std::max(1.0, A.norm() * b.norm());
   for (int outer = 0; outer < 3 * n; ++outer) {
-    const Eigen::VectorXd w = Atb - AtA * x;  // A^T (b - A x)
+    const Vector w = Atb - AtA * x;  // A^T (b - A x)
     Eigen::Index best = -1;
     for (Eigen::Index j = 0; j < n; ++j) {
-      if (!passive[static_cast<std::size_t>(j)] && w[j] > tol && (best < 0 || w[j] > w[best])) best = j;
+      if (!passive[j] && w[j] > tol && (best < 0 || w[j] > w[best])) best = j;
     }
     if (best < 0) break;
-    passive[static_cast<std::size_t>(best)] = true;
+    passive[best] = true;
     for (int inner = 0; inner < 3 * n; ++inner) {
-      const Eigen::VectorXd z = SolveOnSet(A, b, AtA, Atb, passive);
+      const Vector z = SolveOnSet<MaxN>(A, b, AtA, Atb, passive);
       bool all_positive = true;
       double alpha = 1.0;
       for (Eigen::Index j = 0; j < n; ++j) {
-        if (passive[static_cast<std::size_t>(j)] && z[j] <= 0.0) {
+        if (passive[j] && z[j] <= 0.0) {
           all_positive = false;
           const double denom = x[j] - z[j];
           if (denom > 0.0) alpha = std::min(alpha, x[j] / denom);
@@ -73,14 +94,22 @@ Eigen::VectorXd SolveNnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
       }
       x += alpha * (z - x);
       for (Eigen::Index j = 0; j < n; ++j) {
-        if (passive[static_cast<std::size_t>(j)] && x[j] <= tol) {
-          passive[static_cast<std::size_t>(j)] = false;
+        if (passive[j] && x[j] <= tol) {
+          passive[j] = false;
           x[j] = 0.0;
         }
       }
     }
   }
   return x.cwiseMax(0.0);
+}
+
+}  // namespace
+
+Eigen::VectorXd SolveNnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  // The force distribution's problems (at most 16 unknowns) without a heap allocation per step.
+  constexpr int kMaxUnknowns = 16;
+  return A.cols() <= kMaxUnknowns ? Solve<kMaxUnknowns>(A, b) : Solve<Eigen::Dynamic>(A, b);
 }
 
 }  // namespace rbcp::detail

@@ -10,6 +10,8 @@ namespace {
 
 // Barycentric slack: points on a shared edge belong to both triangles.
 constexpr double kInsideSlack = 1e-9;
+// [m] A point this far outside a triangle's xy bounds lies outside it even with the slack above.
+constexpr double kBoundsSlack = 1e-6;
 // Twice the projected area [m^2] below which a triangle counts as vertical.
 constexpr double kVerticalArea = 1e-14;
 
@@ -33,7 +35,9 @@ TerrainHeightMap::TerrainHeightMap(const TriangleMesh& mesh, double cell_m) {
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
   for (std::size_t t = 0; t < mesh.NumTriangles(); ++t) {
-    const Triangle tri{mesh.Corner(t, 0), mesh.Corner(t, 1), mesh.Corner(t, 2)};
+    Triangle tri{mesh.Corner(t, 0), mesh.Corner(t, 1), mesh.Corner(t, 2), {}, {}};
+    tri.lo = tri.a.head<2>().cwiseMin(tri.b.head<2>()).cwiseMin(tri.c.head<2>()).array() - kBoundsSlack;
+    tri.hi = tri.a.head<2>().cwiseMax(tri.b.head<2>()).cwiseMax(tri.c.head<2>()).array() + kBoundsSlack;
     const double d = (tri.b.x() - tri.a.x()) * (tri.c.y() - tri.a.y()) - (tri.c.x() - tri.a.x()) * (tri.b.y() - tri.a.y());
     if (std::abs(d) < kVerticalArea || !tri.a.allFinite() || !tri.b.allFinite() || !tri.c.allFinite()) continue;
     triangles_.push_back(tri);
@@ -90,6 +94,7 @@ std::optional<double> TerrainHeightMap::At(const Eigen::Vector2d& xy) const {
   std::optional<double> best;
   for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
     const Triangle& t = triangles_[static_cast<std::size_t>(cell_triangles_[static_cast<std::size_t>(i)])];
+    if (xy.x() < t.lo.x() || xy.y() < t.lo.y() || xy.x() > t.hi.x() || xy.y() > t.hi.y()) continue;
     const std::optional<double> z = HeightOver(t.a, t.b, t.c, xy);
     if (z && (!best || *z > *best)) best = z;
   }

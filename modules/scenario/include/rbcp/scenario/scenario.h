@@ -106,7 +106,7 @@ std::optional<double> TerrainHeightAt(const TriangleMesh& mesh, const Eigen::Vec
 class TerrainHeightMap {
  public:
   /// Cells of cell_m [m] (enlarged so that the grid holds at most about a million cells).
-  explicit TerrainHeightMap(const TriangleMesh& mesh, double cell_m = 0.1);
+  explicit TerrainHeightMap(const TriangleMesh& mesh, double cell_m = 0.025);
   /// The highest point of the mesh on the vertical line through xy [m], nullopt if none.
   std::optional<double> At(const Eigen::Vector2d& xy) const;
   bool Empty() const { return triangles_.empty(); }
@@ -114,6 +114,7 @@ class TerrainHeightMap {
  private:
   struct Triangle {
     Eigen::Vector3d a, b, c;
+    Eigen::Vector2d lo, hi;  ///< xy bounds, widened by a micrometre (points on an edge belong to it)
   };
   std::vector<Triangle> triangles_;  // the non-vertical ones
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
