@@ -104,7 +104,10 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
       max_evaluations = std::max(max_evaluations, e);
       if (kPrintPaths) {
         std::cerr << name << " path " << i << ": " << (r.ok ? "ok" : "failed") << ", " << r.planning_time_s << " s, "
-                  << path_evaluations << " evaluations, " << r.stats.swing_checks << " swing checks, "
+                  << path_evaluations << " evaluations (" << r.stats.keep_checks << " keep checks, "
+                  << r.stats.candidates_evaluated << " footholds of " << r.stats.candidates << " candidates in "
+                  << r.stats.step_attempts << " step attempts), " << r.stats.stability_evaluations
+                  << " stability evaluations, " << r.stats.swing_checks << " swing checks, "
                   << r.stats.backtracks << " backtracks, " << r.steps << " steps\n";
       }
       if (r.ok) {
