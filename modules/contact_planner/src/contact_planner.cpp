@@ -70,6 +70,9 @@ struct ContactPlanner::Impl {
   EquilibriumConfig eq_config;
   ContactPlannerConfig config;
   StaticEquilibrium equilibrium;
+  // The LP workspaces of the searches on other threads (retry.parallel_searches - 1).
+  std::vector<std::unique_ptr<StaticEquilibrium>> spare_equilibria;
+  std::vector<StaticEquilibrium*> spare;
   StanceChecker stance;  // with the terrain's collision structures
   std::vector<ConvexPolygon3d> surfaces;
   std::unique_ptr<SurfaceGraph> surface_graph;
@@ -84,6 +87,10 @@ struct ContactPlanner::Impl {
        const StanceConfig& s)
       : robot(r), db(d), eq_config(e), config(c), equilibrium(r.TotalMass(), e), stance(r, StanceRules{s, e.friction}) {
     config.Validate();
+    for (int k = 1; k < config.retry.parallel_searches; ++k) {
+      spare_equilibria.push_back(std::make_unique<StaticEquilibrium>(r.TotalMass(), e));
+      spare.push_back(spare_equilibria.back().get());
+    }
   }
 
   const PlannerContext& ctx() const { return *context; }
@@ -128,7 +135,7 @@ struct ContactPlanner::Impl {
 
   /// The search from `root` with the query's planning time and work counters.
   ContactPlanResult SearchFrom(const Node& root, int max_steps) {
-    ContactPlanResult result = SearchWithRetries(ctx(), *path, root, max_steps);
+    ContactPlanResult result = SearchWithRetries(ctx(), *path, root, max_steps, spare);
     if (result.ok && config.merge.enabled) {
       result.plan.states =
           contact_planner_detail::MergeSteps(ctx(), std::move(result.plan.states), &stats.steps_merged);

@@ -83,6 +83,7 @@ ContactPlannerConfig ContactPlannerConfig::Load(const YamlMap& map) {
   c.retry.keep_fraction = rt.Numbers("keep_fraction");
   c.retry.restart_back_s = rt.Double("restart_back_s");
   c.retry.max_search_evaluations = rt.Int("max_search_evaluations");
+  c.retry.parallel_searches = rt.Int("parallel_searches");
   rt.RejectUnknownKeys();
 
   const YamlMap mg = map.Map("merge");
@@ -163,6 +164,7 @@ void ContactPlannerConfig::Validate(const std::string& where) const {
   }
   check.NonNegative("retry.restart_back_s", retry.restart_back_s);
   check.AtLeast("retry.max_search_evaluations", retry.max_search_evaluations, 1);
+  check.InRange("retry.parallel_searches", retry.parallel_searches, 1, 16);
   for (std::size_t i = 0; i < retry.keep_fraction.size(); ++i) {
     check.InRange("retry.keep_fraction[" + std::to_string(i) + "]", retry.keep_fraction[i], 0.0, 1.0);
   }

@@ -3,6 +3,7 @@
 /// configuration and the terrain (read only), and the equilibrium LP workspace, the work counters
 /// and the time budget (written).
 
+#include <atomic>
 #include <chrono>
 #include <vector>
 
@@ -31,16 +32,20 @@ class TimeBudget {
   }
   /// Seconds since Start().
   double Elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
-  /// True once more than the budget has elapsed, and from then on until the next Start().
+  /// True once more than the budget has elapsed (or the cancel flag is set), and from then on
+  /// until the next Start().
   bool Exhausted() {
-    if (!exhausted_ && Elapsed() > budget_s_) exhausted_ = true;
+    if (!exhausted_ && (Elapsed() > budget_s_ || (cancel_ != nullptr && cancel_->load()))) exhausted_ = true;
     return exhausted_;
   }
+  /// Also ends the budget once *flag is set (a search whose answer is no longer needed).
+  void CancelWhen(const std::atomic<bool>* flag) { cancel_ = flag; }
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   double budget_s_ = 0.0;
   bool exhausted_ = false;
+  const std::atomic<bool>* cancel_ = nullptr;
 };
 
 /// The planner's robot, database, configuration, stance rules and terrain, shared by reference

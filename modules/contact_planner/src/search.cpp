@@ -1,6 +1,11 @@
 #include "search.h"
 
 #include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <optional>
 #include <tuple>
@@ -271,64 +276,269 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
   return result;
 }
 
-ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps) {
-  const ContactPlannerConfig& config = ctx.config;
-  std::vector<CrawlProfile> profiles;
-  std::vector<double> timings = {config.gait_advance_s};
-  timings.insert(timings.end(), config.retry.gait_advance_s.begin(), config.retry.gait_advance_s.end());
-  std::vector<double> fractions = {config.base_shift.keep_fraction};
-  fractions.insert(fractions.end(), config.retry.keep_fraction.begin(), config.retry.keep_fraction.end());
-  for (const double advance : timings) {
-    for (const double fraction : fractions) profiles.push_back({advance, fraction});
-  }
-  const auto describe = [](const CrawlProfile& p) {
-    return "gait_advance_s " + FixedNumber(p.gait_advance_s, 2) + " s, keep_fraction " + FixedNumber(p.keep_fraction, 2);
-  };
-  const bool restart_near_failure = config.retry.restart_back_s > 0.0;
-  std::vector<Node> furthest;
-  ContactPlanResult first =
-      Search(ctx, path, profiles.front(), root, max_steps, restart_near_failure ? &furthest : nullptr);
-  if (first.ok || first.status != ContactPlanStatus::kNoFoothold) return first;
-  // The restart state: the last of the furthest search's states at least restart_back_s of path
-  // time before its furthest point (none when that is the root).
-  std::size_t restart = 0;
-  if (restart_near_failure) {
-    RBCP_CHECK(!furthest.empty(), "the furthest search holds at least the root");
-    const double t_restart = furthest.back().t - config.retry.restart_back_s;
-    for (std::size_t k = 0; k < furthest.size() && furthest[k].t <= t_restart + 1e-9; ++k) restart = k;
-    // A piece of a receding horizon counts its steps from the root: the restarted search makes
-    // the ones left, and none when the restart state already has them all.
-    if (max_steps >= 0 && static_cast<int>(restart) >= max_steps) restart = 0;
-  }
-  std::string tried;
-  for (const bool from_root : {false, true}) {
-    if (!from_root && restart == 0) continue;
-    const std::string where = from_root ? "" : " from path time " + FixedNumber(furthest[restart].t, 2) + " s";
-    for (std::size_t k = 1; k < profiles.size(); ++k) {
-      if (ctx.budget.Exhausted()) {
-        // The wall clock is a safety limit: the answer must not depend on how far it let us get.
-        first.status = ContactPlanStatus::kTimeout;
-        first.reason = "time budget of " + FixedNumber(config.time_budget_s, 2) + " s exhausted before the retry with " +
-                       describe(profiles[k]) + where + "; first search: " + first.reason;
-        return first;
-      }
-      if (EvaluationsSpent(ctx)) break;
-      const int steps_left = max_steps < 0 || from_root ? max_steps : max_steps - static_cast<int>(restart);
-      ContactPlanResult again = Search(ctx, path, profiles[k], from_root ? root : furthest[restart], steps_left);
-      if (again.ok && !from_root) {
-        // The steps of the first search up to the restart state, then the new ones.
-        std::vector<WholeBodyState> states;
-        for (std::size_t i = 0; i < restart; ++i) states.push_back(furthest[i].state);
-        states.insert(states.end(), again.plan.states.begin(), again.plan.states.end());
-        again.plan.states = std::move(states);
-        again.steps = static_cast<int>(again.plan.states.size()) - 1;
-      }
-      if (again.ok || again.status != ContactPlanStatus::kNoFoothold) return again;
-      tried += (tried.empty() ? "" : "; ") + describe(profiles[k]) + where;
+namespace {
+
+/// One search of SearchWithRetries' sequence: a crawl profile from the root or from the restart
+/// state of the first search.
+struct RetryTask {
+  RetryTask(std::size_t profile_index, bool root) : profile(profile_index), from_root(root) {}
+
+  std::size_t profile = 0;  ///< index into the profiles
+  bool from_root = true;
+  // Set when it has run (by whichever thread): its answer and the work it did.
+  bool started = false;
+  bool done = false;
+  ContactPlanResult result;
+  ContactPlanStats work;
+};
+
+std::string Describe(const CrawlProfile& p) {
+  return "gait_advance_s " + FixedNumber(p.gait_advance_s, 2) + " s, keep_fraction " + FixedNumber(p.keep_fraction, 2);
+}
+
+/// The searches of a query, in the order their answers count, run one after another or by
+/// several threads at once. The answer is the first search's that finds a plan (or stops for
+/// another reason than a want of footholds) in that order, with the work counted up to it: the
+/// same plan and stats whatever the number of threads.
+class RetrySequence {
+ public:
+  RetrySequence(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps)
+      : ctx_(ctx), path_(path), root_(root), max_steps_(max_steps), base_stats_(ctx.stats) {
+    const ContactPlannerConfig& config = ctx.config;
+    std::vector<double> timings = {config.gait_advance_s};
+    timings.insert(timings.end(), config.retry.gait_advance_s.begin(), config.retry.gait_advance_s.end());
+    std::vector<double> fractions = {config.base_shift.keep_fraction};
+    fractions.insert(fractions.end(), config.retry.keep_fraction.begin(), config.retry.keep_fraction.end());
+    for (const double advance : timings) {
+      for (const double fraction : fractions) profiles_.push_back({advance, fraction});
+    }
+    // The first search; the other profiles from the restart state (if the first search leaves
+    // one); then from the root.
+    tasks_.emplace_back(0, true);
+    for (const bool from_root : {false, true}) {
+      for (std::size_t k = 1; k < profiles_.size(); ++k) tasks_.emplace_back(k, from_root);
     }
   }
-  if (!tried.empty()) first.reason += " (also with " + tried + ")";
-  return first;
+
+  ContactPlanResult Run(const std::vector<StaticEquilibrium*>& spare) {
+    if (spare.empty()) return InOrderFrom(0);
+    std::vector<std::thread> helpers;
+    for (StaticEquilibrium* eq : spare) helpers.emplace_back([this, eq] { Help(*eq); });
+    std::unique_lock<std::mutex> lock(mutex_);
+    std::size_t i = 0;  // the next task in order whose answer is not yet taken
+    long offset = 0;    // leg evaluations of the tasks before i
+    std::optional<ContactPlanResult> answer;
+    while (!error_) {
+      if (i == tasks_.size()) {
+        answer = Exhausted(i);
+        break;
+      }
+      if (Skipped(i)) {
+        ++i;
+        continue;
+      }
+      if (!WithinBound(i, offset)) {
+        answer = Exhausted(i);
+        break;
+      }
+      if (!tasks_[i].done) {
+        // Search the next task not yet started, or wait for one to finish.
+        if (const std::optional<std::size_t> next = NextTask()) {
+          lock.unlock();
+          RunTask(*next, ctx_.equilibrium, false);
+          lock.lock();
+        } else {
+          finished_.wait(lock);
+        }
+        continue;
+      }
+      // Task i ran with the query's evaluation bound counted from the base; in order it starts
+      // `offset` later. Where the bound may have cut it, its answer depends on that: from here,
+      // the tasks run in order.
+      if (offset > 0 && base_stats_.Evaluations() + offset + tasks_[i].work.Evaluations() >= ctx_.config.retry.max_evaluations) {
+        break;
+      }
+      offset += tasks_[i].work.Evaluations();
+      if ((answer = Answer(i))) break;
+      ++i;
+    }
+    stop_ = true;
+    lock.unlock();
+    finished_.notify_all();
+    for (std::thread& t : helpers) t.join();
+    stop_ = false;
+    if (error_) std::rethrow_exception(error_);
+    if (answer) return *answer;
+    for (std::size_t k = i; k < tasks_.size(); ++k) tasks_[k] = RetryTask(tasks_[k].profile, tasks_[k].from_root);
+    return InOrderFrom(i);
+  }
+
+ private:
+  /// The tasks one after another from `from` (the ones before it have run and failed), in the
+  /// query's context.
+  ContactPlanResult InOrderFrom(std::size_t from) {
+    long offset = 0;
+    for (std::size_t i = 0; i < from; ++i) offset += tasks_[i].work.Evaluations();
+    for (std::size_t i = from; i < tasks_.size(); ++i) {
+      if (Skipped(i)) continue;
+      if (!WithinBound(i, offset)) return *Exhausted(i);
+      RunTask(i, ctx_.equilibrium, true);
+      offset += tasks_[i].work.Evaluations();
+      if (std::optional<ContactPlanResult> answer = Answer(i)) return *answer;
+    }
+    return *Exhausted(tasks_.size());
+  }
+
+  /// A helper thread: searches the next task not yet started until there is none or the answer is known.
+  void Help(StaticEquilibrium& equilibrium) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_) {
+      if (std::optional<std::size_t> next = NextTask()) {
+        lock.unlock();
+        RunTask(*next, equilibrium, false);
+        lock.lock();
+      } else {
+        finished_.wait(lock);
+      }
+    }
+  }
+
+  /// The first task in order not yet started that can start (a restart task once the first
+  /// search has told the restart state). Call with the mutex held; marks it started.
+  std::optional<std::size_t> NextTask() {
+    if (stop_) return std::nullopt;
+    for (std::size_t i = 0; i < tasks_.size(); ++i) {
+      if (tasks_[i].started) continue;
+      if (!tasks_[i].from_root && !tasks_[0].done) continue;  // needs the restart state
+      if (Skipped(i)) continue;
+      tasks_[i].started = true;
+      return i;
+    }
+    return std::nullopt;
+  }
+
+  /// True for a restart task when the first search left no restart state (it has run).
+  bool Skipped(std::size_t i) const { return !tasks_[i].from_root && tasks_[0].done && restart_ == 0; }
+
+  /// Whether the query's evaluation bound lets task i start, `offset` evaluations after the base.
+  bool WithinBound(std::size_t i, long offset) const {
+    return i == 0 || base_stats_.Evaluations() + offset < ctx_.config.retry.max_evaluations;
+  }
+
+  /// Runs task i with its own counters, budget and LP workspace. In order, its counters start
+  /// with the work of the tasks before it (the query's evaluation bound counts it); otherwise
+  /// from the base, and Run() checks that the bound did not bind.
+  void RunTask(std::size_t i, StaticEquilibrium& equilibrium, bool in_order) {
+    RetryTask& task = tasks_[i];
+    ContactPlanStats before = base_stats_;
+    if (in_order) {
+      for (std::size_t k = 0; k < i; ++k) before += tasks_[k].work;
+    }
+    ContactPlanStats stats = before;
+    TimeBudget budget = ctx_.budget;
+    budget.CancelWhen(&stop_);
+    const PlannerContext ctx{ctx_.robot, ctx_.db, ctx_.eq_config, ctx_.config, ctx_.stance, ctx_.surfaces,
+                             equilibrium, stats, budget};
+    const Node& start = task.from_root ? root_ : restart_node_;
+    const int steps = max_steps_ < 0 || task.from_root ? max_steps_ : max_steps_ - static_cast<int>(restart_);
+    std::vector<Node> furthest;
+    ContactPlanResult result;
+    try {
+      result = Search(ctx, path_, profiles_[task.profile], start, steps,
+                      i == 0 && ctx_.config.retry.restart_back_s > 0.0 ? &furthest : nullptr);
+    } catch (...) {
+      if (in_order) throw;
+      // On another thread: handed to Run(), which stops the others and throws it.
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+      stop_ = true;
+      finished_.notify_all();
+      return;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    task.result = std::move(result);
+    task.work = stats - before;
+    task.done = true;
+    if (i == 0) SetRestart(furthest);
+    finished_.notify_all();
+  }
+
+  /// The restart state from the first search's furthest states.
+  void SetRestart(const std::vector<Node>& furthest) {
+    restart_ = 0;
+    if (furthest.empty()) return;
+    const double t_restart = furthest.back().t - ctx_.config.retry.restart_back_s;
+    for (std::size_t k = 0; k < furthest.size() && furthest[k].t <= t_restart + 1e-9; ++k) restart_ = k;
+    // A piece of a receding horizon counts its steps from the root: the restarted search makes
+    // the ones left, and none when the restart state already has them all.
+    if (max_steps_ >= 0 && static_cast<int>(restart_) >= max_steps_) restart_ = 0;
+    restart_prefix_.clear();
+    for (std::size_t k = 0; k < restart_; ++k) restart_prefix_.push_back(furthest[k].state);
+    if (restart_ > 0) restart_node_ = furthest[restart_];
+  }
+
+  /// Task i's answer when it ends the sequence (a plan, or a stop for another reason than a
+  /// want of footholds), with the work of the tasks up to it; nullopt to go on.
+  std::optional<ContactPlanResult> Answer(std::size_t i) {
+    RetryTask& task = tasks_[i];
+    if (!task.result.ok && task.result.status == ContactPlanStatus::kNoFoothold) {
+      if (i > 0) tried_ += (tried_.empty() ? "" : "; ") + Describe(profiles_[task.profile]) + Where(task);
+      return std::nullopt;
+    }
+    ContactPlanResult answer = task.result;
+    if (answer.ok && !task.from_root) {
+      // The steps of the first search up to the restart state, then the new ones.
+      std::vector<WholeBodyState> states = restart_prefix_;
+      states.insert(states.end(), answer.plan.states.begin(), answer.plan.states.end());
+      answer.plan.states = std::move(states);
+      answer.steps = static_cast<int>(answer.plan.states.size()) - 1;
+    }
+    CountWorkUpTo(i);
+    return answer;
+  }
+
+  /// The first search's failure once the sequence ends before task i (every task before it
+  /// failed for want of footholds, and task i may not start), with the work of those tasks.
+  std::optional<ContactPlanResult> Exhausted(std::size_t i) {
+    ContactPlanResult first = tasks_[0].result;
+    if (!tried_.empty()) first.reason += " (also with " + tried_ + ")";
+    CountWorkUpTo(i == 0 ? 0 : i - 1);
+    return first;
+  }
+
+  void CountWorkUpTo(std::size_t last) {
+    for (std::size_t k = 0; k <= last && k < tasks_.size(); ++k) {
+      if (tasks_[k].done) ctx_.stats += tasks_[k].work;
+    }
+  }
+
+  std::string Where(const RetryTask& task) const {
+    return task.from_root ? "" : " from path time " + FixedNumber(restart_node_.t, 2) + " s";
+  }
+
+  const PlannerContext& ctx_;
+  const PathTrack& path_;
+  const Node& root_;
+  const int max_steps_;
+  const ContactPlanStats base_stats_;
+  std::vector<CrawlProfile> profiles_;
+  std::vector<RetryTask> tasks_;
+  std::size_t restart_ = 0;
+  Node restart_node_;
+  std::vector<WholeBodyState> restart_prefix_;
+  std::string tried_;
+  std::mutex mutex_;
+  std::condition_variable finished_;
+  std::atomic<bool> stop_{false};
+  std::exception_ptr error_;  ///< the first exception of a search run by Run()
+};
+
+}  // namespace
+
+ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps,
+                                    const std::vector<StaticEquilibrium*>& spare) {
+  RetrySequence sequence(ctx, path, root, max_steps);
+  return sequence.Run(spare);
 }
 
 }  // namespace rbcp::contact_planner_detail

@@ -5,6 +5,7 @@
 /// timings when it runs out of options.
 
 #include <string>
+#include <vector>
 
 #include "path_track.h"
 #include "planner_context.h"
@@ -42,6 +43,11 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
 /// the furthest point of the failed search (its steps up to there kept), then from the root. The
 /// crawl timing and the body's path between swings decide where every foot stands when the
 /// terrain gets hard, so a dead end under one profile is rarely one under another.
-ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps);
+/// The searches run one after another, or, with `spare` LP workspaces, that many of the later
+/// ones on other threads while the earlier ones run: the answer is the first in the order above
+/// that finds a plan, with the work counted up to it, so the plan and its stats do not depend on
+/// the threads.
+ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps,
+                                    const std::vector<StaticEquilibrium*>& spare = {});
 
 }  // namespace rbcp::contact_planner_detail

@@ -124,6 +124,31 @@ struct ContactPlanStats {
   /// Leg evaluations (keep checks and candidates evaluated): the work that
   /// ContactPlannerConfig::retry.max_evaluations bounds.
   long Evaluations() const { return static_cast<long>(keep_checks) + static_cast<long>(candidates_evaluated); }
+
+  /// Field by field: the work of two parts of a query added, or the work between two counts.
+  ContactPlanStats& operator+=(const ContactPlanStats& o) {
+    keep_checks += o.keep_checks;
+    step_attempts += o.step_attempts;
+    candidates += o.candidates;
+    candidates_evaluated += o.candidates_evaluated;
+    stability_evaluations += o.stability_evaluations;
+    swing_checks += o.swing_checks;
+    backtracks += o.backtracks;
+    steps_merged += o.steps_merged;
+    return *this;
+  }
+  ContactPlanStats operator-(const ContactPlanStats& o) const {
+    ContactPlanStats d = *this;
+    d.keep_checks -= o.keep_checks;
+    d.step_attempts -= o.step_attempts;
+    d.candidates -= o.candidates;
+    d.candidates_evaluated -= o.candidates_evaluated;
+    d.stability_evaluations -= o.stability_evaluations;
+    d.swing_checks -= o.swing_checks;
+    d.backtracks -= o.backtracks;
+    d.steps_merged -= o.steps_merged;
+    return d;
+  }
 };
 
 struct ContactPlanResult {

@@ -107,6 +107,10 @@ struct RetryConfig {
   /// Leg evaluations one search (one profile) may make before the next profile is tried: a
   /// search that has not found its way by then rarely does.
   int max_search_evaluations = 400000;
+  /// Searches run at once on as many threads: the next profiles are searched while the one
+  /// before them runs, and the answer is taken in the order above, so the plan and the stats do
+  /// not depend on it (1: one after another).
+  int parallel_searches = 2;
 };
 
 /// Step merging after the search: a leg that steps twice keeps its first foothold until the
