@@ -64,7 +64,10 @@ int main(int argc, char** argv) {
   app.add_option("--time-budget", budget, "root planning time budget [s]")->capture_default_str();
   app.add_option("--json", json_path, "also write every run to this JSON file");
   return nodes::GuardedMain("sim_bench", app, argc, argv, [&]() -> int {
-    const nodes::OfflinePipeline pipeline(config_dir);
+    nodes::OfflinePipeline pipeline(config_dir);
+    // Runs in parallel share the cores with the contact planner's own search threads.
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (jobs > 1) pipeline.SetContactSearchThreads(std::max(1, cores / jobs));
     pipeline.limb_database();
     std::vector<Scenario> loaded;
     for (const std::string& s : scenarios) {

@@ -39,6 +39,13 @@ OfflinePipeline::OfflinePipeline(const std::string& config_dir)
       controller_config_(ControllerConfig::LoadFile(config_dir + "/controller.yaml")),
       stance_rules_(StanceRules::LoadFromDir(config_dir)) {}
 
+void OfflinePipeline::SetContactSearchThreads(int threads) {
+  ContactPlannerConfig config = contact_config_;
+  config.retry.parallel_searches = threads;
+  config.Validate("contact search threads");
+  contact_config_ = config;
+}
+
 const LimbDatabase& OfflinePipeline::limb_database() const {
   std::call_once(limb_database_once_, [this] {
     limb_database_ = std::make_unique<LimbDatabase>(LimbDatabase::LoadOrBuild(

@@ -70,6 +70,11 @@ class OfflinePipeline {
   /// Planning failures are reported in the result (failure), not thrown.
   PipelineResult Run(const Scenario& scenario, PipelineStage stage, unsigned seed, double root_time_budget_s) const;
 
+  /// Threads of each contact-planning query (the contact planner's retry.parallel_searches; its
+  /// plans do not depend on it): one when several runs share the machine's cores. Not while a
+  /// Run() is in progress.
+  void SetContactSearchThreads(int threads);
+
   const RobotModel& robot() const { return *robot_; }
   const RootPlanner& root_planner() const { return *root_planner_; }
   /// The limb database, loaded on first use.
