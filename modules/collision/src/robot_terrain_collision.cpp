@@ -7,8 +7,10 @@
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 
@@ -201,7 +203,19 @@ struct Scratch {
   // Self-collision groups: 0 the trunk, 1 + Index(leg) a leg; whether their bounds overlap.
   std::array<std::array<bool, kNumLegs + 1>, kNumLegs + 1> groups_overlap{};
   fcl::CollisionResultd result;
+  // The self-collision placement (link poses, shape_poses, shape_boxes) is of `self_q` for the
+  // checker numbered `self_owner` (0: none yet): a leg whose joints are unchanged keeps its link
+  // poses and shapes (a swing moves one leg).
+  std::vector<Eigen::Isometry3d> self_link_poses;
+  JointVector self_q = JointVector::Zero();
+  std::uint64_t self_owner = 0;
 };
+
+// Numbers the checkers for the per-thread placement above (never reused, unlike addresses).
+std::uint64_t NextCheckerId() {
+  static std::atomic<std::uint64_t> next{1};
+  return next++;
+}
 
 // Per-thread scratch space: queries stay const, thread-safe and allocation-free once warm.
 Scratch& ThreadScratch() {
@@ -235,6 +249,8 @@ struct RobotTerrainCollision::Impl {
   std::vector<std::pair<std::string, std::string>> self_exclusions;
 
   explicit Impl(const RobotModel& r) : robot(r) {}
+
+  const std::uint64_t id = NextCheckerId();  // keys the per-thread self-collision placement
 
   void BuildShapes();
   void BuildSelfPairs();
@@ -301,9 +317,10 @@ struct RobotTerrainCollision::Impl {
     return false;
   }
 
-  // Places every robot shape in the base frame for the self-collision test, with the bounds of
-  // every shape and which groups (trunk, legs) have overlapping bounds.
-  void PlaceRobotShapes(Scratch& scratch) const {
+  // Places the robot shapes of the groups marked `changed` (0 the trunk, 1 + Index(leg) a leg) in
+  // the base frame from scratch.self_link_poses for the self-collision test, then the groups'
+  // bounds and which of them overlap.
+  void PlaceRobotShapes(Scratch& scratch, const std::array<bool, kNumLegs + 1>& changed) const {
     scratch.shape_poses.resize(num_robot_shapes);
     scratch.shape_boxes.resize(num_robot_shapes);
     std::array<Aabb, kNumLegs + 1> group_boxes;
@@ -313,15 +330,39 @@ struct RobotTerrainCollision::Impl {
     }
     for (std::size_t i = 0; i < num_robot_shapes; ++i) {
       const Shape& s = shapes[i];
-      scratch.shape_poses[i] = scratch.link_poses[static_cast<std::size_t>(s.link_index)] * s.pose_link;
-      scratch.shape_boxes[i] = s.Bounds(scratch.shape_poses[i]);
-      Aabb& g = group_boxes[static_cast<std::size_t>(s.leg + 1)];
+      const std::size_t group = static_cast<std::size_t>(s.leg + 1);
+      if (changed[group]) {
+        scratch.shape_poses[i] = scratch.self_link_poses[static_cast<std::size_t>(s.link_index)] * s.pose_link;
+        scratch.shape_boxes[i] = s.Bounds(scratch.shape_poses[i]);
+      }
+      Aabb& g = group_boxes[group];
       g.lo = g.lo.cwiseMin(scratch.shape_boxes[i].lo);
       g.hi = g.hi.cwiseMax(scratch.shape_boxes[i].hi);
     }
     for (std::size_t a = 0; a < group_boxes.size(); ++a) {
       for (std::size_t b = 0; b < group_boxes.size(); ++b) scratch.groups_overlap[a][b] = group_boxes[a].Overlaps(group_boxes[b]);
     }
+  }
+
+  // Places the robot's shapes at q for the self-collision test, again only for the legs whose
+  // joints differ from the thread's last placement by this checker.
+  void PlaceRobotShapesAt(const JointVector& q, Scratch& scratch) const {
+    std::array<bool, kNumLegs + 1> changed;
+    if (scratch.self_owner != id) {
+      robot.LinkPoses(q, &scratch.self_link_poses);
+      changed.fill(true);
+      scratch.self_owner = id;
+    } else {
+      changed[0] = false;
+      for (Leg leg : kAllLegs) {
+        const Eigen::Vector3d q_leg = LegJoints(q, leg);
+        const bool moved = q_leg != LegJoints(scratch.self_q, leg);
+        changed[static_cast<std::size_t>(1 + Index(leg))] = moved;
+        if (moved) robot.SetLegLinkPoses(leg, q_leg, &scratch.self_link_poses);
+      }
+    }
+    scratch.self_q = q;
+    PlaceRobotShapes(scratch, changed);
   }
 
   bool PairCollides(int a, int b, Scratch& scratch) const {
@@ -348,8 +389,7 @@ struct RobotTerrainCollision::Impl {
   CollisionReport Self(const JointVector& q, int group) const {
     RBCP_CHECK(q.allFinite(), "self-collision query with a non-finite joint vector");
     Scratch& scratch = ThreadScratch();
-    robot.LinkPoses(q, &scratch.link_poses);
-    PlaceRobotShapes(scratch);
+    PlaceRobotShapesAt(q, scratch);
     CollisionReport report;
     for (const PairBlock& block : self_blocks) {
       if (group >= 0 && block.group_a != static_cast<std::size_t>(group) && block.group_b != static_cast<std::size_t>(group)) {
@@ -470,8 +510,7 @@ void RobotTerrainCollision::Impl::BuildShapes() {
 
 void RobotTerrainCollision::Impl::BuildSelfPairs() {
   Scratch scratch;
-  robot.LinkPoses(robot.ReferenceConfiguration(), &scratch.link_poses);
-  PlaceRobotShapes(scratch);
+  PlaceRobotShapesAt(robot.ReferenceConfiguration(), scratch);
   const auto add_block = [&](std::size_t group_a, std::size_t group_b, std::size_t begin) {
     if (self_pairs.size() > begin) self_blocks.push_back(PairBlock{group_a, group_b, begin, self_pairs.size()});
   };
@@ -546,8 +585,8 @@ CollisionReport RobotTerrainCollision::CheckLeg(Leg leg, const Eigen::Isometry3d
   RBCP_CHECK(q_leg.allFinite() && base_W.matrix().allFinite(), "collision query with a non-finite pose or joint vector");
   const Impl& m = *impl_;
   Scratch& scratch = ThreadScratch();
-  // The other legs stand at the reference configuration.
-  scratch.link_poses = m.reference_link_poses;
+  // Only the leg's own links are placed: its shapes ride on nothing else.
+  if (scratch.link_poses.size() != m.reference_link_poses.size()) scratch.link_poses = m.reference_link_poses;
   m.robot.SetLegLinkPoses(leg, q_leg, &scratch.link_poses);
   const std::size_t l = static_cast<std::size_t>(Index(leg));
   CollisionReport report;
