@@ -81,6 +81,7 @@ struct ContactPlanner::Impl {
   // Per query.
   TimeBudget budget;
   ContactPlanStats stats;
+  BodyPoseData body_poses;
   std::optional<PathTrack> path;
 
   Impl(const RobotModel& r, const LimbDatabase& d, const EquilibriumConfig& e, const ContactPlannerConfig& c,
@@ -96,7 +97,7 @@ struct ContactPlanner::Impl {
   const PlannerContext& ctx() const { return *context; }
 
   void SetTerrainContext() {
-    context.emplace(PlannerContext{robot, db, eq_config, config, stance, surfaces, equilibrium, stats, budget});
+    context.emplace(PlannerContext{robot, db, eq_config, config, stance, surfaces, equilibrium, stats, budget, body_poses});
   }
 
   /// The answer to a query whose path ends where no surface in the feet's reach is joined,

@@ -49,8 +49,8 @@ class TimeBudget {
 };
 
 /// The planner's robot, database, configuration, stance rules and terrain, shared by reference
-/// with every stage. Through its last three members a stage writes the LP workspace, counts its work and
-/// checks the budget.
+/// with every stage. Through its last four members a stage writes the LP workspace, counts its
+/// work, checks the budget and keeps its centre-of-mass scratch; a thread has its own of those.
 struct PlannerContext {
   const RobotModel& robot;
   const LimbDatabase& db;
@@ -63,6 +63,7 @@ struct PlannerContext {
   StaticEquilibrium& equilibrium;
   ContactPlanStats& stats;
   TimeBudget& budget;
+  BodyPoseData& body_poses;  ///< the centre-of-mass scratch of the thread running this context
 };
 
 }  // namespace rbcp::contact_planner_detail

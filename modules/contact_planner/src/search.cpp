@@ -322,7 +322,10 @@ class RetrySequence {
 
   ContactPlanResult Run(const std::vector<StaticEquilibrium*>& spare) {
     if (spare.empty()) return InOrderFrom(0);
+    // One thread per LP workspace searches the tasks in order; this one takes their answers as
+    // they come (a search whose answer is not needed any more is cancelled).
     std::vector<std::thread> helpers;
+    helpers.emplace_back([this] { Help(ctx_.equilibrium); });
     for (StaticEquilibrium* eq : spare) helpers.emplace_back([this, eq] { Help(*eq); });
     std::unique_lock<std::mutex> lock(mutex_);
     std::size_t i = 0;  // the next task in order whose answer is not yet taken
@@ -342,14 +345,7 @@ class RetrySequence {
         break;
       }
       if (!tasks_[i].done) {
-        // Search the next task not yet started, or wait for one to finish.
-        if (const std::optional<std::size_t> next = NextTask()) {
-          lock.unlock();
-          RunTask(*next, ctx_.equilibrium, false);
-          lock.lock();
-        } else {
-          finished_.wait(lock);
-        }
+        finished_.wait(lock);
         continue;
       }
       // Task i ran with the query's evaluation bound counted from the base; in order it starts
@@ -389,7 +385,7 @@ class RetrySequence {
     return *Exhausted(tasks_.size());
   }
 
-  /// A helper thread: searches the next task not yet started until there is none or the answer is known.
+  /// A search thread: searches the next task not yet started until there is none or the answer is known.
   void Help(StaticEquilibrium& equilibrium) {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stop_) {
@@ -437,8 +433,9 @@ class RetrySequence {
     ContactPlanStats stats = before;
     TimeBudget budget = ctx_.budget;
     budget.CancelWhen(&stop_);
+    BodyPoseData body_poses;
     const PlannerContext ctx{ctx_.robot, ctx_.db, ctx_.eq_config, ctx_.config, ctx_.stance, ctx_.surfaces,
-                             equilibrium, stats, budget};
+                             equilibrium, stats, budget, body_poses};
     const Node& start = task.from_root ? root_ : restart_node_;
     const int steps = max_steps_ < 0 || task.from_root ? max_steps_ : max_steps_ - static_cast<int>(restart_);
     std::vector<Node> furthest;

@@ -43,8 +43,9 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
 /// the furthest point of the failed search (its steps up to there kept), then from the root. The
 /// crawl timing and the body's path between swings decide where every foot stands when the
 /// terrain gets hard, so a dead end under one profile is rarely one under another.
-/// The searches run one after another, or, with `spare` LP workspaces, that many of the later
-/// ones on other threads while the earlier ones run: the answer is the first in the order above
+/// The searches run one after another, or, with `spare` LP workspaces, on 1 + spare.size()
+/// threads (the query's workspace and the spare ones), each taking the next search not yet
+/// started, the later ones ahead of their turn: the answer is the first in the order above
 /// that finds a plan, with the work counted up to it, so the plan and its stats do not depend on
 /// the threads.
 ContactPlanResult SearchWithRetries(const PlannerContext& ctx, const PathTrack& path, const Node& root, int max_steps,

@@ -68,7 +68,7 @@ std::optional<JointVector> SolveStance(const PlannerContext& ctx, const Eigen::I
 
 /// Centre of mass in the world frame.
 inline Eigen::Vector3d CoM(const PlannerContext& ctx, const Eigen::Isometry3d& base_W, const JointVector& q) {
-  return base_W * ctx.robot.CenterOfMass(q);
+  return base_W * ctx.robot.CenterOfMass(q, &ctx.body_poses);
 }
 
 /// The feet as contact points, all but `skip` (-1: none).

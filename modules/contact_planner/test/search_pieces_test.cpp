@@ -59,7 +59,9 @@ class SearchPieces : public ::testing::Test {
   StaticEquilibrium equilibrium_{Robot().TotalMass(), Equilibrium()};
   ContactPlanStats stats_;
   TimeBudget budget_;
-  PlannerContext ctx_{Robot(), SmallDatabase(), Equilibrium(), config_, stance_, surfaces_, equilibrium_, stats_, budget_};
+  BodyPoseData body_poses_;
+  PlannerContext ctx_{Robot(),   SmallDatabase(), Equilibrium(), config_, stance_,
+                      surfaces_, equilibrium_,    stats_,        budget_, body_poses_};
   std::unique_ptr<PathTrack> path_;
 };
 

@@ -252,6 +252,24 @@ void RobotModel::BodyPoses(const JointVector& q, std::array<Eigen::Isometry3d, k
 Eigen::Vector3d RobotModel::CenterOfMass(const JointVector& q) const {
   std::array<Eigen::Isometry3d, kNumBodies> poses;
   BodyPoses(q, &poses);
+  return CenterOfMassAt(poses);
+}
+
+Eigen::Vector3d RobotModel::CenterOfMass(const JointVector& q, BodyPoseData* data) const {
+  static_assert(std::tuple_size<decltype(data->poses)>::value == kNumBodies, "BodyPoseData holds every body");
+  if (!data->valid) data->poses[0].setIdentity();
+  for (Leg leg : kAllLegs) {
+    const auto q_leg = q.segment<kJointsPerLeg>(kJointsPerLeg * Index(leg));
+    if (!data->valid || q_leg != data->q.segment<kJointsPerLeg>(kJointsPerLeg * Index(leg))) {
+      LegBodyPoses(leg, q_leg, &data->poses);
+    }
+  }
+  data->q = q;
+  data->valid = true;
+  return CenterOfMassAt(data->poses);
+}
+
+Eigen::Vector3d RobotModel::CenterOfMassAt(const std::array<Eigen::Isometry3d, kNumBodies>& poses) const {
   Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
   for (std::size_t b = 0; b < poses.size(); ++b) weighted += body_mass_[b] * (poses[b] * body_com_[b]);
   return weighted / total_mass_;

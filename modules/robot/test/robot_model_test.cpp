@@ -186,6 +186,24 @@ TEST(RobotModel, LegGravityTorquesAreThePotentialEnergyGradient) {
   }
 }
 
+TEST(RobotModel, CenterOfMassWithKeptBodyPosesIsTheSameToTheBit) {
+  // Moving one leg at a time, or all of them, reuses the unchanged legs' poses exactly.
+  const RobotModel& m = Anymal();
+  std::mt19937 rng(23);
+  BodyPoseData data;
+  JointVector q = test::SampleJoints(m, rng);
+  for (int i = 0; i < 40; ++i) {
+    const JointVector other = test::SampleJoints(m, rng);
+    if (i % 5 == 4) {
+      q = other;
+    } else {
+      const int leg = i % kNumLegs;
+      q.segment<kJointsPerLeg>(kJointsPerLeg * leg) = other.segment<kJointsPerLeg>(kJointsPerLeg * leg);
+    }
+    EXPECT_EQ(m.CenterOfMass(q, &data), m.CenterOfMass(q)) << i;
+  }
+}
+
 TEST(RobotModel, CenterOfMassMatchesPublishedValues) {
   const RobotModel& m = Anymal();
   // anymal_b.md section 4 / 7.1 (derived whole-body CoM in the base frame).

@@ -77,6 +77,15 @@ struct KinematicMargins {
 
 /// Immutable robot model. Every query is const, allocation-free (except the reasons of failed
 /// IK queries and the LinkPoses overload that returns a vector) and safe to share across threads.
+/// Caller-owned scratch of RobotModel::CenterOfMass(q, data): the body poses of the last query,
+/// kept per leg, so a caller that moves one leg at a time (a foothold search) recomputes that
+/// leg only. One per thread.
+struct BodyPoseData {
+  JointVector q = JointVector::Zero();
+  std::array<Eigen::Isometry3d, 1 + kNumJoints> poses;
+  bool valid = false;
+};
+
 class RobotModel {
  public:
   /// Loads the URDF and the planning parameters. Throws rbcp::InputError naming the file and the
@@ -125,6 +134,9 @@ class RobotModel {
   double TotalMass() const { return total_mass_; }
   /// Whole-body centre of mass in the base frame [m].
   Eigen::Vector3d CenterOfMass(const JointVector& q) const;
+  /// The same, with the body poses of the legs whose joints equal data's taken from it; leaves
+  /// q's poses in *data.
+  Eigen::Vector3d CenterOfMass(const JointVector& q, BodyPoseData* data) const;
 
   /// All URDF links: base first, then each leg (LF, RF, LH, RH) from hip to foot.
   const std::vector<RobotLink>& Links() const { return links_; }
@@ -221,6 +233,8 @@ class RobotModel {
   struct Branch;
 
   void BodyPoses(const JointVector& q, std::array<Eigen::Isometry3d, kNumBodies>* poses) const;
+  /// The mass-weighted mean of the bodies' centres of mass at these poses.
+  Eigen::Vector3d CenterOfMassAt(const std::array<Eigen::Isometry3d, kNumBodies>& poses) const;
   /// The poses of the three bodies of `leg` (entries 1 + 3 * leg + j) for its joints q_leg.
   void LegBodyPoses(Leg leg, const Eigen::Vector3d& q_leg, std::array<Eigen::Isometry3d, kNumBodies>* poses) const;
   Branch SolveBranch(Leg leg, double x_hip, double z_hip, double beta) const;
