@@ -2,7 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
-#include <array>
+#include <algorithm>
 
 namespace rbcp::detail {
 namespace {
@@ -13,6 +13,7 @@ struct Storage {
   using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MaxN, MaxN>;
   using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxN, 1>;
   using Flags = Eigen::Matrix<bool, Eigen::Dynamic, 1, 0, MaxN, 1>;
+  using Indices = Eigen::Matrix<Eigen::Index, Eigen::Dynamic, 1, 0, MaxN, 1>;
 };
 
 /// The least-squares solution on the columns in `passive`, zero elsewhere: the normal equations
@@ -25,13 +26,7 @@ typename Storage<MaxN>::Vector SolveOnSet(const Eigen::MatrixXd& A, const Eigen:
                                           const typename Storage<MaxN>::Flags& passive) {
   using Matrix = typename Storage<MaxN>::Matrix;
   using Vector = typename Storage<MaxN>::Vector;
-  std::array<Eigen::Index, MaxN == Eigen::Dynamic ? 1 : MaxN> fixed_cols{};
-  std::vector<Eigen::Index> dynamic_cols;
-  Eigen::Index* cols = fixed_cols.data();
-  if (MaxN == Eigen::Dynamic) {
-    dynamic_cols.resize(static_cast<std::size_t>(A.cols()));
-    cols = dynamic_cols.data();
-  }
+  typename Storage<MaxN>::Indices cols(A.cols());
   Eigen::Index k = 0;
   for (Eigen::Index j = 0; j < A.cols(); ++j) {
     if (passive[j]) cols[k++] = j;
