@@ -127,28 +127,21 @@ struct ContactPlanStats {
 
   /// Field by field: the work of two parts of a query added, or the work between two counts.
   ContactPlanStats& operator+=(const ContactPlanStats& o) {
-    keep_checks += o.keep_checks;
-    step_attempts += o.step_attempts;
-    candidates += o.candidates;
-    candidates_evaluated += o.candidates_evaluated;
-    stability_evaluations += o.stability_evaluations;
-    swing_checks += o.swing_checks;
-    backtracks += o.backtracks;
-    steps_merged += o.steps_merged;
+    for (int ContactPlanStats::*counter : kCounters) this->*counter += o.*counter;
     return *this;
   }
   ContactPlanStats operator-(const ContactPlanStats& o) const {
     ContactPlanStats d = *this;
-    d.keep_checks -= o.keep_checks;
-    d.step_attempts -= o.step_attempts;
-    d.candidates -= o.candidates;
-    d.candidates_evaluated -= o.candidates_evaluated;
-    d.stability_evaluations -= o.stability_evaluations;
-    d.swing_checks -= o.swing_checks;
-    d.backtracks -= o.backtracks;
-    d.steps_merged -= o.steps_merged;
+    for (int ContactPlanStats::*counter : kCounters) d.*counter -= o.*counter;
     return d;
   }
+
+ private:
+  /// Every counter above: a new one is added here too.
+  static constexpr int ContactPlanStats::*kCounters[] = {
+      &ContactPlanStats::keep_checks,   &ContactPlanStats::step_attempts,         &ContactPlanStats::candidates,
+      &ContactPlanStats::candidates_evaluated, &ContactPlanStats::stability_evaluations, &ContactPlanStats::swing_checks,
+      &ContactPlanStats::backtracks,    &ContactPlanStats::steps_merged};
 };
 
 struct ContactPlanResult {
