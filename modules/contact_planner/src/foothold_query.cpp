@@ -55,19 +55,11 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
   };
   // The best candidate of each foothold cell (FootholdCell) of the surface being queried: a dense
   // grid over the clipped polygon's bounds (its projected footholds lie in the polygon), a map
-  // for any that rounding puts outside.
+  // for any that rounding puts outside. A slot holds an index into `unique` + 1, 0 for none.
   const double cell = fc.dedup_cell_m;
-  std::vector<int> grid;  // index into `unique` + 1, 0 for none
-  long long gx0 = 0, gy0 = 0, gnx = 0, gny = 0;
+  std::vector<std::size_t> grid;
+  Eigen::Matrix<long long, 2, 1> grid_lo, grid_size;
   std::unordered_map<long long, std::size_t> outside;
-  const auto keep = [&](const Candidate& k, std::size_t* slot_index, bool found) {
-    if (!found) {
-      *slot_index = unique.size();
-      unique.push_back(k);
-    } else if (better(k, unique[*slot_index])) {
-      unique[*slot_index] = k;
-    }
-  };
   const auto take = [&](const FootholdCandidate& c) {
     ++raw;
     Candidate k;
@@ -78,18 +70,16 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
     const Eigen::Vector3d d = R_tW * (k.foothold - target_W);
     k.score = fc.static_weight * c.static_score -
               (fc.weight_x * d.x() * d.x() + fc.weight_y * d.y() * d.y() + fc.weight_z * d.z() * d.z());
-    const long long ix = static_cast<long long>(std::floor(k.foothold.x() / cell)) - gx0;
-    const long long iy = static_cast<long long>(std::floor(k.foothold.y() / cell)) - gy0;
-    if (ix >= 0 && iy >= 0 && ix < gnx && iy < gny) {
-      int& slot = grid[static_cast<std::size_t>(ix * gny + iy)];
-      std::size_t index = slot > 0 ? static_cast<std::size_t>(slot - 1) : 0;
-      keep(k, &index, slot > 0);
-      slot = static_cast<int>(index) + 1;
-      return;
+    const Eigen::Matrix<long long, 2, 1> i = FootholdCellXy(k.foothold, cell) - grid_lo;
+    const bool in_grid = (i.array() >= 0).all() && (i.array() < grid_size.array()).all();
+    std::size_t& slot = in_grid ? grid[static_cast<std::size_t>(i.x() * grid_size.y() + i.y())]
+                                : outside[FootholdCell(k, cell)];
+    if (slot == 0) {
+      unique.push_back(k);
+      slot = unique.size();
+    } else if (better(k, unique[slot - 1])) {
+      unique[slot - 1] = k;
     }
-    const auto [it, inserted] = outside.try_emplace(FootholdCell(k, cell), unique.size());
-    std::size_t index = it->second;
-    keep(k, &index, !inserted);
   };
   for (std::size_t s = 0; s < ctx.surfaces.size(); ++s) {
     const ConvexPolygon3d& surface = ctx.surfaces[s];
@@ -103,16 +93,14 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
       clipped = ConvexPolygon3d(clipped, surface.Normal()).ClipToSquare(target_W.head<2>(), near_half);
       if (clipped.size() < 3) continue;
     }
-    Eigen::Vector2d lo_xy = clipped.front().head<2>(), hi_xy = lo_xy;
+    Eigen::Vector3d lo_xy = clipped.front(), hi_xy = lo_xy;
     for (const Eigen::Vector3d& v : clipped) {
-      lo_xy = lo_xy.cwiseMin(v.head<2>());
-      hi_xy = hi_xy.cwiseMax(v.head<2>());
+      lo_xy = lo_xy.cwiseMin(v);
+      hi_xy = hi_xy.cwiseMax(v);
     }
-    gx0 = static_cast<long long>(std::floor(lo_xy.x() / cell));
-    gy0 = static_cast<long long>(std::floor(lo_xy.y() / cell));
-    gnx = static_cast<long long>(std::floor(hi_xy.x() / cell)) - gx0 + 1;
-    gny = static_cast<long long>(std::floor(hi_xy.y() / cell)) - gy0 + 1;
-    grid.assign(static_cast<std::size_t>(gnx * gny), 0);
+    grid_lo = FootholdCellXy(lo_xy, cell);
+    grid_size = FootholdCellXy(hi_xy, cell) - grid_lo + Eigen::Matrix<long long, 2, 1>::Ones();
+    grid.assign(static_cast<std::size_t>(grid_size.prod()), 0);
     ctx.db.VisitCandidates(leg, base_W, clipped, surface.Normal(), fc.query_distance_m, static_cast<int>(s), take);
   }
   ctx.stats.candidates += raw;
@@ -120,10 +108,13 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
   return unique;
 }
 
+Eigen::Matrix<long long, 2, 1> FootholdCellXy(const Eigen::Vector3d& foothold, double cell) {
+  return {static_cast<long long>(std::floor(foothold.x() / cell)), static_cast<long long>(std::floor(foothold.y() / cell))};
+}
+
 long long FootholdCell(const Candidate& c, double cell) {
-  const long long ix = static_cast<long long>(std::floor(c.foothold.x() / cell));
-  const long long iy = static_cast<long long>(std::floor(c.foothold.y() / cell));
-  return ((ix & 0xFFFFFF) << 36) ^ ((iy & 0xFFFFFF) << 12) ^ static_cast<long long>(c.surface);
+  const Eigen::Matrix<long long, 2, 1> i = FootholdCellXy(c.foothold, cell);
+  return ((i.x() & 0xFFFFFF) << 36) ^ ((i.y() & 0xFFFFFF) << 12) ^ static_cast<long long>(c.surface);
 }
 
 bool FarEnoughFromFeet(const PlannerContext& ctx, const std::array<FootContact, kNumLegs>& feet,

@@ -27,6 +27,9 @@ struct Candidate {
 std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, const Eigen::Isometry3d& base_W,
                                         const Eigen::Vector3d& target_W, double target_yaw, double near_half = 0.0);
 
+/// The (x, y) indices of the grid cell of size `cell` [m] holding the foothold.
+Eigen::Matrix<long long, 2, 1> FootholdCellXy(const Eigen::Vector3d& foothold, double cell);
+
 /// Key of the candidate's grid cell of size `cell` [m] (foothold x and y) on its surface: the
 /// candidates of one cell are one foothold.
 long long FootholdCell(const Candidate& c, double cell);
