@@ -42,8 +42,14 @@ class TimeBudget {
     if (calls_++ % kClockStride == 0 && Elapsed() > budget_s_) exhausted_ = true;
     return exhausted_;
   }
-  /// Also ends the budget once *flag is set (a search whose answer is no longer needed).
-  void CancelWhen(const std::atomic<bool>* flag) { cancel_ = flag; }
+  /// The same budget (its start and whether it is exhausted) for another search, which it also
+  /// ends once *flag is set (a search whose answer is no longer needed).
+  TimeBudget CancelledBy(const std::atomic<bool>* flag) const {
+    TimeBudget b = *this;
+    b.cancel_ = flag;
+    b.calls_ = 0;  // its first check reads the clock
+    return b;
+  }
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();

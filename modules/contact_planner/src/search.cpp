@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <condition_variable>
 #include <exception>
 #include <mutex>
-#include <thread>
-#include <cmath>
 #include <optional>
+#include <thread>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -377,12 +377,12 @@ class RetrySequence {
     for (std::size_t i = 0; i < from; ++i) offset += tasks_[i].work.Evaluations();
     for (std::size_t i = from; i < tasks_.size(); ++i) {
       if (Skipped(i)) continue;
-      if (!WithinBound(i, offset)) return *Exhausted(i);
+      if (!WithinBound(i, offset)) return Exhausted(i);
       RunTask(i, ctx_.equilibrium, true);
       offset += tasks_[i].work.Evaluations();
       if (std::optional<ContactPlanResult> answer = Answer(i)) return *answer;
     }
-    return *Exhausted(tasks_.size());
+    return Exhausted(tasks_.size());
   }
 
   /// A search thread: searches the next task not yet started until there is none or the answer is known.
@@ -431,8 +431,7 @@ class RetrySequence {
       for (std::size_t k = 0; k < i; ++k) before += tasks_[k].work;
     }
     ContactPlanStats stats = before;
-    TimeBudget budget = ctx_.budget;
-    budget.CancelWhen(&stop_);
+    TimeBudget budget = ctx_.budget.CancelledBy(&stop_);
     BodyPoseData body_poses;
     const PlannerContext ctx{ctx_.robot, ctx_.db, ctx_.eq_config, ctx_.config, ctx_.stance, ctx_.surfaces,
                              equilibrium, stats, budget, body_poses};
@@ -483,6 +482,14 @@ class RetrySequence {
       return std::nullopt;
     }
     ContactPlanResult answer = task.result;
+    if (i > 0 && answer.status == ContactPlanStatus::kTimeout) {
+      // The wall clock is a safety limit: the answer is the first search's failure, naming the
+      // retry the clock ended.
+      answer = tasks_[0].result;
+      answer.status = ContactPlanStatus::kTimeout;
+      answer.reason = "time budget of " + FixedNumber(ctx_.config.time_budget_s, 2) + " s exhausted in the retry with " +
+                      Describe(profiles_[task.profile]) + Where(task) + "; first search: " + tasks_[0].result.reason;
+    }
     if (answer.ok && !task.from_root) {
       // The steps of the first search up to the restart state, then the new ones.
       std::vector<WholeBodyState> states = restart_prefix_;
@@ -496,7 +503,7 @@ class RetrySequence {
 
   /// The first search's failure once the sequence ends before task i (every task before it
   /// failed for want of footholds, and task i may not start), with the work of those tasks.
-  std::optional<ContactPlanResult> Exhausted(std::size_t i) {
+  ContactPlanResult Exhausted(std::size_t i) {
     ContactPlanResult first = tasks_[0].result;
     if (!tried_.empty()) first.reason += " (also with " + tried_ + ")";
     CountWorkUpTo(i == 0 ? 0 : i - 1);
