@@ -62,8 +62,11 @@ void SimNode::PublishTerrain() {
 }
 
 void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
+  // The contact planner sends its plan again for a process that missed it: the plan being
+  // walked is not started over (replanning: a plan from a stance left is stale, below).
+  if (!options_.replan && plans_ > 0 && msg.plan_seq == plan_seq_ && msg.request_id == plan_request_id_ && msg.utime == plan_utime_) return;
   const char* stale_why = nullptr;
-  if (latest_request_ && msg.request_id < latest_request_->request_id) stale_why = "it answers an earlier goal";
+  if (latest_request_ && msg.request_id != latest_request_->request_id) stale_why = "it answers another goal";
   if (options_.replan && world_changed_utime_ >= 0 && msg.start_utime < world_changed_utime_) {
     stale_why = "it was planned before the world changed";
   }
@@ -91,6 +94,7 @@ void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
     execution_.GivePlan(plan);
     plans_ += 1;
     plan_seq_ = msg.plan_seq;
+    plan_request_id_ = msg.request_id;
     walked_plan_utime_ = msg.start_utime;
     failed_waits_ = 0;
     awaiting_since_.reset();
@@ -218,6 +222,7 @@ void SimNode::Apply(const WorldEvent& e) {
       r.goal_yaw = e.goal.yaw;
       if (!latest_request_) r.seed = 1;
       latest_request_ = r;
+      requests_taken_.Take(r);
       own_request_ = r;
       own_request_wall_ = std::chrono::steady_clock::now();
       lcm_.publish(channels::kPlanRequest, &r);
@@ -232,7 +237,12 @@ void SimNode::Apply(const WorldEvent& e) {
 void SimNode::Tick() {
   if (auto error = plans_in_.TakeDecodeError()) status_.Failed(Utime(), 0, 0.0, *error);
   if (auto request = requests_.Take()) {
-    if (!latest_request_ || request->request_id > latest_request_->request_id) latest_request_ = *request;
+    // Ids identify requests, they are not ordered: the latest new request is the goal, and a late
+    // repeat of one given up since (its operator repeats it every second) is not.
+    if (!requests_taken_.Superseded(*request)) {
+      requests_taken_.Take(*request);
+      latest_request_ = *request;
+    }
   }
   if (auto msg = plans_in_.Take()) TakePlan(*msg);
   UpdateWait();

@@ -91,8 +91,13 @@ TEST_F(SimNodeTest, WalksAPlanAndReportsTheVerdict) {
   const auto plan = transport::ToContactPlanMsg(rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08), 0, 7);
   lcm_.publish(channels::kContactPlan, &plan);
   Pump();
+  TickFor(1.0, [] { return false; });
+  // The contact planner sends the plan again (for a process that missed it): the walk goes on.
+  lcm_.publish(channels::kContactPlan, &plan);
+  Pump();
   TickFor(20.0, [&] { return node_.Decided(); });
   ASSERT_TRUE(node_.Decided());
+  EXPECT_EQ(node_.Plans(), 1) << "the repeat is not a new plan";
   ASSERT_TRUE(status_.Latest().has_value());
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK) << status_.Latest()->reason;
   EXPECT_NE(status_.Latest()->reason.find("goal reached"), std::string::npos);

@@ -17,8 +17,10 @@
 #include <cstdio>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -50,6 +52,22 @@ using namespace rbcp;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kOk = 0, kPlanningFailed = 1, kNoAnswer = 3;
+
+/// A random nonzero 64-bit request id (the operator's runs are told apart by it, not ordered).
+int64_t RandomRequestId() {
+  std::random_device device;
+  std::uniform_int_distribution<int64_t> id(1, std::numeric_limits<int64_t>::max());
+  return id(device);
+}
+
+/// A ROOT_PATH that answers `request`'s question: it ends at the requested goal (the id alone
+/// could be another client's).
+bool AnswersGoal(const rbcp_msgs::root_path_t& path, const rbcp_msgs::plan_request_t& request) {
+  constexpr double kGoalTolerance_m = 0.01;  // the root planner ends its paths at the goal's xy
+  if (path.points.empty()) return false;
+  const auto& end = path.points.back().position;
+  return std::hypot(end[0] - request.goal_position[0], end[1] - request.goal_position[1]) <= kGoalTolerance_m;
+}
 
 /// A message that cannot be decoded is logged and otherwise ignored.
 void Malformed(const std::string& why) { std::cerr << "scenario_publisher: " << why << "\n"; }
@@ -288,7 +306,12 @@ int main(int argc, char** argv) {
   std::string scenario_path, until = "contact";
   double timeout_s = 10.0, period_s = 1.0, budget_s = 5.0, sim_timeout_s = 900.0;
   int seed = 1;
+  int64_t request_id = 0;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
+  app.add_option("--request-id", request_id,
+                 "id of the plan request; 0 (default): a random 64-bit id, so that no other client's request or "
+                 "answer is taken for this run's")
+      ->capture_default_str();
   app.add_option("--until", until,
                  "last answer to wait for: affordance, root, contact, sim (one plan walked whole) or loop (the "
                  "replanning loop walks to the goal)")
@@ -386,7 +409,7 @@ int main(int argc, char** argv) {
     // PLAN_REQUEST from the scenario's start to its goal, answered by ROOT_PATH.
     rbcp_msgs::plan_request_t request{};
     request.utime = utime;
-    request.request_id = 1;
+    request.request_id = request_id != 0 ? request_id : RandomRequestId();
     request.use_start = true;
     request.start_position[0] = scenario.start.position.x();
     request.start_position[1] = scenario.start.position.y();
@@ -405,7 +428,7 @@ int main(int argc, char** argv) {
         *lcm, board, timeout_s,
         [&] {
           auto p = root_path.Take();
-          if (p && p->request_id == request.request_id) path = std::move(p);
+          if (p && p->request_id == request.request_id && AnswersGoal(*p, request)) path = std::move(p);
           return path.has_value();
         },
         publish_terrain);

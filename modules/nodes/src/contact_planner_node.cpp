@@ -209,8 +209,8 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
     return;
   }
   if (IsRepeat(msg.request_id, samples)) return;  // the root planner repeats its path for late processes
-  if (!path_.empty() && msg.request_id < path_request_id_) return;  // a path for a goal given up since
-  // An older path of the same goal, come late (the network reordered it): superseded.
+  // Request ids identify goals, they are not ordered: the latest goal's path is followed. An
+  // older path of the same goal, come late (the network reordered it), is superseded.
   if (!path_.empty() && msg.request_id == path_request_id_ && msg.utime < path_utime_) return;
   path_stale_ = false;
   logged_stale_ = false;
@@ -504,15 +504,26 @@ std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_p
 }
 
 void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
-  status_.Busy(Now(), msg.utime);
   std::vector<RootPathSample> samples;
   if (auto problem = ToSamples(msg, &samples)) {
     last_result_.reset();
     status_.Failed(Now(), msg.utime, 0.0, *problem);
     return;
   }
-  // The root planner repeats its path for late processes: the plan of it went out already.
-  if (IsRepeat(msg.request_id, samples)) return;
+  // The root planner repeats its path for late processes, and to answer a repeated request: the
+  // plan of it went out already, and goes out again (at most every resend_period_s) for a
+  // process that missed it. A failure stays on STATUS.
+  if (IsRepeat(msg.request_id, samples)) {
+    const auto now = std::chrono::steady_clock::now();
+    if (options_.resend_period_s > 0.0 && answer_ && answer_->request_id == msg.request_id &&
+        std::chrono::duration<double>(now - answer_wall_).count() >= options_.resend_period_s) {
+      answer_wall_ = now;
+      lcm_.publish(options_.contact_plan_channel, &*answer_);
+    }
+    return;
+  }
+  status_.Busy(Now(), msg.utime);
+  answer_.reset();
   path_ = samples;
   path_request_id_ = msg.request_id;
   path_stale_ = false;
@@ -534,8 +545,9 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
     return;
   }
   plan_seq_ += 1;
-  const auto out = transport::ToContactPlanMsg(r.plan, Now(), msg.request_id, plan_seq_, 0);
-  lcm_.publish(options_.contact_plan_channel, &out);
+  answer_ = transport::ToContactPlanMsg(r.plan, Now(), msg.request_id, plan_seq_, 0);
+  answer_wall_ = std::chrono::steady_clock::now();
+  lcm_.publish(options_.contact_plan_channel, &*answer_);
   status_.Ok(Now(), msg.utime, ms, Summary(r, 0));
 }
 

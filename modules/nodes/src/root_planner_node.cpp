@@ -3,22 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
 #include "rbcp/nodes/contact_planner_node.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp/transport/plan_requests.h"
 
 namespace rbcp::nodes {
 namespace {
-
-/// The same goal from the same start with the same seed (the utime and the budget may differ).
-bool SameRequest(const rbcp_msgs::plan_request_t& a, const rbcp_msgs::plan_request_t& b) {
-  const auto same3 = [](const double x[3], const double y[3]) { return x[0] == y[0] && x[1] == y[1] && x[2] == y[2]; };
-  return a.request_id == b.request_id && a.use_start == b.use_start && a.seed == b.seed &&
-         same3(a.goal_position, b.goal_position) && a.goal_yaw == b.goal_yaw &&
-         (!a.use_start || (same3(a.start_position, b.start_position) && a.start_yaw == b.start_yaw));
-}
 
 /// A contact planner's answer that no contact plan follows the path: a planning query that failed
 /// along it (FailedAlongPath; its reason starts "<status>:"), not a rejected input.
@@ -61,11 +55,20 @@ std::optional<std::string> RootPlannerNode::TakeInputs() {
     latest_utime_ = std::max(latest_utime_, msg->utime);
     const std::string problem = transport::CheckPlanRequest(*msg, options_.max_time_budget_s);
     if (!problem.empty()) return problem;
-    // The operator repeats its request so that a restarted planner gets it: a repeat of the
-    // request already handled is no new work.
-    if (handled_ && SameRequest(*handled_, *msg)) return std::nullopt;
-    if (handled_ && msg->request_id < handled_->request_id) return std::nullopt;  // superseded by a newer goal
+    // The operator repeats its request when an answer got lost, or for a restarted planner: a
+    // repeat of the request already handled is answered again, and one still pending stays so.
+    if (pending_ && transport::SameRequest(*pending_, *msg)) return std::nullopt;
+    if (!pending_ && handled_ && transport::SameRequest(*handled_, *msg)) {
+      repeat_due_ = true;
+      return std::nullopt;
+    }
+    // Ids identify requests, they are not ordered: the latest new request is the goal, and a late
+    // repeat of one given up since (its operator repeats it every second) is not.
+    if (requests_taken_.Superseded(*msg)) return std::nullopt;
+    requests_taken_.Take(*msg);
     pending_ = *msg;
+    repeat_due_ = false;
+    waiting_for_.clear();
   }
   return std::nullopt;
 }
@@ -76,18 +79,25 @@ bool RootPlannerNode::Step() {
     return true;
   }
   const bool world_changed = world_.TakeChanged();
-  if (!world_.Ready()) return false;
+  if (std::exchange(repeat_due_, false)) {
+    AnswerAgain();
+    return true;
+  }
+  if (!world_.Ready()) return ReportWaiting("waiting for " + world_.terrain_channel() + " and " + world_.affordances_channel());
   if (!pending_) {
     const std::string why = ReplanReason(world_changed);
     if (why.empty()) return false;
     rbcp_msgs::plan_request_t again = *active_;
     again.use_start = false;
-    Plan(again, why);
+    PlanHandled(again, why);
     return true;
   }
-  if (!pending_->use_start && !robot_state_.Latest()) return false;  // waiting for the robot's state
+  if (!pending_->use_start && !robot_state_.Latest()) {
+    return ReportWaiting("waiting for " + options_.robot_state_channel + ": the request starts where the robot stands");
+  }
   rbcp_msgs::plan_request_t request = *pending_;
   pending_.reset();
+  waiting_for_.clear();
   handled_ = request;
   guide_ = 0;
   std::string why;
@@ -102,8 +112,30 @@ bool RootPlannerNode::Step() {
       why = "the robot stands " + FixedNumber(off, 2) + " m from the requested start";
     }
   }
-  Plan(request, why);
+  PlanHandled(request, why);
   return true;
+}
+
+bool RootPlannerNode::ReportWaiting(const std::string& what) {
+  if (!pending_ || what == waiting_for_) return false;
+  waiting_for_ = what;
+  status_.Busy(Now(), pending_->utime, what);
+  return true;
+}
+
+void RootPlannerNode::AnswerAgain() {
+  if (handled_failure_) {
+    status_.Failed(Now(), handled_->utime, 0.0, *handled_failure_);
+  } else if (published_) {
+    lcm_.publish(options_.root_path_channel, &*published_);
+  }
+}
+
+void RootPlannerNode::PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why) {
+  Plan(request, why);
+  const rbcp_msgs::process_status_t answer = status_.last();
+  if (answer.state == rbcp_msgs::process_status_t::FAILED) handled_failure_ = answer.reason;
+  else handled_failure_.reset();
 }
 
 std::string RootPlannerNode::ReplanReason(bool world_changed) {

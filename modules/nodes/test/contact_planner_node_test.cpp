@@ -165,6 +165,45 @@ TEST_F(ContactPlannerNodeTest, WaitsForTheWorldThenPlansACheckedPlan) {
   EXPECT_FALSE(node_->Step()) << "a path is planned once";
 }
 
+TEST_F(ContactPlannerNodeTest, ARepeatedPathGetsItsPlanAgainAndASecondRunItsOwnPlan) {
+  node_ = MakeNode(0, 1e-9);  // a repeat may be answered at once
+  PublishWorld();
+  const auto& path = FlatGroundRootPath();
+  lcm_.publish(channels::kRootPath, &path);
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  Pump();
+  const auto first = plan_.Take();
+  ASSERT_TRUE(first.has_value()) << status_.Latest()->reason;
+  const int64_t handled = status_.Latest()->handled;
+  // The root planner repeats its path (for late processes, or answering a repeated request):
+  // the plan goes out again, and STATUS keeps its answer (no BUSY left behind).
+  lcm_.publish(channels::kRootPath, &path);
+  Pump();
+  node_->Step();
+  Pump();
+  const auto again = plan_.Take();
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->plan_seq, first->plan_seq) << "the same plan, not a new search";
+  EXPECT_EQ(again->request_id, first->request_id);
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
+  EXPECT_EQ(status_.Latest()->handled, handled);
+  // The operator runs the same scenario again: a new request, the same path, its own plan.
+  auto second_run = path;
+  second_run.request_id = 8;
+  lcm_.publish(channels::kRootPath, &second_run);
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  Pump();
+  const auto second = plan_.Take();
+  ASSERT_TRUE(second.has_value());
+  EXPECT_EQ(second->request_id, 8);
+  EXPECT_EQ(second->plan_seq, first->plan_seq + 1);
+  EXPECT_EQ(second->num_states, first->num_states);
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
+  EXPECT_EQ(status_.Latest()->handled, handled + 1);
+}
+
 TEST_F(ContactPlannerNodeTest, InvalidPathsFailWithAReasonAndNoPlan) {
   PublishWorld();
   Pump();

@@ -68,6 +68,19 @@ class RootPlannerNodeTest : public ::testing::Test {
     return path;
   }
 
+  /// Steps the node expecting it to answer that the pending request waits (BUSY, once), and
+  /// returns what it waits for.
+  std::string WaitingFor() {
+    Pump();
+    EXPECT_TRUE(node_.Step()) << "a waiting request is told so";
+    Pump();
+    EXPECT_FALSE(node_.Step()) << "once";
+    EXPECT_FALSE(path_.Take().has_value());
+    if (!status_.Latest()) return "";
+    EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::BUSY);
+    return status_.Latest()->reason;
+  }
+
   lcm::LCM lcm_{"memq://"};
   RobotModel robot_ = RobotModel::LoadDefault(kConfig);
   RootPlannerNode node_{lcm_, robot_, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig)};
@@ -78,8 +91,7 @@ class RootPlannerNodeTest : public ::testing::Test {
 TEST_F(RootPlannerNodeTest, WaitsForTheWorldThenPlansAndPublishes) {
   const auto request = Request(0.0, 1.5, 7);
   lcm_.publish(channels::kPlanRequest, &request);
-  Pump();
-  EXPECT_FALSE(node_.Step()) << "no terrain yet: the request stays pending";
+  EXPECT_EQ(WaitingFor(), "waiting for TERRAIN and AFFORDANCES") << "no terrain yet: the request stays pending";
   PublishWorld("flat_ground");
   Pump();
   ASSERT_TRUE(node_.Step());
@@ -101,8 +113,7 @@ TEST_F(RootPlannerNodeTest, ReplansFromTheMeasuredRobotState) {
   auto request = Request(0.0, 1.5, 8);
   request.use_start = false;
   lcm_.publish(channels::kPlanRequest, &request);
-  Pump();
-  EXPECT_FALSE(node_.Step()) << "waits for ROBOT_STATE";
+  EXPECT_EQ(WaitingFor(), "waiting for ROBOT_STATE: the request starts where the robot stands");
   rbcp_msgs::robot_state_t state{};
   state.utime = 300;
   state.base_position[0] = 0.5;
@@ -326,9 +337,7 @@ TEST_F(RootPlannerNodeTest, SurfacesWithoutUnitNormalsFailAndTheNextValidWorldIs
 
   const auto request = Request(0.0, 1.5, 11);
   lcm_.publish(channels::kPlanRequest, &request);
-  Pump();
-  EXPECT_FALSE(node_.Step()) << "no valid surfaces: the request waits";
-  EXPECT_FALSE(path_.Take().has_value());
+  EXPECT_EQ(WaitingFor(), "waiting for TERRAIN and AFFORDANCES") << "no valid surfaces: the request waits";
 
   affordances.surfaces[0].normal[2] = 1.0;
   lcm_.publish(channels::kAffordances, &affordances);
@@ -362,9 +371,7 @@ TEST_F(RootPlannerNodeTest, ANewTerrainIsNeverPairedWithTheSurfacesOfTheOldOne) 
   lcm_.publish(channels::kTerrain, &terrain);
   const auto request = Request(0.0, 1.5, 13);
   lcm_.publish(channels::kPlanRequest, &request);
-  Pump();
-  EXPECT_FALSE(node_.Step()) << "the request waits for the new terrain's surfaces";
-  EXPECT_FALSE(path_.Take().has_value());
+  EXPECT_EQ(WaitingFor(), "waiting for TERRAIN and AFFORDANCES") << "the request waits for the new terrain's surfaces";
   // Surfaces extracted from the old terrain, arriving late, are not the new terrain's either.
   const auto stale = transport::ToAffordanceMsg({}, 100);
   lcm_.publish(channels::kAffordances, &stale);
@@ -379,6 +386,73 @@ TEST_F(RootPlannerNodeTest, ANewTerrainIsNeverPairedWithTheSurfacesOfTheOldOne) 
   EXPECT_FALSE(path_.Take().has_value());
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
   EXPECT_NE(status_.Latest()->reason.find("no contact surfaces"), std::string::npos) << status_.Latest()->reason;
+}
+
+TEST_F(RootPlannerNodeTest, RequestIdsAreNotOrderedAndNoRequestShadowsAnother) {
+  PublishWorld("flat_ground");
+  const auto high = Request(0.0, 1.5, std::numeric_limits<int64_t>::max());
+  lcm_.publish(channels::kPlanRequest, &high);
+  auto path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_EQ(path->request_id, std::numeric_limits<int64_t>::max());
+  // Another operator's run with a lower id is a new goal, not an old one.
+  const auto low = Request(0.0, 1.0, 2);
+  lcm_.publish(channels::kPlanRequest, &low);
+  path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_EQ(path->request_id, 2);
+  EXPECT_NEAR(path->points.back().position[0], 1.0, 1e-9);
+  // The first operator still repeating its request (every second) does not take the goal back.
+  lcm_.publish(channels::kPlanRequest, &high);
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  Pump();
+  EXPECT_FALSE(path_.Take().has_value());
+  // The same id for another goal is another request.
+  const auto same_id_other_goal = Request(0.0, 1.25, 2);
+  lcm_.publish(channels::kPlanRequest, &same_id_other_goal);
+  path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_NEAR(path->points.back().position[0], 1.25, 1e-9);
+}
+
+TEST_F(RootPlannerNodeTest, ARepeatedRequestIsAnsweredAgain) {
+  PublishWorld("flat_ground");
+  const auto request = Request(0.0, 1.5, 21);
+  lcm_.publish(channels::kPlanRequest, &request);
+  const auto first = PathNow();
+  ASSERT_TRUE(first.has_value());
+  const int64_t handled = status_.Latest()->handled;
+  auto repeat = request;
+  repeat.utime = 900;  // the operator's repeat, later
+  lcm_.publish(channels::kPlanRequest, &repeat);
+  Pump();
+  ASSERT_TRUE(node_.Step()) << "a repeat is answered";
+  Pump();
+  const auto again = path_.Take();
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->request_id, 21);
+  ASSERT_EQ(again->num_points, first->num_points) << "the same path, not a new plan";
+  EXPECT_EQ(again->points.back().position[0], first->points.back().position[0]);
+  EXPECT_EQ(status_.Latest()->handled, handled);
+
+  // A request that failed gets its failure again.
+  const auto off_terrain = Request(0.0, 40.0, 22);
+  lcm_.publish(channels::kPlanRequest, &off_terrain);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  ASSERT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  const std::string why = status_.Latest()->reason;
+  const int64_t failures = status_.Latest()->handled;
+  lcm_.publish(channels::kPlanRequest, &off_terrain);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_EQ(status_.Latest()->reason, why);
+  EXPECT_EQ(status_.Latest()->handled, failures + 1) << "an answer, not a heartbeat";
+  EXPECT_FALSE(path_.Take().has_value());
 }
 
 }  // namespace

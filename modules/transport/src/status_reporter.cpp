@@ -60,8 +60,8 @@ void StatusReporter::Heartbeat(int64_t utime) {
   Publish(now.state, utime, now.input_utime, now.compute_ms, now.reason, false);
 }
 
-void StatusReporter::Busy(int64_t utime, int64_t input_utime) {
-  Publish(rbcp_msgs::process_status_t::BUSY, utime, input_utime, 0.0, "", false);
+void StatusReporter::Busy(int64_t utime, int64_t input_utime, const std::string& doing) {
+  Publish(rbcp_msgs::process_status_t::BUSY, utime, input_utime, 0.0, doing, false);
 }
 
 void StatusReporter::Ok(int64_t utime, int64_t input_utime, double compute_ms, const std::string& summary) {

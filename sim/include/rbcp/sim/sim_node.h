@@ -39,6 +39,7 @@
 #include "rbcp/sim/sim_config.h"
 #include "rbcp/sim/world_events.h"
 #include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/plan_requests.h"
 #include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/contact_plan_t.hpp"
@@ -108,6 +109,7 @@ class SimNode {
   transport::LatestMessage<rbcp_msgs::contact_plan_t> plans_in_;
   transport::LatestMessage<rbcp_msgs::process_status_t> planner_failures_;
   transport::LatestMessage<rbcp_msgs::plan_request_t> requests_;
+  transport::RequestHistory requests_taken_;                 ///< the goal requests seen (or sent), newest last
   std::optional<rbcp_msgs::plan_request_t> latest_request_;  ///< the newest goal request seen (or sent)
   std::optional<rbcp_msgs::plan_request_t> own_request_;     ///< the latest goal an event sent, repeated
   std::chrono::steady_clock::time_point own_request_wall_;
@@ -120,6 +122,7 @@ class SimNode {
   std::chrono::steady_clock::time_point await_wall_start_;
   double hold_until_s_ = 0.0;              // replan: no new wait before this simulated time
   int64_t plan_seq_ = 0;
+  int64_t plan_request_id_ = 0;  ///< request_id of the plan being walked
   int stale_plans_ = 0;
   int failed_waits_ = 0;  // replan: waits in a row that ended with no plan and nothing to walk
   std::chrono::steady_clock::time_point last_state_wall_;

@@ -84,7 +84,8 @@ struct ContactPlannerNodeOptions {
   double base_match_rad = 0.05;  ///< [rad] roll, pitch and yaw
   /// Horizon mode: while the robot still waits at the stance the last plan answered, that plan
   /// is sent again this often [s, wall clock], so a lost message costs a resend, not the
-  /// simulator's whole wait; 0: never.
+  /// simulator's whole wait. Whole-path mode: a repeat of the path answered last gets its plan
+  /// again, at most this often. 0: never.
   double resend_period_s = 1.0;
   /// A ROOT_PATH lasting longer than this is rejected [s] (the search walks the path in time).
   double max_path_duration_s = 3600.0;
@@ -171,7 +172,7 @@ class ContactPlannerNode {
   bool path_stale_ = false;   ///< the terrain changed since the path came: no answer until a new path
   bool logged_stale_ = false;
   std::optional<int64_t> answered_since_;
-  /// The last CONTACT_PLAN published in horizon mode and when it went out (wall clock).
+  /// The last CONTACT_PLAN published and when it went out (wall clock).
   std::optional<rbcp_msgs::contact_plan_t> answer_;
   std::chrono::steady_clock::time_point answer_wall_;
   std::optional<ContactPlan> last_plan_;

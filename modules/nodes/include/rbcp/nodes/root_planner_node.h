@@ -13,6 +13,7 @@
 #include "rbcp/root_planner/root_planner.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/plan_requests.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
@@ -54,11 +55,14 @@ class RootPlannerNode {
   /// replan_path_offset_m from the path. When the contact planner reports FAILED (no foothold, or
   /// out of its budget) while the robot waits, the request is planned again from the measured
   /// base with the next guide seed (GuideSeed), at most RootPlannerConfig::guide_retries times
-  /// while the robot stands in one stance (the same steps_done). A repeat of the request last
-  /// taken (same id, start, goal and seed: the operator repeats it for a restarted planner) is
-  /// ignored; a request to start
-  /// more than replan_path_offset_m from where the robot stands is planned from the robot.
-  /// Returns true if it planned or rejected an input.
+  /// while the robot stands in one stance (the same steps_done). Request ids identify requests,
+  /// they are not ordered: a request unlike the ones taken before (another id, start, goal or
+  /// seed) is new work, whatever its id; a late repeat of one superseded since is ignored. A repeat of the request last taken (the operator
+  /// repeats it when an answer got lost, or for a restarted planner) is answered again: its path
+  /// once more, or its failure. A request to start more than replan_path_offset_m from where the
+  /// robot stands is planned from the robot. A request waiting for the world or the robot's state
+  /// is answered BUSY with what it waits for. Returns true if it planned, answered or rejected an
+  /// input.
   bool Step();
   /// Republishes STATUS, and the current ROOT_PATH unchanged (for a contact planner started
   /// after it went out).
@@ -72,6 +76,12 @@ class RootPlannerNode {
   /// Takes new terrain / surfaces / request; returns a reason if an input was rejected.
   std::optional<std::string> TakeInputs();
   void Plan(const rbcp_msgs::plan_request_t& request, const std::string& why = "");
+  /// Publishes BUSY with `what` the pending request waits for, once per change; true if it did.
+  bool ReportWaiting(const std::string& what);
+  /// The answer to the request last taken, again: its path, or its failure.
+  void AnswerAgain();
+  /// Plan() for the request last taken, keeping its failure for AnswerAgain().
+  void PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why);
   /// Why the current request needs a new path, or "" when it does not.
   std::string ReplanReason(bool world_changed);
   int64_t Now() const;
@@ -87,8 +97,12 @@ class RootPlannerNode {
   WorldInput world_;
   transport::StatusReporter status_;
 
+  transport::RequestHistory requests_taken_;
   std::optional<rbcp_msgs::plan_request_t> pending_;
-  std::optional<rbcp_msgs::plan_request_t> handled_;  ///< the latest request taken (repeats of it are ignored)
+  std::optional<rbcp_msgs::plan_request_t> handled_;  ///< the latest request taken (repeats of it are answered again)
+  bool repeat_due_ = false;                           ///< a repeat of handled_ came: answer it again
+  std::optional<std::string> handled_failure_;        ///< why handled_ has no path, if it has none
+  std::string waiting_for_;                           ///< what the pending request waits for, as last reported
   std::optional<rbcp_msgs::plan_request_t> active_;  ///< the request of the current path
   std::optional<rbcp_msgs::root_path_t> published_;  ///< the current path, republished by Heartbeat()
   std::optional<int64_t> checked_wait_;              ///< awaiting_since of the last wait checked

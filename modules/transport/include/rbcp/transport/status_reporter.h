@@ -30,7 +30,8 @@ class StatusReporter {
   /// `utime` is the simulated time of the latest input (message clock, never the wall clock).
   /// Heartbeat republishes the current state (ALIVE until the first input is handled).
   void Heartbeat(int64_t utime);
-  void Busy(int64_t utime, int64_t input_utime);
+  /// `doing`: an optional one-line note of what the input waits for or what is being done.
+  void Busy(int64_t utime, int64_t input_utime, const std::string& doing = "");
   /// `summary`: an optional one-line description of the result, published in `reason`.
   void Ok(int64_t utime, int64_t input_utime, double compute_ms, const std::string& summary = "");
   void Failed(int64_t utime, int64_t input_utime, double compute_ms, const std::string& reason);
