@@ -16,11 +16,13 @@ std::optional<std::string> WorldInput::Take(int64_t* latest_utime) {
   if (auto e = affordances_msg_.TakeDecodeError()) return e;
   if (auto msg = terrain_msg_.Take()) {
     *latest_utime = std::max(*latest_utime, msg->utime);
-    // A new terrain makes the surfaces of older terrains stale: they wait for their own.
+    // A new terrain makes the surfaces of every other terrain stale, whatever their time (a
+    // restarted world, or another operator's run, counts its time from 0 again): they wait for
+    // their own.
     const auto new_terrain = [&] {
-      terrain_since_ = msg->utime;
+      terrain_utimes_.clear();
       changed_ = true;
-      if (surfaces_ && surfaces_utime_ < terrain_since_) surfaces_.reset();
+      surfaces_.reset();
     };
     try {
       TriangleMesh mesh = transport::FromTerrainMsg(*msg);
@@ -28,9 +30,8 @@ std::optional<std::string> WorldInput::Take(int64_t* latest_utime) {
       if (!terrain_ || mesh.vertices != terrain_->vertices || mesh.triangles != terrain_->triangles) {
         terrain_ = std::move(mesh);
         new_terrain();
-      } else if (msg->utime < terrain_since_) {
-        terrain_since_ = msg->utime;  // a restarted world counts its time from 0 again
       }
+      RememberTerrainUtime(msg->utime);
     } catch (const InputError& e) {
       terrain_.reset();
       new_terrain();
@@ -39,9 +40,11 @@ std::optional<std::string> WorldInput::Take(int64_t* latest_utime) {
   }
   if (auto msg = affordances_msg_.Take()) {
     *latest_utime = std::max(*latest_utime, msg->utime);
-    // Surfaces carry the utime of the terrain they were extracted from: older ones are stale.
-    if (msg->utime < terrain_since_) return std::nullopt;
-    surfaces_utime_ = msg->utime;
+    // Surfaces carry the utime of the terrain message they were extracted from: those of a
+    // message with other content are stale.
+    if (std::find(terrain_utimes_.begin(), terrain_utimes_.end(), msg->utime) == terrain_utimes_.end()) {
+      return std::nullopt;
+    }
     try {
       std::vector<AffordanceSurface> surfaces = transport::FromAffordanceMsg(*msg);
       const auto same = [](const AffordanceSurface& a, const AffordanceSurface& b) {
@@ -62,5 +65,11 @@ std::optional<std::string> WorldInput::Take(int64_t* latest_utime) {
 }
 
 bool WorldInput::TakeChanged() { return std::exchange(changed_, false); }
+
+void WorldInput::RememberTerrainUtime(int64_t utime) {
+  if (std::find(terrain_utimes_.begin(), terrain_utimes_.end(), utime) != terrain_utimes_.end()) return;
+  terrain_utimes_.push_back(utime);
+  if (terrain_utimes_.size() > kRememberedTerrainUtimes) terrain_utimes_.pop_front();
+}
 
 }  // namespace rbcp::nodes

@@ -455,5 +455,30 @@ TEST_F(RootPlannerNodeTest, ARepeatedRequestIsAnsweredAgain) {
   EXPECT_FALSE(path_.Take().has_value());
 }
 
+TEST_F(RootPlannerNodeTest, ARestartedClockDoesNotPairATerrainWithTheSurfacesOfAnother) {
+  // An operator's run: the plinth, its surfaces, the clock at 5 s.
+  test::PublishWorld(lcm_, LoadScenario(kConfig + "/scenarios/plinth.yaml"), kConfig, 5'000'000);
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  // The next run's world counts from 0 again: a flat floor whose surfaces have not come.
+  const Scenario flat = LoadScenario(kConfig + "/scenarios/flat_ground.yaml");
+  const auto terrain = transport::ToTerrainMsg(flat.terrain_mesh, 0, flat.name);
+  lcm_.publish(channels::kTerrain, &terrain);
+  const auto request = Request(0.0, 1.5, 31);
+  lcm_.publish(channels::kPlanRequest, &request);
+  EXPECT_EQ(WaitingFor(), "waiting for TERRAIN and AFFORDANCES") << "the plinth's surfaces are not the floor's";
+  // The plinth's surfaces once more, late and later in time: still not the floor's.
+  const auto plinth_surfaces = transport::ToAffordanceMsg({}, 5'000'000);
+  lcm_.publish(channels::kAffordances, &plinth_surfaces);
+  Pump();
+  EXPECT_FALSE(node_.Step());
+  EXPECT_FALSE(path_.Take().has_value());
+  // The floor's own surfaces, at its time.
+  test::PublishWorld(lcm_, flat, kConfig, 0);
+  const auto path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_EQ(path->request_id, 31);
+}
+
 }  // namespace
 }  // namespace rbcp::nodes

@@ -13,12 +13,12 @@
 
 namespace rbcp::nodes::test {
 
-/// TERRAIN and AFFORDANCES (extracted with config_dir/affordance.yaml) of `scenario`, utime 100.
-inline void PublishWorld(lcm::LCM& lcm, const Scenario& scenario, const std::string& config_dir) {
+/// TERRAIN and AFFORDANCES (extracted with config_dir/affordance.yaml) of `scenario`, at `utime`.
+inline void PublishWorld(lcm::LCM& lcm, const Scenario& scenario, const std::string& config_dir, int64_t utime = 100) {
   const auto surfaces = AffordanceExtractor(AffordanceConfig::Load(YamlMap::LoadFile(config_dir + "/affordance.yaml")))
                             .Extract(scenario.terrain_mesh);
-  const auto terrain = transport::ToTerrainMsg(scenario.terrain_mesh, 100, scenario.name);
-  const auto affordances = transport::ToAffordanceMsg(surfaces, 100);
+  const auto terrain = transport::ToTerrainMsg(scenario.terrain_mesh, utime, scenario.name);
+  const auto affordances = transport::ToAffordanceMsg(surfaces, utime);
   lcm.publish(channels::kTerrain, &terrain);
   lcm.publish(channels::kAffordances, &affordances);
 }

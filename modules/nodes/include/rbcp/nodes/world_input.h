@@ -4,7 +4,9 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <optional>
 #include <string>
@@ -25,8 +27,10 @@ class WorldInput {
   /// Takes the messages received since the last call, raising *latest_utime to their time.
   /// Returns why one was rejected (undecodable, or an invalid mesh or surface); that part of
   /// the world is then unknown until a valid message arrives. Surfaces belong to the terrain
-  /// whose utime they carry: a new terrain drops the surfaces extracted from an older one, and
-  /// surfaces older than the terrain are ignored, so a terrain and stale surfaces never pair.
+  /// message whose utime they carry: a terrain of new content drops the current surfaces, and
+  /// only surfaces carrying the utime of a message of the current terrain are taken, so a
+  /// terrain and the surfaces of another never pair, even when a restarted world counts its
+  /// time from 0 again.
   std::optional<std::string> Take(int64_t* latest_utime);
 
   const std::optional<TriangleMesh>& terrain() const { return terrain_; }
@@ -44,9 +48,12 @@ class WorldInput {
   transport::LatestMessage<rbcp_msgs::affordance_set_t> affordances_msg_;
   std::optional<TriangleMesh> terrain_;
   std::optional<std::vector<AffordanceSurface>> surfaces_;
+  void RememberTerrainUtime(int64_t utime);
+
+  /// The utimes of the latest messages of the current terrain (it is republished every period).
+  static constexpr std::size_t kRememberedTerrainUtimes = 256;
   bool changed_ = false;
-  int64_t terrain_since_ = std::numeric_limits<int64_t>::min();  ///< utime of the current terrain's first message
-  int64_t surfaces_utime_ = 0;                                    ///< utime of the current surfaces' message
+  std::deque<int64_t> terrain_utimes_;
 };
 
 }  // namespace rbcp::nodes
