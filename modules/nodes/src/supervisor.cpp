@@ -3,11 +3,14 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -19,6 +22,26 @@
 #include "rbcp/core/format.h"
 
 namespace rbcp::nodes {
+namespace {
+
+/// `name` with every byte outside printable ASCII written as \xNN, quoted.
+std::string EscapedName(const std::string& name) {
+  std::string out = "'";
+  for (const char ch : name.substr(0, 80)) {
+    const auto byte = static_cast<unsigned char>(ch);
+    if (byte >= 0x20 && byte < 0x7f && ch != '\\') {
+      out += ch;
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", byte);
+      out += hex;
+    }
+  }
+  return out + (name.size() > 80 ? "...'" : "'");
+}
+
+}  // namespace
+
 SupervisorSpec SupervisorSpec::Load(const YamlMap& map) {
   SupervisorSpec spec;
   SupervisionConfig& c = spec.config;
@@ -29,23 +52,34 @@ SupervisorSpec SupervisorSpec::Load(const YamlMap& map) {
   c.healthy_after_s = map.Double("healthy_after_s");
   c.max_restarts = map.Int("max_restarts");
   c.stop_grace_s = map.Double("stop_grace_s");
+  // Bounds that keep the supervisor responsive: its waits are at most these long, and a restart
+  // loop cannot spin (a back-off of at least 10 ms).
+  constexpr double kMaxWait_s = 3600.0;
   const ConfigChecks check(map.Where());
-  check.Positive("heartbeat_timeout_s", c.heartbeat_timeout_s, "s");
-  check.Positive("startup_timeout_s", c.startup_timeout_s, "s");
-  check.Positive("backoff_initial_s", c.backoff_initial_s, "s");
-  check.Positive("healthy_after_s", c.healthy_after_s, "s");
-  check.Positive("stop_grace_s", c.stop_grace_s, "s");
+  check.InRange("heartbeat_timeout_s", c.heartbeat_timeout_s, 0.05, kMaxWait_s, "s");
+  check.InRange("startup_timeout_s", c.startup_timeout_s, 0.05, kMaxWait_s, "s");
+  check.InRange("backoff_initial_s", c.backoff_initial_s, 0.01, kMaxWait_s, "s");
+  check.InRange("healthy_after_s", c.healthy_after_s, 0.01, kMaxWait_s, "s");
+  check.InRange("stop_grace_s", c.stop_grace_s, 0.01, 60.0, "s");
   if (!(c.backoff_max_s >= c.backoff_initial_s)) {
     check.Fail("backoff_max_s", "at least backoff_initial_s (" + ConfigNumber(c.backoff_initial_s) + ")",
                ConfigNumber(c.backoff_max_s));
   }
-  check.AtLeast("max_restarts", c.max_restarts, 0);
+  check.InRange("backoff_max_s", c.backoff_max_s, c.backoff_initial_s, kMaxWait_s, "s");
+  check.InRange("max_restarts", c.max_restarts, 0, 10000);
   for (const YamlMap& p : map.MapList("processes")) {
     ProcessSpec s;
     s.name = p.String("name");
     s.command = p.Strings("command");
     s.log = p.String("log");
     if (s.name.empty()) p.Fail("name", "expected a process name, got an empty string");
+    // Names go into logs, STATUS and terminals: letters, digits and _ . - @ only.
+    const bool plain = std::all_of(s.name.begin(), s.name.end(), [](char ch) {
+      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-' || ch == '@';
+    });
+    if (!plain || s.name.size() > 64) {
+      p.Fail("name", "expected at most 64 letters, digits, '_', '.', '-' or '@', got " + EscapedName(s.name));
+    }
     if (s.command.empty() || s.command.front().empty()) p.Fail("command", "expected a program and its arguments");
     if (s.log.empty()) p.Fail("log", "expected a log file path, got an empty string");
     for (const ProcessSpec& other : spec.processes) {
@@ -64,8 +98,19 @@ SupervisorSpec SupervisorSpec::LoadFile(const std::string& path) { return Load(Y
 // ---------------------------------------------------------------------------------------------
 
 int PosixProcessControl::Start(const ProcessSpec& spec, const std::string& log_header) {
-  const int log = ::open(spec.log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  // Non-blocking: a FIFO without a reader would block the supervisor here for ever. Only a
+  // regular file is a log.
+  struct stat info {};
+  if (::stat(spec.log.c_str(), &info) == 0 && !S_ISREG(info.st_mode)) {
+    throw std::runtime_error("the log " + spec.log + " is not a regular file");
+  }
+  const int log = ::open(spec.log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | O_NONBLOCK | O_NOCTTY, 0644);
   if (log < 0) throw std::runtime_error("cannot open the log " + spec.log + ": " + std::strerror(errno));
+  if (::fstat(log, &info) != 0 || !S_ISREG(info.st_mode)) {
+    ::close(log);
+    throw std::runtime_error("the log " + spec.log + " is not a regular file");
+  }
+  ::fcntl(log, F_SETFL, ::fcntl(log, F_GETFL) & ~O_NONBLOCK);
   if (!log_header.empty()) {
     const std::string line = log_header + "\n";
     if (::write(log, line.data(), line.size()) < 0) {

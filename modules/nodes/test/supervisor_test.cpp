@@ -2,6 +2,8 @@
 #include "rbcp/nodes/supervisor_process.h"
 
 #include <gtest/gtest.h>
+
+#include <sys/stat.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -243,6 +245,34 @@ TEST(SupervisorSpec, LoadsStrictlyWithClearErrors) {
   text = ok;
   text.replace(text.find("processes: ["), 12, "processes: [{name: sim, command: [a], log: b}, ");
   EXPECT_EQ(error(text), "spec.yaml: processes[1]: 'name': process 'sim' is listed twice");
+  // Bounded waits and back-offs: no hang on stop, no restart loop that spins.
+  text = ok;
+  text.replace(text.find("stop_grace_s: 3"), 15, "stop_grace_s: 1e300");
+  EXPECT_EQ(error(text), "spec.yaml: 'stop_grace_s': expected a number in [0.01, 60] [s], got 1e+300");
+  text = ok;
+  text.replace(text.find("backoff_initial_s: 0.5"), 22, "backoff_initial_s: 1e-9");
+  EXPECT_EQ(error(text), "spec.yaml: 'backoff_initial_s': expected a number in [0.01, 3600] [s], got 1e-09");
+  // A name with a control character is rejected, escaped.
+  text = ok;
+  text.replace(text.find("name: sim"), 9, "name: \"s\\x1b[2Jim\"");
+  EXPECT_EQ(error(text),
+            "spec.yaml: processes[0]: 'name': expected at most 64 letters, digits, '_', '.', '-' or '@', got "
+            "'s\\x1b[2Jim'");
+}
+
+TEST(PosixSupervisor, ALogThatIsNotARegularFileIsRefusedWithoutBlocking) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("rbcp_supervisor_f" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string fifo = (dir / "log.fifo").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  PosixProcessControl control;
+  try {
+    control.Start({"sleeper", {"/bin/sleep", "30"}, fifo}, "");
+    ADD_FAILURE() << "a FIFO log was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("is not a regular file"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 // Each host of a split pipeline runs its own supervisor; their STATUS names tell them apart, and
