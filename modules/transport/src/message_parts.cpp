@@ -1,12 +1,16 @@
 #include "rbcp/transport/message_parts.h"
 
+#include <malloc.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <random>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/message_part_t.hpp"
@@ -39,6 +43,9 @@ int64_t EncodedUtime(const uint8_t* data, std::size_t size) {
   std::memcpy(&out, &v, sizeof out);
   return out;
 }
+
+/// After a whole message of at least this many bytes, the heap's free pages go back to the system.
+constexpr std::size_t kTrimAfterBytes = std::size_t{4} << 20;
 
 /// Bytes of every part but the last, for a message of `total` bytes in `count` parts.
 int64_t Stride(int64_t total, int64_t count) { return (total + count - 1) / count; }
@@ -122,8 +129,41 @@ std::string MessagePublisher::PublishEncoded(const std::string& channel, const v
   return "";
 }
 
+namespace {
+/// Bytes held by the incomplete messages of every PartAssembler of the process.
+std::atomic<std::size_t> g_buffered_part_bytes{0};
+}  // namespace
+
+std::size_t PartAssembler::ProcessBufferedBytes() { return g_buffered_part_bytes.load(); }
+
 PartAssembler::PartAssembler(std::string channel, std::size_t max_message_bytes)
     : channel_(std::move(channel)), max_message_bytes_(std::min(max_message_bytes, kMaxPartedMessageBytes)) {}
+
+PartAssembler::~PartAssembler() { g_buffered_part_bytes -= buffered_; }
+
+PartAssembler::PartAssembler(PartAssembler&& other) noexcept
+    : channel_(std::move(other.channel_)),
+      max_message_bytes_(other.max_message_bytes_),
+      senders_(std::move(other.senders_)),
+      buffered_(std::exchange(other.buffered_, 0)),
+      completed_(other.completed_),
+      abandoned_(other.abandoned_),
+      ignored_(other.ignored_) {}
+
+void PartAssembler::Drop(Sender& sender) {
+  if (!sender.current) return;
+  buffered_ -= sender.current->bytes;
+  g_buffered_part_bytes -= sender.current->bytes;
+  sender.current.reset();
+  ++abandoned_;
+}
+
+void PartAssembler::Expire(Clock::time_point now) {
+  const auto timeout = std::chrono::duration<double>(kPartTimeout_s);
+  for (auto& [id, sender] : senders_) {
+    if (sender.current && now - sender.last_heard > timeout) Drop(sender);
+  }
+}
 
 std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::size_t size, std::string& problem) {
   problem.clear();
@@ -162,43 +202,71 @@ std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::si
                 std::to_string(expected));
   }
 
-  const bool same_message = current_ && current_->sender == part.sender && current_->sequence == part.sequence;
+  const Clock::time_point now = Clock::now();
+  Expire(now);
+  auto it = senders_.find(part.sender);
+  if (it == senders_.end()) {
+    if (senders_.size() >= kMaxSenders) {  // the sender heard least recently makes room
+      auto oldest = std::min_element(senders_.begin(), senders_.end(), [](const auto& a, const auto& b) {
+        return a.second.last_heard < b.second.last_heard;
+      });
+      Drop(oldest->second);
+      senders_.erase(oldest);
+    }
+    it = senders_.emplace(part.sender, Sender{}).first;
+  }
+  Sender& sender = it->second;
+  sender.last_heard = now;
+  const bool same_message = sender.current && sender.current->sequence == part.sequence;
   if (!same_message) {
-    if (any_ && part.sender == last_sender_ && part.sequence <= last_sequence_) {
-      ++ignored_;  // a late part of an older message, or of the one just finished or dropped
+    // A part of one of the sender's last messages (late, or of the one just finished or dropped).
+    // The distance is taken in unsigned arithmetic: any two int64 sequences have one.
+    if (sender.any && part.sequence <= sender.last_sequence &&
+        static_cast<uint64_t>(sender.last_sequence) - static_cast<uint64_t>(part.sequence) <
+            static_cast<uint64_t>(kSequenceWindow)) {
+      ++ignored_;
       return std::nullopt;
     }
-    if (current_) ++abandoned_;
-    current_ = Assembly{};
-    current_->sender = part.sender;
-    current_->sequence = part.sequence;
-    current_->checksum = part.checksum;
-    current_->part_count = part.part_count;
-    current_->bytes.assign(static_cast<std::size_t>(total), 0);
-    current_->have.assign(static_cast<std::size_t>(count), 0);
-    any_ = true;
-    last_sender_ = part.sender;
-    last_sequence_ = part.sequence;
+    Drop(sender);
+    sender.current = Assembly{};
+    sender.current->sequence = part.sequence;
+    sender.current->checksum = part.checksum;
+    sender.current->total = total;
+    sender.current->part_count = part.part_count;
+    sender.any = true;
+    sender.last_sequence = part.sequence;
   }
-  Assembly& a = *current_;
-  if (static_cast<int64_t>(a.bytes.size()) != total || a.part_count != part.part_count || a.checksum != part.checksum) {
-    current_.reset();
-    ++abandoned_;
+  Assembly& a = *sender.current;
+  if (a.total != total || a.part_count != part.part_count || a.checksum != part.checksum) {
+    Drop(sender);
     return fail("it disagrees with the earlier parts of message " + std::to_string(part.sequence) +
                 " (size, part count or checksum): the message is dropped");
   }
-  if (a.have[static_cast<std::size_t>(part.index)]) {
+  if (a.parts.count(part.index) > 0) {
     ++ignored_;  // a repeat
     return std::nullopt;
   }
-  a.have[static_cast<std::size_t>(part.index)] = 1;
-  if (expected > 0) std::memcpy(a.bytes.data() + begin, part.bytes.data(), static_cast<std::size_t>(expected));
-  if (++a.received < a.part_count) return std::nullopt;
+  const auto bytes = static_cast<std::size_t>(expected);
+  if (g_buffered_part_bytes.load() + bytes > kMaxBufferedPartBytes) {
+    Drop(sender);
+    return fail("the incomplete messages in parts of this process would hold more than " +
+                Megabytes(kMaxBufferedPartBytes) + ": the message is dropped");
+  }
+  a.bytes += bytes;
+  buffered_ += bytes;
+  g_buffered_part_bytes += bytes;
+  a.parts.emplace(part.index, std::move(part.bytes));
+  if (static_cast<int64_t>(a.parts.size()) < a.part_count) return std::nullopt;
 
-  std::vector<uint8_t> whole = std::move(a.bytes);
+  std::vector<uint8_t> whole(static_cast<std::size_t>(a.total));
+  for (const auto& [index, piece] : a.parts) {
+    if (!piece.empty()) std::memcpy(whole.data() + static_cast<int64_t>(index) * stride, piece.data(), piece.size());
+  }
   const int64_t checksum = a.checksum;
   const int64_t sequence = a.sequence;
-  current_.reset();
+  buffered_ -= a.bytes;
+  g_buffered_part_bytes -= a.bytes;
+  sender.current.reset();
   if (PartChecksum(whole.data(), whole.size()) != checksum) {
     ++abandoned_;
     return fail("the " + std::to_string(count) + " parts of message " + std::to_string(sequence) +
@@ -232,12 +300,18 @@ void ChannelReceiver::OnWhole(const lcm::ReceiveBuffer* rbuf, const std::string&
 void ChannelReceiver::OnPart(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   part_faults_.Receive(rbuf->data, rbuf->data_size, [this](const void* data, std::size_t size) {
     std::string problem;
-    const auto whole = assembler_.Add(data, size, problem);
+    auto whole = assembler_.Add(data, size, problem);
     if (!problem.empty()) {
       if (reject_) reject_(problem);
       return;
     }
-    if (whole) deliver_(whole->data(), whole->size());
+    if (!whole) return;
+    deliver_(whole->data(), whole->size());
+    // A large message leaves freed pages in the heap that glibc keeps by default: give them back.
+    const std::size_t large = whole->size();
+    whole->clear();
+    whole->shrink_to_fit();
+    if (large >= kTrimAfterBytes) ::malloc_trim(0);
   });
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <set>
 #include <vector>
@@ -216,23 +217,101 @@ TEST(MessageParts, RepeatedAndLatePartsAreIgnored) {
   EXPECT_GE(assembler.ignored(), static_cast<long>(2 * (parts.messages.size() - first)));
 }
 
-TEST(MessageParts, AnotherSendersMessageReplacesTheIncompleteOne) {
+TEST(MessageParts, AnotherSendersPartsLeaveAnIncompleteMessageAlone) {
   const auto a = PartsOf(Terrain(100, 1), SmallParts());
   PartOptions other = SmallParts();
   other.sender = 8;
   const auto b = PartsOf(Terrain(100, 2), other);
+  ASSERT_GT(a.size(), 3u);
   PartAssembler assembler("T");
   std::string problem;
   EXPECT_FALSE(assembler.Add(a[0].data(), a[0].size(), problem));
-  std::optional<Bytes> whole;
-  for (const Bytes& p : b) {
-    auto out = assembler.Add(p.data(), p.size(), problem);
-    EXPECT_EQ(problem, "");
-    if (out) whole = out;
+  std::vector<Bytes> wholes;
+  // The other sender's message goes through whole, its parts interleaved with the first's.
+  for (std::size_t i = 0; i < std::max(a.size(), b.size()); ++i) {
+    if (i < b.size()) {
+      auto out = assembler.Add(b[i].data(), b[i].size(), problem);
+      EXPECT_EQ(problem, "");
+      if (out) wholes.push_back(*out);
+    }
+    if (i + 1 < a.size()) {
+      auto out = assembler.Add(a[i + 1].data(), a[i + 1].size(), problem);
+      EXPECT_EQ(problem, "");
+      if (out) wholes.push_back(*out);
+    }
   }
-  ASSERT_TRUE(whole.has_value()) << "a restarted sender numbers its messages from 1 again";
-  EXPECT_EQ(*whole, Encode(Terrain(100, 2)));
-  EXPECT_EQ(assembler.abandoned(), 1);
+  ASSERT_EQ(wholes.size(), 2u);
+  EXPECT_TRUE(std::find(wholes.begin(), wholes.end(), Encode(Terrain(100, 1))) != wholes.end());
+  EXPECT_TRUE(std::find(wholes.begin(), wholes.end(), Encode(Terrain(100, 2))) != wholes.end());
+  EXPECT_EQ(assembler.abandoned(), 0);
+  EXPECT_EQ(assembler.buffered_bytes(), 0u);
+}
+
+TEST(MessageParts, APartClaimingAHugeMessageHoldsOnlyItsOwnBytes) {
+  rbcp_msgs::message_part_t p{};
+  p.sender = 99;
+  p.sequence = 1;
+  p.total_size = static_cast<int32_t>(kMaxPartedMessageBytes);
+  p.part_count = p.total_size;  // parts of one byte
+  p.index = 0;
+  p.num_bytes = 1;
+  p.bytes = {42};
+  PartAssembler assembler("T");
+  std::string problem;
+  for (int channel = 0; channel < 5; ++channel) {
+    const Bytes b = Encode(p);
+    EXPECT_FALSE(assembler.Add(b.data(), b.size(), problem).has_value());
+    EXPECT_EQ(problem, "");
+    ++p.sequence;
+  }
+  EXPECT_EQ(assembler.buffered_bytes(), 1u) << "each newer message of the sender drops the one before";
+  EXPECT_LE(PartAssembler::ProcessBufferedBytes(), 1u);
+}
+
+TEST(MessageParts, AForgedSequenceDoesNotShutASenderOut) {
+  const auto parts = PartsOf(Terrain(100, 1), SmallParts());  // sender 7, message 1
+  auto forged = DecodePart(parts[0]);
+  forged.sequence = std::numeric_limits<int64_t>::max();
+  PartAssembler assembler("T");
+  std::string problem;
+  const Bytes f = Encode(forged);
+  EXPECT_FALSE(assembler.Add(f.data(), f.size(), problem).has_value());
+  std::optional<Bytes> whole;
+  for (const Bytes& b : parts) {
+    if (auto out = assembler.Add(b.data(), b.size(), problem)) whole = out;
+  }
+  ASSERT_TRUE(whole.has_value()) << "message 1 is far from INT64_MAX: a new message, not a late one";
+  EXPECT_EQ(*whole, Encode(Terrain(100, 1)));
+}
+
+TEST(MessageParts, TheProcessBoundOnIncompleteMessagesDropsAMessageBeyondIt) {
+  // Senders that each start a message and never finish it, until the bound is reached.
+  std::vector<PartAssembler> assemblers;
+  for (int k = 0; k < 4; ++k) assemblers.emplace_back("T" + std::to_string(k));
+  rbcp_msgs::message_part_t p{};
+  p.sequence = 1;
+  p.total_size = static_cast<int32_t>(kMaxPartedMessageBytes);
+  p.part_count = 64;
+  p.num_bytes = p.total_size / p.part_count;
+  p.bytes.assign(static_cast<std::size_t>(p.num_bytes), 1);
+  std::string problem;
+  std::string last_problem;
+  for (int part = 0; part < 40; ++part) {
+    for (std::size_t k = 0; k < assemblers.size(); ++k) {
+      p.sender = static_cast<int64_t>(k) + 1;
+      p.index = part;
+      const Bytes b = Encode(p);
+      assemblers[k].Add(b.data(), b.size(), problem);
+      if (!problem.empty()) last_problem = problem;
+      EXPECT_LE(PartAssembler::ProcessBufferedBytes(), PartAssembler::kMaxBufferedPartBytes);
+    }
+  }
+  EXPECT_NE(last_problem.find("would hold more than 128.0 MB"), std::string::npos) << last_problem;
+  long abandoned = 0;
+  for (const PartAssembler& a : assemblers) abandoned += a.abandoned();
+  EXPECT_GT(abandoned, 0);
+  assemblers.clear();
+  EXPECT_EQ(PartAssembler::ProcessBufferedBytes(), 0u) << "freed with the assemblers";
 }
 
 TEST(MessageParts, PartsThatDoNotFitTogetherAreRejected) {

@@ -12,6 +12,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -86,15 +87,30 @@ class MessagePublisher {
   long parts_sent_ = 0;
 };
 
-/// Puts the parts of one channel's messages back together. One message at a time: a part of a
-/// newer message (a higher sequence, or another sender) drops the incomplete one; a part of an
-/// older message, or a repeat of a part already in, is ignored. Before a part is kept its own
-/// fields are checked (sizes, index, the bound) and against the message's other parts (the same
-/// size, count and checksum); the whole message is handed out only when every part is in and its
-/// checksum matches.
+/// Puts the parts of one channel's messages back together, one message at a time per sender: a
+/// part of a sender's newer message (a higher sequence) drops that sender's incomplete one; a
+/// repeat of a part already in, or a part of one of the sender's last kSequenceWindow messages,
+/// is ignored; another sender's parts (a foreign or forged part interleaved) leave it alone.
+/// Before a part is kept its own fields are checked (sizes, index, the bound) and against the
+/// message's other parts (the same size, count and checksum); the whole message is handed out
+/// only when every part is in and its checksum matches. Memory follows the bytes received, not
+/// the size a part claims: the parts of incomplete messages of the whole process hold at most
+/// kMaxBufferedPartBytes (a part beyond drops its message), an incomplete message without a new
+/// part for kPartTimeout_s is dropped, and at most kMaxSenders senders are followed per channel
+/// (the one heard least recently makes room).
 class PartAssembler {
  public:
+  static constexpr std::size_t kMaxBufferedPartBytes = std::size_t{128} << 20;
+  static constexpr double kPartTimeout_s = 10.0;
+  static constexpr std::size_t kMaxSenders = 8;
+  static constexpr int64_t kSequenceWindow = 64;
+
   explicit PartAssembler(std::string channel, std::size_t max_message_bytes = kMaxPartedMessageBytes);
+  ~PartAssembler();
+  PartAssembler(PartAssembler&& other) noexcept;
+  PartAssembler& operator=(PartAssembler&&) = delete;
+  PartAssembler(const PartAssembler&) = delete;
+  PartAssembler& operator=(const PartAssembler&) = delete;
 
   /// Takes one encoded message_part_t. Returns the whole message's bytes when this part completes
   /// it. A part that cannot belong to a whole message sets `problem` (naming the channel) and is
@@ -102,30 +118,41 @@ class PartAssembler {
   std::optional<std::vector<uint8_t>> Add(const void* data, std::size_t size, std::string& problem);
 
   long completed() const { return completed_; }
-  /// Incomplete messages dropped (a part was lost, or a newer message started).
+  /// Incomplete messages dropped (a part was lost, a newer message started, it timed out, or
+  /// the memory bound was reached).
   long abandoned() const { return abandoned_; }
   /// Parts ignored: repeats of parts already in, parts of older or finished messages.
   long ignored() const { return ignored_; }
-  /// Bytes held for the incomplete message.
-  std::size_t buffered_bytes() const { return current_ ? current_->bytes.size() : 0; }
+  /// Bytes held for this channel's incomplete messages.
+  std::size_t buffered_bytes() const { return buffered_; }
+  /// Bytes held for the incomplete messages of every assembler of the process.
+  static std::size_t ProcessBufferedBytes();
 
  private:
+  using Clock = std::chrono::steady_clock;
   struct Assembly {
-    int64_t sender = 0;
     int64_t sequence = 0;
     int64_t checksum = 0;
+    int64_t total = 0;
     int32_t part_count = 0;
-    std::vector<uint8_t> bytes;
-    std::vector<char> have;
-    int32_t received = 0;
+    std::map<int32_t, std::vector<uint8_t>> parts;  ///< by index: only what was received
+    std::size_t bytes = 0;
   };
+  struct Sender {
+    std::optional<Assembly> current;
+    bool any = false;  ///< a message was started: last_sequence holds
+    int64_t last_sequence = 0;
+    Clock::time_point last_heard;
+  };
+  /// Drops the sender's incomplete message (counted abandoned) and frees its bytes.
+  void Drop(Sender& sender);
+  /// Drops incomplete messages without a part for kPartTimeout_s.
+  void Expire(Clock::time_point now);
 
   std::string channel_;
   std::size_t max_message_bytes_;
-  std::optional<Assembly> current_;
-  bool any_ = false;  ///< a message was started: last_sender_ and last_sequence_ hold
-  int64_t last_sender_ = 0;
-  int64_t last_sequence_ = 0;
+  std::map<int64_t, Sender> senders_;
+  std::size_t buffered_ = 0;
   long completed_ = 0;
   long abandoned_ = 0;
   long ignored_ = 0;
