@@ -104,7 +104,7 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
   }
 }
 
-int64_t ContactPlannerNode::Now() const { return latest_utime_; }
+int64_t ContactPlannerNode::Now() const { return clock_.Now(); }
 
 void ContactPlannerNode::set_verbose(bool verbose) {
   verbose_ = verbose;
@@ -115,8 +115,11 @@ std::optional<std::string> ContactPlannerNode::TakeInputs() {
   if (auto e = root_path_.TakeDecodeError()) return e;
   if (auto e = robot_state_.TakeDecodeError()) return e;
   if (auto e = controller_.TakeDecodeError()) return e;
-  if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
-  if (auto e = world_.Take(&latest_utime_)) return e;
+  if (const auto& state = robot_state_.Latest(); state && state->utime != clocked_state_utime_) {
+    clocked_state_utime_ = state->utime;
+    if (std::string bad = clock_.World(state->utime, options_.robot_state_channel); !bad.empty()) return bad;
+  }
+  if (auto e = world_.Take(&clock_)) return e;
   if (world_.TakeChanged()) {
     world_set_ = false;
     // The path was planned on another world: wait for the root planner's path on this one.
@@ -139,7 +142,7 @@ std::optional<std::string> ContactPlannerNode::TakeInputs() {
     }
   }
   if (auto msg = root_path_.Take()) {
-    latest_utime_ = std::max(latest_utime_, msg->utime);
+    if (std::string bad = clock_.Input(msg->utime, options_.root_path_channel); !bad.empty()) return bad;
     pending_ = *msg;
   }
   return std::nullopt;

@@ -42,17 +42,20 @@ RootPlannerNode::RootPlannerNode(lcm::LCM& lcm, const RobotModel& robot, RootPla
       world_(lcm, options_.terrain_channel, options_.affordances_channel),
       status_(lcm, kProcessName, options_.status_channel) {}
 
-int64_t RootPlannerNode::Now() const { return latest_utime_; }
+int64_t RootPlannerNode::Now() const { return clock_.Now(); }
 
 std::optional<std::string> RootPlannerNode::TakeInputs() {
   if (auto e = request_.TakeDecodeError()) return e;
   if (auto e = robot_state_.TakeDecodeError()) return e;
   if (auto e = controller_.TakeDecodeError()) return e;
   contact_failure_.TakeDecodeError();  // STATUS is every process's: another's bad message is not ours to report
-  if (auto state = robot_state_.Latest()) latest_utime_ = std::max(latest_utime_, state->utime);
-  if (auto e = world_.Take(&latest_utime_)) return e;
+  if (const auto& state = robot_state_.Latest(); state && state->utime != clocked_state_utime_) {
+    clocked_state_utime_ = state->utime;
+    if (std::string bad = clock_.World(state->utime, options_.robot_state_channel); !bad.empty()) return bad;
+  }
+  if (auto e = world_.Take(&clock_)) return e;
   if (auto msg = request_.Take()) {
-    latest_utime_ = std::max(latest_utime_, msg->utime);
+    if (std::string bad = clock_.Input(msg->utime, options_.request_channel); !bad.empty()) return bad;
     const std::string problem = transport::CheckPlanRequest(*msg, options_.max_time_budget_s);
     if (!problem.empty()) return problem;
     // The operator repeats its request when an answer got lost, or for a restarted planner: a

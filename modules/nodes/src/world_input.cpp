@@ -11,11 +11,11 @@ namespace rbcp::nodes {
 WorldInput::WorldInput(lcm::LCM& lcm, const std::string& terrain_channel, const std::string& affordances_channel)
     : terrain_msg_(lcm, terrain_channel), affordances_msg_(lcm, affordances_channel) {}
 
-std::optional<std::string> WorldInput::Take(int64_t* latest_utime) {
+std::optional<std::string> WorldInput::Take(transport::SimClock* clock) {
   if (auto e = terrain_msg_.TakeDecodeError()) return e;
   if (auto e = affordances_msg_.TakeDecodeError()) return e;
   if (auto msg = terrain_msg_.Take()) {
-    *latest_utime = std::max(*latest_utime, msg->utime);
+    if (std::string bad = clock->World(msg->utime, terrain_channel()); !bad.empty()) return bad;
     // A new terrain makes the surfaces of every other terrain stale, whatever their time (a
     // restarted world, or another operator's run, counts its time from 0 again): they wait for
     // their own.
@@ -39,7 +39,7 @@ std::optional<std::string> WorldInput::Take(int64_t* latest_utime) {
     }
   }
   if (auto msg = affordances_msg_.Take()) {
-    *latest_utime = std::max(*latest_utime, msg->utime);
+    if (std::string bad = clock->Input(msg->utime, affordances_channel()); !bad.empty()) return bad;
     // Surfaces carry the utime of the terrain message they were extracted from: those of a
     // message with other content are stale.
     if (std::find(terrain_utimes_.begin(), terrain_utimes_.end(), msg->utime) == terrain_utimes_.end()) {

@@ -480,5 +480,27 @@ TEST_F(RootPlannerNodeTest, ARestartedClockDoesNotPairATerrainWithTheSurfacesOfA
   EXPECT_EQ(path->request_id, 31);
 }
 
+TEST_F(RootPlannerNodeTest, AMessageWithAWrongTimeIsRejectedAndDoesNotStopTheClock) {
+  PublishWorld("flat_ground");  // utime 100
+  auto request = Request(0.0, 1.5, 41);
+  request.utime = std::numeric_limits<int64_t>::max();
+  lcm_.publish(channels::kPlanRequest, &request);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  ASSERT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(status_.Latest()->reason.find("PLAN_REQUEST: utime 9223372036854775807 us is not a simulated time"),
+            std::string::npos)
+      << status_.Latest()->reason;
+  EXPECT_FALSE(path_.Take().has_value());
+  // The next request, at the world's time, is planned and answered at that time.
+  request.utime = 300;
+  lcm_.publish(channels::kPlanRequest, &request);
+  const auto path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_EQ(path->utime, 300);
+  EXPECT_EQ(status_.Latest()->utime, 300);
+}
+
 }  // namespace
 }  // namespace rbcp::nodes

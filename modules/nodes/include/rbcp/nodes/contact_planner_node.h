@@ -37,6 +37,7 @@
 #include "rbcp/nodes/world_input.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/sim_clock.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/controller_status_t.hpp"
@@ -188,7 +189,8 @@ class ContactPlannerNode {
   int64_t plan_seq_ = 0;
   int32_t plan_start_steps_ = 0;  ///< ROBOT_STATE.steps_done when the last plan went out
   std::optional<ContactPlanResult> last_result_;
-  int64_t latest_utime_ = 0;
+  transport::SimClock clock_;  ///< the simulated time heard of (message utimes)
+  int64_t clocked_state_utime_ = -1;  ///< utime of the ROBOT_STATE the clock took last
   bool verbose_ = true;
   std::string logged_waiting_;
 };

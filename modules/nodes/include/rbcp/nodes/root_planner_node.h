@@ -13,6 +13,7 @@
 #include "rbcp/root_planner/root_planner.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/sim_clock.h"
 #include "rbcp/transport/plan_requests.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
@@ -108,7 +109,8 @@ class RootPlannerNode {
   std::optional<int64_t> checked_wait_;              ///< awaiting_since of the last wait checked
   bool terrain_replan_due_ = false;                  ///< the terrain changed: replan at the next wait
   std::optional<RootPlanResult> last_result_;
-  int64_t latest_utime_ = 0;
+  transport::SimClock clock_;  ///< the simulated time heard of (message utimes)
+  int64_t clocked_state_utime_ = -1;  ///< utime of the ROBOT_STATE the clock took last
   int guide_ = 0;  ///< the active request's guide: its paths use GuideSeed(seed, guide_)
   int guides_this_stance_ = 0;  ///< guides planned since the robot last stepped
   std::optional<int32_t> guide_stance_;  ///< CONTROLLER_STATUS steps_done when they were counted

@@ -15,6 +15,7 @@
 #include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/sim_clock.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
@@ -24,14 +25,15 @@ class WorldInput {
  public:
   WorldInput(lcm::LCM& lcm, const std::string& terrain_channel, const std::string& affordances_channel);
 
-  /// Takes the messages received since the last call, raising *latest_utime to their time.
+  /// Takes the messages received since the last call; TERRAIN sets the clock, AFFORDANCES move it
+  /// (a message with a time the clock rejects is rejected).
   /// Returns why one was rejected (undecodable, or an invalid mesh or surface); that part of
   /// the world is then unknown until a valid message arrives. Surfaces belong to the terrain
   /// message whose utime they carry: a terrain of new content drops the current surfaces, and
   /// only surfaces carrying the utime of a message of the current terrain are taken, so a
   /// terrain and the surfaces of another never pair, even when a restarted world counts its
   /// time from 0 again.
-  std::optional<std::string> Take(int64_t* latest_utime);
+  std::optional<std::string> Take(transport::SimClock* clock);
 
   const std::optional<TriangleMesh>& terrain() const { return terrain_; }
   const std::optional<std::vector<AffordanceSurface>>& surfaces() const { return surfaces_; }
