@@ -1,6 +1,7 @@
 #include "rbcp/affordance/affordance_extractor.h"
 
 #include <algorithm>
+#include <unordered_set>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -71,6 +72,14 @@ struct RegionPlane {
 
 struct AffordanceExtractor::Workspace {
   // Candidate triangles (facing up within the inclination limit), in mesh order.
+  struct CornersHash {
+    std::size_t operator()(const std::array<int, 3>& c) const {
+      return std::hash<uint64_t>()((static_cast<uint64_t>(static_cast<uint32_t>(c[0])) * 0x9E3779B97F4A7C15ULL) ^
+                                   (static_cast<uint64_t>(static_cast<uint32_t>(c[1])) << 21) ^
+                                   static_cast<uint64_t>(static_cast<uint32_t>(c[2])));
+    }
+  };
+  std::unordered_set<std::array<int, 3>, CornersHash> seen_triangles;  // sorted welded corners of the kept triangles
   std::vector<int> candidate_triangle;            // mesh triangle index
   std::vector<Eigen::Vector3d> candidate_normal;  // unit
   std::vector<double> candidate_area;             // [m^2]
@@ -164,6 +173,7 @@ bool AffordanceExtractor::Workspace::CollectCandidates(const TriangleMesh& mesh,
 void AffordanceExtractor::Workspace::WeldCandidates(const TriangleMesh& mesh, AffordanceStats& stats) {
   welded_id.assign(mesh.vertices.size(), -1);
   welded.clear();
+  seen_triangles.clear();
   weld_table.assign(TableSize(3 * candidate_triangle.size()), WeldSlot{0.0, 0.0, 0.0, -1});
   corner.resize(candidate_triangle.size());
   std::size_t kept = 0;
@@ -177,6 +187,14 @@ void AffordanceExtractor::Workspace::WeldCandidates(const TriangleMesh& mesh, Af
     }
     if (ids[0] == ids[1] || ids[1] == ids[2] || ids[2] == ids[0]) {
       ++stats.degenerate_triangles;
+      continue;
+    }
+    // A triangle listed twice (the same welded corners, facing up both times) is one triangle:
+    // copies would each grow a region of their own and give the same surface many times.
+    std::array<int, 3> sorted = ids;
+    std::sort(sorted.begin(), sorted.end());
+    if (!seen_triangles.insert(sorted).second) {
+      ++stats.duplicate_triangles;
       continue;
     }
     candidate_triangle[kept] = candidate_triangle[c];

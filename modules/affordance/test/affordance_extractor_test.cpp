@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 #include <map>
@@ -309,6 +311,26 @@ TEST(AffordanceExtractor, TriangleSoupIsWeldedIntoTheSameSurfaces) {
   }
   extractor.Extract(gap);
   EXPECT_EQ(extractor.stats().planar_regions, 2);
+}
+
+TEST(AffordanceExtractor, ABoxListedManyTimesIsOneBox) {
+  AffordanceExtractor extractor(Config(0.04));
+  const TriangleMesh box = Box({1.0, 0.6, 0.2}, {0.0, 0.0, -0.1});
+  const auto once = extractor.Extract(box);
+  ASSERT_EQ(once.size(), 1u);
+  TriangleMesh many;
+  for (int copy = 0; copy < 50; ++copy) {
+    // Every other copy lists each triangle from another corner: still the same triangle.
+    TriangleMesh c = box;
+    if (copy % 2 == 1) {
+      for (auto& t : c.triangles) std::rotate(t.begin(), t.begin() + 1, t.end());
+    }
+    many.Append(c);
+  }
+  const auto surfaces = extractor.Extract(many);
+  EXPECT_EQ(extractor.stats().duplicate_triangles, 49 * 2) << "the top's two triangles, 49 times again";
+  ASSERT_EQ(surfaces.size(), 1u) << "one surface, not fifty";
+  EXPECT_EQ(surfaces[0].vertices, once[0].vertices);
 }
 
 TEST(AffordanceExtractor, FloorMadeOfManyTrianglesIsOneRectangle) {

@@ -201,8 +201,9 @@ ContactPlanResult ContactPlanner::Plan(const std::vector<RootPathSample>& sample
   const PathPose start = m.path->At(m.path->Begin());
   const StandingResult stance = StandingAt(m.ctx(), start.p, start.yaw);
   if (!stance.state) {
-    result.status = ContactPlanStatus::kNoStartStance;
-    result.reason = "start stance: " + stance.why;
+    result.status = stance.timed_out ? ContactPlanStatus::kTimeout : ContactPlanStatus::kNoStartStance;
+    result.reason = stance.timed_out ? "time budget of " + FixedNumber(m.config.time_budget_s, 2) + " s exhausted in the start stance"
+                                     : "start stance: " + stance.why;
     result.failure_time_s = m.path->Begin();
     result.planning_time_s = m.budget.Elapsed();
     result.stats = m.stats;

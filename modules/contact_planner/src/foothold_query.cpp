@@ -82,6 +82,8 @@ std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, cons
     }
   };
   for (std::size_t s = 0; s < ctx.surfaces.size(); ++s) {
+    // Many surfaces (thousands of overlapping ones) make this query long: it ends with the budget.
+    if (ctx.budget.Exhausted()) break;
     const ConvexPolygon3d& surface = ctx.surfaces[s];
     if ((surface.MinXy().array() > (centre + reach).array()).any() ||
         (surface.MaxXy().array() < (centre - reach).array()).any()) {

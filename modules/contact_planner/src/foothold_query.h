@@ -24,6 +24,8 @@ struct Candidate {
 /// workspace (with near_half > 0 only within near_half of target_W in x and y), ranked by
 /// distance to target_W (in the heading frame of target_yaw) and offline score, best first, and
 /// deduplicated by projected foothold (the best of each FootholdCell). Counts the raw candidates in the stats.
+/// Once the query's time budget is exhausted it stops going through the surfaces: the caller
+/// checks the budget before it takes the list as complete.
 std::vector<Candidate> RankedCandidates(const PlannerContext& ctx, Leg leg, const Eigen::Isometry3d& base_W,
                                         const Eigen::Vector3d& target_W, double target_yaw, double near_half = 0.0);
 

@@ -26,6 +26,7 @@ StandingResult StandingAt(const PlannerContext& ctx, const Eigen::Vector3d& base
     const std::size_t i = static_cast<std::size_t>(Index(leg));
     const Eigen::Vector3d target = base * ctx.robot.ReferenceFootPosition(leg);
     const std::vector<Candidate> cands = RankedCandidates(ctx, leg, base, target, yaw);
+    if (ctx.budget.Exhausted()) return {std::nullopt, "time budget exhausted", true};
     bool found = false;
     for (const Candidate& c : cands) {
       ++ctx.stats.candidates_evaluated;

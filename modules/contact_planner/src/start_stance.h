@@ -13,7 +13,8 @@ namespace rbcp::contact_planner_detail {
 /// A standing stance, or why there is none.
 struct StandingResult {
   std::optional<WholeBodyState> state;
-  std::string why;  ///< empty with a state
+  std::string why;         ///< empty with a state
+  bool timed_out = false;  ///< the query's time budget ended the search for it
 };
 
 /// The standing stance with the base level at base_position heading `yaw`: for each leg in

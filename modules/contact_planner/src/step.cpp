@@ -269,6 +269,7 @@ StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node
   for (int stage = near_half > 0.0 ? 0 : 1; stage < 2; ++stage) {
     const std::vector<Candidate> cands =
         RankedCandidates(ctx, leg, base, target, target_pose.yaw, stage == 0 ? near_half : 0.0);
+    if (ctx.budget.Exhausted()) return {StepOutcome::kCapped, "time budget exhausted", std::nullopt, Node{}};
     candidates_seen += stage == 0 ? cands.size() : 0;
     for (const Candidate& c : cands) {
       if (stage == 1 && near_half > 0.0 && ((c.foothold - target).head<2>().cwiseAbs().array() < near_half).all()) {

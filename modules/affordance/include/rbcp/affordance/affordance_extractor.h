@@ -53,7 +53,8 @@ struct AffordanceStats {
   int triangles = 0;             ///< triangles in the terrain mesh
   int degenerate_triangles = 0;  ///< ignored: area below kMinTriangleArea or beyond double range,
                                  ///< or two corners within kWeldTolerance
-  int candidate_triangles = 0;   ///< facing up within the inclination limit, not degenerate
+  int duplicate_triangles = 0;   ///< ignored: the same welded corners as a triangle taken before
+  int candidate_triangles = 0;   ///< facing up within the inclination limit, not degenerate, not a duplicate
   int welded_vertices = 0;       ///< distinct candidate vertices after welding
   int planar_regions = 0;        ///< regions grown, before the inclination and area filters
   int kept_regions = 0;          ///< regions that passed the inclination and area filters
