@@ -99,6 +99,12 @@ void PlanExecution::StandAt(const BaseGoal& pose) {
 }
 
 void PlanExecution::GivePlan(const ContactPlan& plan) {
+  // A plan is walked at a few seconds per step: one of thousands of steps would keep the run
+  // going for hours of simulated time; it is rejected before the controller takes it.
+  if (plan.states.size() > kMaxPlanSteps + 1) {
+    throw InputError("simulator: expected a plan of at most " + std::to_string(kMaxPlanSteps) + " steps, got " +
+                     std::to_string(plan.states.size() - 1));
+  }
   if (decided_) {
     // A new plan after a verdict starts a new judged run from where the robot is.
     decided_ = false;

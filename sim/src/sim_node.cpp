@@ -172,15 +172,28 @@ void SimNode::ApplyEvents() {
     push_until_s_ = -1.0;
     if (status_.verbose()) std::fprintf(stderr, "[%s] the push ends at %.2f s\n", kProcessName, execution_.Time());
   }
+  // The events due now change the terrain together: one new world, one TERRAIN.
+  TerrainEdit edit{execution_.CurrentWorld().terrain, element_names_, false};
   while (next_event_ < options_.events.size() && options_.events[next_event_].t <= execution_.Time() + 1e-9) {
     const WorldEvent& e = options_.events[next_event_++];
     try {
-      Apply(e);
+      Apply(e, edit);
       if (status_.verbose()) {
         std::fprintf(stderr, "[%s] event at %.2f s: %s\n", kProcessName, execution_.Time(), e.Describe().c_str());
       }
     } catch (const InputError& error) {
       status_.Failed(Utime(), Utime(), 0.0, "event " + e.Describe() + ": " + error.what());
+    }
+  }
+  if (edit.changed) {
+    try {
+      execution_.SetTerrain(edit.terrain);
+      element_names_ = std::move(edit.names);
+      // The terrain changed: everyone hears of it at once; plans made before are stale.
+      world_changed_utime_ = Utime();
+      PublishTerrain();
+    } catch (const InputError& error) {
+      status_.Failed(Utime(), Utime(), 0.0, std::string("the events' terrain: ") + error.what());
     }
   }
   if (own_request_ && std::chrono::steady_clock::now() - own_request_wall_ >= std::chrono::seconds(1)) {
@@ -190,21 +203,20 @@ void SimNode::ApplyEvents() {
   }
 }
 
-void SimNode::Apply(const WorldEvent& e) {
-  std::vector<TerrainElement> terrain = execution_.CurrentWorld().terrain;
+void SimNode::Apply(const WorldEvent& e, TerrainEdit& edit) {
   switch (e.kind) {
     case WorldEvent::Kind::kAddBox:
-      terrain.push_back(e.box);
-      execution_.SetTerrain(terrain);
-      element_names_.push_back(e.name);
-      break;
+      edit.terrain.push_back(e.box);
+      edit.names.push_back(e.name);
+      edit.changed = true;
+      return;
     case WorldEvent::Kind::kRemoveBox: {
-      const auto it = std::find(element_names_.begin(), element_names_.end(), e.name);
-      if (it == element_names_.end()) throw InputError("no box named '" + e.name + "' in the world");
-      terrain.erase(terrain.begin() + (it - element_names_.begin()));
-      execution_.SetTerrain(terrain);
-      element_names_.erase(it);
-      break;
+      const auto it = std::find(edit.names.begin(), edit.names.end(), e.name);
+      if (it == edit.names.end()) throw InputError("no box named '" + e.name + "' in the world");
+      edit.terrain.erase(edit.terrain.begin() + (it - edit.names.begin()));
+      edit.names.erase(it);
+      edit.changed = true;
+      return;
     }
     case WorldEvent::Kind::kPush:
       execution_.SetBaseForce(e.force_W);
@@ -229,9 +241,6 @@ void SimNode::Apply(const WorldEvent& e) {
       return;
     }
   }
-  // The terrain changed: everyone hears of it at once; plans made before are stale.
-  world_changed_utime_ = Utime();
-  PublishTerrain();
 }
 
 void SimNode::Tick() {

@@ -20,8 +20,16 @@ std::string Xyz(const Eigen::Vector3d& v) {
 
 WorldEvent ReadEvent(const YamlMap& e, const std::vector<WorldEvent>& earlier) {
   WorldEvent ev;
+  using L = WorldEventLimits;
   ev.t = e.Double("t");
-  if (!(ev.t >= 0.0)) e.Fail("t", "expected a simulated time >= 0 [s], got " + FixedNumber(ev.t, 3));
+  if (!(ev.t >= 0.0 && ev.t <= L::kMaxTime_s)) {
+    e.Fail("t", "expected a simulated time in [0, " + FixedNumber(L::kMaxTime_s, 0) + "] s, got " + FixedNumber(ev.t, 3));
+  }
+  const auto within_reach = [](const YamlMap& m, const std::string& key, const Eigen::Vector3d& p) {
+    if (!(p.allFinite() && p.norm() <= L::kMaxDistance_m)) {
+      m.Fail(key, "expected a point within " + FixedNumber(L::kMaxDistance_m, 0) + " m of the origin, got (" + Xyz(p) + ")");
+    }
+  };
   std::vector<std::string> kinds;
   for (const std::string& k : e.Keys()) {
     if (k != "t") kinds.push_back(k);
@@ -39,7 +47,11 @@ WorldEvent ReadEvent(const YamlMap& e, const std::vector<WorldEvent>& earlier) {
     ev.box.size = m.Vector3("size");
     ev.box.position = m.Vector3("position");
     ev.box.rpy = m.Vector3("rpy");
-    if ((ev.box.size.array() <= 0.0).any()) m.Fail("size", "expected three positive lengths [m]");
+    if (!((ev.box.size.array() > 0.0).all() && (ev.box.size.array() <= L::kMaxBoxSize_m).all())) {
+      m.Fail("size", "expected three lengths in (0, " + FixedNumber(L::kMaxBoxSize_m, 0) + "] m, got (" + Xyz(ev.box.size) + ")");
+    }
+    within_reach(m, "position", ev.box.position);
+    if (!ev.box.rpy.allFinite()) m.Fail("rpy", "expected finite angles [rad]");
     m.RejectUnknownKeys();
     for (const WorldEvent& o : earlier) {
       if (o.kind == WorldEvent::Kind::kAddBox && o.name == ev.name) m.Fail("name", "box '" + ev.name + "' is added twice");
@@ -52,11 +64,20 @@ WorldEvent ReadEvent(const YamlMap& e, const std::vector<WorldEvent>& earlier) {
     const YamlMap m = e.Map("push");
     ev.force_W = m.Vector3("force");
     ev.duration_s = m.Double("duration");
-    if (!(ev.duration_s > 0.0)) m.Fail("duration", "expected a positive duration [s], got " + FixedNumber(ev.duration_s, 3));
+    if (!(ev.duration_s > 0.0 && ev.duration_s <= L::kMaxPushDuration_s)) {
+      m.Fail("duration", "expected a duration in (0, " + FixedNumber(L::kMaxPushDuration_s, 0) + "] s, got " +
+                             FixedNumber(ev.duration_s, 3));
+    }
+    if (!(ev.force_W.allFinite() && ev.force_W.norm() <= L::kMaxPush_N)) {
+      m.Fail("force", "expected at most " + FixedNumber(L::kMaxPush_N, 0) + " N, got (" + Xyz(ev.force_W) + ")");
+    }
     m.RejectUnknownKeys();
   } else if (kind == "goal") {
     ev.kind = WorldEvent::Kind::kGoal;
-    ev.goal = ReadBasePose(e.Map("goal"));
+    const YamlMap m = e.Map("goal");
+    ev.goal = ReadBasePose(m);
+    within_reach(m, "position", Eigen::Vector3d(ev.goal.position.x(), ev.goal.position.y(), 0.0));
+    if (!std::isfinite(ev.goal.yaw)) m.Fail("yaw", "expected a finite heading [rad]");
   } else {
     e.Fail(kind, "unknown event (expected add_box, remove_box, push or goal)");
   }
@@ -95,18 +116,31 @@ std::vector<WorldEvent> ParseWorldEvents(const std::string& yaml_text, const std
   }
   const YamlMap root(node, where);
   std::vector<WorldEvent> events;
-  for (const YamlMap& e : root.MapList("events")) events.push_back(ReadEvent(e, events));
+  const std::vector<YamlMap> listed = root.MapList("events");
+  if (listed.size() > WorldEventLimits::kMaxEvents) {
+    root.Fail("events", "expected at most " + std::to_string(WorldEventLimits::kMaxEvents) + " events, got " +
+                            std::to_string(listed.size()));
+  }
+  for (const YamlMap& e : listed) events.push_back(ReadEvent(e, events));
   root.RejectUnknownKeys();
   std::stable_sort(events.begin(), events.end(), [](const WorldEvent& a, const WorldEvent& b) { return a.t < b.t; });
-  // A box is removed after it was added.
-  for (std::size_t i = 0; i < events.size(); ++i) {
-    if (events[i].kind != WorldEvent::Kind::kRemoveBox) continue;
-    const bool before = std::any_of(events.begin(), events.begin() + static_cast<std::ptrdiff_t>(i), [&](const WorldEvent& o) {
-      return o.kind == WorldEvent::Kind::kAddBox && o.name == events[i].name;
-    });
-    if (!before) {
-      throw InputError(where + ": box '" + events[i].name + "' is removed at " + FixedNumber(events[i].t, 2) +
-                       " s, but no earlier event adds it");
+  // In time order: a box is removed while it is in the world, and the world holds a bounded
+  // number of the events' boxes.
+  std::vector<std::string> present;
+  for (const WorldEvent& e : events) {
+    if (e.kind == WorldEvent::Kind::kAddBox) {
+      present.push_back(e.name);
+      if (present.size() > WorldEventLimits::kMaxBoxes) {
+        throw InputError(where + ": " + std::to_string(present.size()) + " boxes of the events would be in the world at " +
+                         FixedNumber(e.t, 2) + " s, at most " + std::to_string(WorldEventLimits::kMaxBoxes));
+      }
+    } else if (e.kind == WorldEvent::Kind::kRemoveBox) {
+      const auto it = std::find(present.begin(), present.end(), e.name);
+      if (it == present.end()) {
+        throw InputError(where + ": box '" + e.name + "' is removed at " + FixedNumber(e.t, 2) +
+                         " s, but it is not in the world then (never added, or removed before)");
+      }
+      present.erase(it);
     }
   }
   return events;

@@ -1,6 +1,7 @@
 // The simulator's node over memq://: what it publishes, a plan walked to its verdict on STATUS,
 // a malformed plan answered with FAILED while the world goes on, and the replanning handshake
 // (a wait at every step boundary, stale plans dropped, the planner's failure answered).
+#include "rbcp/core/format.h"
 #include "rbcp/sim/sim_node.h"
 
 #include <gtest/gtest.h>
@@ -115,6 +116,21 @@ TEST_F(SimNodeTest, AMalformedPlanIsRejectedAndTheRobotKeepsStanding) {
   EXPECT_FALSE(node_.Decided());
   const RobotState state = transport::FromRobotStateMsg(*states_.Latest());
   for (bool c : state.foot_contact) EXPECT_TRUE(c);
+}
+
+TEST_F(SimNodeTest, APlanOfThousandsOfStepsIsRejectedAndTheRobotKeepsStanding) {
+  ContactPlan plan = rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08);
+  while (plan.states.size() < PlanExecution::kMaxPlanSteps + 2) plan.states.push_back(plan.states.back());
+  const auto msg = transport::ToContactPlanMsg(plan, 0, 7);
+  lcm_.publish(channels::kContactPlan, &msg);
+  Pump();
+  TickFor(0.2, [] { return false; });
+  ASSERT_TRUE(status_.Latest().has_value());
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(status_.Latest()->reason.find("expected a plan of at most 2000 steps, got 2001"), std::string::npos)
+      << status_.Latest()->reason;
+  EXPECT_FALSE(node_.Decided());
+  EXPECT_EQ(node_.Plans(), 0);
 }
 
 class ReplanningSimNodeTest : public SimWorld {
@@ -309,18 +325,33 @@ TEST(WorldEvents, ReadsStrictlyWithClearErrors) {
     return std::string("no error");
   };
   EXPECT_EQ(error("events: [{t: 1, remove_box: nope}]"),
-            "e.yaml: box 'nope' is removed at 1.00 s, but no earlier event adds it");
+            "e.yaml: box 'nope' is removed at 1.00 s, but it is not in the world then (never added, or removed before)");
   EXPECT_EQ(error("events: [{t: 1, push: {force: [1, 0, 0], duration: 0}}]"),
-            "e.yaml: events[0]: push: 'duration': expected a positive duration [s], got 0.000");
+            "e.yaml: events[0]: push: 'duration': expected a duration in (0, 10] s, got 0.000");
   EXPECT_EQ(error("events: [{t: 1, jump: 2}]"),
             "e.yaml: events[0]: 'jump': unknown event (expected add_box, remove_box, push or goal)");
   EXPECT_EQ(error("events: [{t: 1, push: {force: [1, 0, 0], duration: 1}, goal: {position: [0, 0], yaw: 0}}]"),
             "e.yaml: events[0]: expected t and exactly one of add_box, remove_box, push or goal, got 2 other keys");
   EXPECT_EQ(error("events: [{t: 2, add_box: {name: b, size: [1, 1, 1], position: [0, 0, 0], rpy: [0, 0, 0]}}, "
                   "{t: 1, remove_box: b}]"),
-            "e.yaml: box 'b' is removed at 1.00 s, but no earlier event adds it");
+            "e.yaml: box 'b' is removed at 1.00 s, but it is not in the world then (never added, or removed before)");
   EXPECT_EQ(error("events: [{t: -1, goal: {position: [0, 0], yaw: 0}}]"),
-            "e.yaml: events[0]: 't': expected a simulated time >= 0 [s], got -1.000");
+            "e.yaml: events[0]: 't': expected a simulated time in [0, 1000000] s, got -1.000");
+  // Bounds: no box far away or huge, no push beyond reason, no box removed twice, a bounded world.
+  EXPECT_EQ(error("events: [{t: 1, add_box: {name: b, size: [1, 1, 1], position: [1e300, 0, 0], rpy: [0, 0, 0]}}]"),
+            "e.yaml: events[0]: add_box: 'position': expected a point within 1000 m of the origin, got "
+            "(" + FixedNumber(1e300, 2) + ", 0.00, 0.00)");
+  EXPECT_EQ(error("events: [{t: 1, push: {force: [1e300, 0, 0], duration: 1}}]"),
+            "e.yaml: events[0]: push: 'force': expected at most 2000 N, got (" + FixedNumber(1e300, 2) + ", 0.00, 0.00)");
+  EXPECT_EQ(error("events: [{t: 1, add_box: {name: b, size: [1, 1, 1], position: [0, 0, 0], rpy: [0, 0, 0]}}, "
+                  "{t: 2, remove_box: b}, {t: 3, remove_box: b}]"),
+            "e.yaml: box 'b' is removed at 3.00 s, but it is not in the world then (never added, or removed before)");
+  std::string many = "events: [";
+  for (int i = 0; i < 201; ++i) {
+    many += (i ? ", " : "") + std::string("{t: 1, add_box: {name: b") + std::to_string(i) +
+            ", size: [0.1, 0.1, 0.1], position: [0, 0, 0], rpy: [0, 0, 0]}}";
+  }
+  EXPECT_EQ(error(many + "]"), "e.yaml: 201 boxes of the events would be in the world at 1.00 s, at most 200");
 }
 
 }  // namespace

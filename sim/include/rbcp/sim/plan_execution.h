@@ -111,7 +111,10 @@ class PlanExecution {
   /// controller holds it until StartPlan.
   void StandAt(const BaseGoal& pose);
   /// Hands a plan to the controller (replacing the rest of a running one at a step boundary).
+  /// Throws InputError for a plan of more than kMaxPlanSteps steps.
   void GivePlan(const ContactPlan& plan);
+  /// The most steps of a plan the simulator walks (about 100 m of rough terrain).
+  static constexpr std::size_t kMaxPlanSteps = 2000;
   /// Replanning: the controller waits at every step boundary for the next plan (GivePlan) or for
   /// ContinuePlan (PlanController::SetAwaitPlans). Time spent waiting does not count towards the
   /// run's timeout.

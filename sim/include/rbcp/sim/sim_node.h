@@ -97,7 +97,14 @@ class SimNode {
   void PublishState();
   /// Applies the events due by now; ends a push that is over.
   void ApplyEvents();
-  void Apply(const WorldEvent& event);
+  /// The terrain as the events due at one tick change it: applied once, after all of them.
+  struct TerrainEdit {
+    std::vector<TerrainElement> terrain;
+    std::vector<std::string> names;  ///< per element: the event box's name, "" for the scenario's
+    bool changed = false;
+  };
+  /// Applies a push or a goal at once; a box added or removed goes into `edit`.
+  void Apply(const WorldEvent& event, TerrainEdit& edit);
 
   lcm::LCM& lcm_;
   PlanExecution& execution_;

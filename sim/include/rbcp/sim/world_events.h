@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,19 @@ struct WorldEvent {
   std::string Describe() const;
 };
 
-/// Reads an events file. Throws InputError naming the file, the event and the problem.
+/// Bounds of an events file, checked at load: a file beyond them is an error, not a slow world.
+struct WorldEventLimits {
+  static constexpr std::size_t kMaxEvents = 1000;
+  static constexpr std::size_t kMaxBoxes = 200;         ///< boxes of the events in the world at once
+  static constexpr double kMaxTime_s = 1e6;             ///< [s] of simulated time
+  static constexpr double kMaxDistance_m = 1000.0;      ///< [m] of a box or a goal from the origin
+  static constexpr double kMaxBoxSize_m = 50.0;         ///< [m] of a box side
+  static constexpr double kMaxPush_N = 2000.0;          ///< [N] about seven times the robot's weight
+  static constexpr double kMaxPushDuration_s = 10.0;    ///< [s]
+};
+
+/// Reads an events file. Throws InputError naming the file, the event and the problem: out of the
+/// WorldEventLimits, a box added twice, or removed when it is not in the world.
 std::vector<WorldEvent> LoadWorldEvents(const std::string& path);
 /// Same, from text; `where` names it in errors.
 std::vector<WorldEvent> ParseWorldEvents(const std::string& yaml_text, const std::string& where);
