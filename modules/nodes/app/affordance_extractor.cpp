@@ -31,7 +31,9 @@ int main(int argc, char** argv) {
     nodes::AffordanceNode node(*lcm, cfg);
     node.status().set_verbose(!common.quiet);
     std::cerr << "[affordance_extractor] listening: TERRAIN -> AFFORDANCES, STATUS\n";
-    node.status().StartBackgroundHeartbeat(0.4);  // STATUS at least every 0.4 s, also while working
+    // STATUS at least every 0.4 s, also while working; two minutes on one terrain is stuck (the
+    // heartbeat falls silent and the supervisor restarts it).
+    node.status().StartBackgroundHeartbeat(0.4, 120.0);
     return transport::RunLoop(*lcm, [&] { node.Step(); }, [&] { node.Heartbeat(); }, {1.0, 20, common.max_runtime_s});
   });
 }

@@ -33,7 +33,10 @@ int main(int argc, char** argv) {
     std::cerr << "[contact_planner] listening: ROOT_PATH, ROBOT_STATE, TERRAIN, AFFORDANCES -> CONTACT_PLAN, STATUS ("
               << (options.horizon_steps > 0 ? "horizon of " + std::to_string(options.horizon_steps) + " steps"
                                             : std::string("whole path")) << ")\n";
-    node.status().StartBackgroundHeartbeat(0.4);  // STATUS at least every 0.4 s, also while working
+    // STATUS at least every 0.4 s, also while working; BUSY far beyond the budget of its queries
+    // (a replan makes at most three) is stuck (the heartbeat falls silent and the supervisor
+    // restarts it).
+    node.status().StartBackgroundHeartbeat(0.4, 3.0 * cfg.time_budget_s + 30.0);
     return transport::RunLoop(*lcm, [&] { node.Step(); }, [&] { node.Heartbeat(); }, {1.0, 20, common.max_runtime_s});
   });
 }

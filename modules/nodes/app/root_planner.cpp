@@ -24,7 +24,9 @@ int main(int argc, char** argv) {
     nodes::RootPlannerNode node(*lcm, robot, std::move(cfg), options);
     node.status().set_verbose(!common.quiet);
     std::cerr << "[root_planner] listening: PLAN_REQUEST, ROBOT_STATE, TERRAIN, AFFORDANCES -> ROOT_PATH, STATUS\n";
-    node.status().StartBackgroundHeartbeat(0.4);  // STATUS at least every 0.4 s, also while working
+    // STATUS at least every 0.4 s, also while working; BUSY far beyond the largest budget a
+    // request may ask for is stuck (the heartbeat falls silent and the supervisor restarts it).
+    node.status().StartBackgroundHeartbeat(0.4, 2.0 * options.max_time_budget_s + 30.0);
     return transport::RunLoop(*lcm, [&] { node.Step(); }, [&] { node.Heartbeat(); }, {1.0, 20, common.max_runtime_s});
   });
 }

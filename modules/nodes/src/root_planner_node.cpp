@@ -122,7 +122,7 @@ bool RootPlannerNode::Step() {
 bool RootPlannerNode::ReportWaiting(const std::string& what) {
   if (!pending_ || what == waiting_for_) return false;
   waiting_for_ = what;
-  status_.Busy(Now(), pending_->utime, what);
+  status_.Waiting(Now(), pending_->utime, what);
   return true;
 }
 

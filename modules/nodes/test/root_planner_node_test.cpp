@@ -68,7 +68,7 @@ class RootPlannerNodeTest : public ::testing::Test {
     return path;
   }
 
-  /// Steps the node expecting it to answer that the pending request waits (BUSY, once), and
+  /// Steps the node expecting it to answer that the pending request waits (ALIVE, once), and
   /// returns what it waits for.
   std::string WaitingFor() {
     Pump();
@@ -77,7 +77,7 @@ class RootPlannerNodeTest : public ::testing::Test {
     EXPECT_FALSE(node_.Step()) << "once";
     EXPECT_FALSE(path_.Take().has_value());
     if (!status_.Latest()) return "";
-    EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::BUSY);
+    EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::ALIVE);
     return status_.Latest()->reason;
   }
 

@@ -52,6 +52,33 @@ TEST(StatusReporter, TheBackgroundHeartbeatGoesOnWhileTheProcessIsBusy) {
   EXPECT_EQ(status.Latest()->process, "worker");
 }
 
+TEST(StatusReporter, AProcessBusyBeyondItsBoundFallsSilentForTheSupervisor) {
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  LatestMessage<rbcp_msgs::process_status_t> status(lcm, "S");
+  const auto drain = [&] {
+    while (lcm.handleTimeout(0) > 0) {
+    }
+  };
+  StatusReporter reporter(lcm, "worker", "S");
+  reporter.set_verbose(false);
+  reporter.StartBackgroundHeartbeat(0.01, 0.05);
+  reporter.Busy(5, 5);
+  // Stuck: well past the bound, the heartbeat has stopped.
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  drain();
+  const int received = status.received();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  drain();
+  EXPECT_EQ(status.received(), received) << "no STATUS from a process stuck with one input";
+  // Working again: the heartbeat comes back.
+  reporter.Ok(6, 5, 1.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  drain();
+  EXPECT_GE(status.received(), received + 2) << "the answer and heartbeats of it";
+  EXPECT_EQ(status.Latest()->state, rbcp_msgs::process_status_t::OK);
+}
+
 TEST(LatestMessage, KeepsOnlyTheNewestAndTakesOnce) {
   lcm::LCM lcm("memq://");
   ASSERT_TRUE(lcm.good());

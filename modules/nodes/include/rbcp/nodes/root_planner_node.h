@@ -62,7 +62,7 @@ class RootPlannerNode {
   /// repeats it when an answer got lost, or for a restarted planner) is answered again: its path
   /// once more, or its failure. A request to start more than replan_path_offset_m from where the
   /// robot stands is planned from the robot. A request waiting for the world or the robot's state
-  /// is answered BUSY with what it waits for. Returns true if it planned, answered or rejected an
+  /// is answered ALIVE (idle) with what it waits for. Returns true if it planned, answered or rejected an
   /// input.
   bool Step();
   /// Republishes STATUS, and the current ROOT_PATH unchanged (for a contact planner started
@@ -77,7 +77,7 @@ class RootPlannerNode {
   /// Takes new terrain / surfaces / request; returns a reason if an input was rejected.
   std::optional<std::string> TakeInputs();
   void Plan(const rbcp_msgs::plan_request_t& request, const std::string& why = "");
-  /// Publishes BUSY with `what` the pending request waits for, once per change; true if it did.
+  /// Publishes ALIVE with `what` the pending request waits for, once per change; true if it did.
   bool ReportWaiting(const std::string& what);
   /// The answer to the request last taken, again: its path, or its failure.
   void AnswerAgain();

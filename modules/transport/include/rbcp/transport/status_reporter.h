@@ -7,6 +7,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -24,14 +25,18 @@ class StatusReporter {
 
   /// Republishes the current state from a background thread whenever nothing was published for
   /// `period_s` [s, wall clock], also while the process is busy planning, so a supervisor can
-  /// tell a long computation from a hung process. Stops with the reporter.
-  void StartBackgroundHeartbeat(double period_s);
+  /// tell a long computation from a hung process. A process BUSY with one input for longer than
+  /// `max_busy_s` [s, wall clock] (beyond what any input may take with its budget) is stuck: the
+  /// heartbeat says so once on stderr and falls silent, and the supervisor restarts the process.
+  /// Stops with the reporter.
+  void StartBackgroundHeartbeat(double period_s, double max_busy_s = std::numeric_limits<double>::infinity());
 
   /// `utime` is the simulated time of the latest input (message clock, never the wall clock).
   /// Heartbeat republishes the current state (ALIVE until the first input is handled).
   void Heartbeat(int64_t utime);
-  /// `doing`: an optional one-line note of what the input waits for or what is being done.
-  void Busy(int64_t utime, int64_t input_utime, const std::string& doing = "");
+  void Busy(int64_t utime, int64_t input_utime);
+  /// ALIVE with a one-line note of what the input `input_utime` waits for (the process is idle).
+  void Waiting(int64_t utime, int64_t input_utime, const std::string& what);
   /// `summary`: an optional one-line description of the result, published in `reason`.
   void Ok(int64_t utime, int64_t input_utime, double compute_ms, const std::string& summary = "");
   void Failed(int64_t utime, int64_t input_utime, double compute_ms, const std::string& reason);
@@ -50,6 +55,7 @@ class StatusReporter {
   mutable std::mutex mutex_;  // guards last_ and last_publish_ (the heartbeat thread reads them)
   rbcp_msgs::process_status_t last_{};
   std::chrono::steady_clock::time_point last_publish_;
+  std::chrono::steady_clock::time_point busy_since_;  ///< when the current BUSY began
   bool verbose_ = true;
   std::thread heartbeat_;
   std::condition_variable stop_cv_;
