@@ -3,7 +3,8 @@
 // the world and publishes the scenario's terrain on TERRAIN (in parts when large) every period
 // while the run lasts; with
 // --until sim the simulator (anymal_sim) is the world and publishes it. Then a PLAN_REQUEST from
-// the scenario's start to its goal; it waits for ROOT_PATH and CONTACT_PLAN, checks the plan with
+// the scenario's start to its goal (a random 64-bit id, repeated every second until answered); it
+// waits for ROOT_PATH and CONTACT_PLAN carrying that id, checks the plan with
 // the plan checker, with --until sim waits for the simulator's verdict on the walked plan, and
 // prints a summary. A FAILED status from any process (on an input handled after the start) ends
 // the run with the process's name and reason. With --until loop (the replanning loop: anymal_sim
@@ -420,6 +421,15 @@ int main(int argc, char** argv) {
     request.time_budget = budget_s;
     request.seed = seed;
     lcm->publish(channels::kPlanRequest, &request);
+    // The request again every second until it is answered: an answer lost on the way (or a
+    // request lost) costs a second, not the run; a repeat is answered with the same answer.
+    auto next_request = Clock::now() + std::chrono::seconds(1);
+    const auto repeat_request = [&] {
+      publish_terrain();
+      if (Clock::now() < next_request) return;
+      next_request = Clock::now() + std::chrono::seconds(1);
+      lcm->publish(channels::kPlanRequest, &request);
+    };
     std::cout << "plan request " << request.request_id << " on PLAN_REQUEST: (" << request.start_position[0] << ", "
               << request.start_position[1] << ") -> (" << request.goal_position[0] << ", " << request.goal_position[1]
               << "), seed " << seed << "\n";
@@ -431,7 +441,7 @@ int main(int argc, char** argv) {
           if (p && p->request_id == request.request_id && AnswersGoal(*p, request)) path = std::move(p);
           return path.has_value();
         },
-        publish_terrain);
+        repeat_request);
     if (w == Waited::kTimeout) return no_answer("ROOT_PATH", "root_planner");
     if (w != Waited::kDone) return stopped_or_failed(w, "root planning");
     Pump(*lcm, 0.2, [&] { return board.NewOk("root_planner").has_value(); });
@@ -455,7 +465,7 @@ int main(int argc, char** argv) {
           if (p && p->request_id == request.request_id) plan_msg = std::move(p);
           return plan_msg.has_value();
         },
-        publish_terrain);
+        repeat_request);
     if (w == Waited::kTimeout) return no_answer("CONTACT_PLAN", "contact_planner");
     if (w != Waited::kDone) return stopped_or_failed(w, "contact planning");
     Pump(*lcm, 0.2, [&] { return board.NewOk("contact_planner").has_value(); });
