@@ -14,6 +14,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include <fcntl.h>
+#include <malloc.h>
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 #include <sched.h>
@@ -61,6 +62,14 @@ using Text = std::shared_ptr<const std::string>;
 constexpr std::size_t kMaxQueuedStates = 256;
 /// Robot states kept for a page that connects late (20 Hz: a quarter of an hour of simulated time).
 constexpr std::size_t kMaxKeptStates = 18000;
+/// Pages followed at once; more are refused (503) until one leaves.
+constexpr std::size_t kMaxPages = 32;
+/// The largest message a page may send [bytes]: it has nothing to say, so a large or unfinished
+/// frame is cut short instead of held (a page's memory stays bounded).
+constexpr std::size_t kMaxPageMessageBytes = 4096;
+/// Out of file descriptors (or another accept error), the listener waits this long before it
+/// accepts again, instead of retrying at once [ms].
+constexpr int kAcceptBackoffMs = 200;
 
 class Hub;
 
@@ -118,8 +127,12 @@ class Hub {
     for (const auto& [process, status] : statuses_) session->Send(status, false);
   }
   void Leave(const std::shared_ptr<Session>& session) {
-    if (sessions_.erase(session)) Log("a page left (" + std::to_string(sessions_.size()) + " now)");
+    if (sessions_.erase(session)) {
+      Log("a page left (" + std::to_string(sessions_.size()) + " now)");
+      ::malloc_trim(0);  // a page's buffers go back to the system with it
+    }
   }
+  bool Full() const { return sessions_.size() >= kMaxPages; }
 
   /// One LCM message, received at `receive_us` (any clock, the same for every message). A part of
   /// a message sent in parts (TERRAIN/PART) is kept until its message is whole.
@@ -267,6 +280,7 @@ class Hub {
 
 void Session::Start(http::request<http::string_body> request) {
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+  ws_.read_message_max(kMaxPageMessageBytes);
   ws_.text(true);
   ws_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
     if (error) return;
@@ -311,6 +325,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
         hub_.Log("refused a websocket for " + target + " from origin '" + origin + "'");
         return Respond(http::status::forbidden, "text/plain", "live_bridge: websocket at /ws, from a page on disk or this host\n");
       }
+      if (hub_.Full()) {
+        hub_.Log("refused a page: " + std::to_string(kMaxPages) + " pages are connected already");
+        return Respond(http::status::service_unavailable, "text/plain",
+                       "live_bridge: " + std::to_string(kMaxPages) + " pages are connected already\n");
+      }
       stream_.expires_never();
       std::make_shared<Session>(stream_.release_socket(), hub_)->Start(std::move(request_));
       return;
@@ -352,17 +371,31 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 class Listener : public std::enable_shared_from_this<Listener> {
  public:
   Listener(net::io_context& io, const tcp::endpoint& endpoint, Hub& hub, const std::string& page)
-      : acceptor_(io, endpoint), hub_(hub), page_(page) {}
+      : acceptor_(io, endpoint), backoff_(io), hub_(hub), page_(page) {}
   unsigned short Port() const { return acceptor_.local_endpoint().port(); }
   void Accept() {
     acceptor_.async_accept([self = shared_from_this()](beast::error_code error, tcp::socket socket) {
-      if (!error) std::make_shared<HttpSession>(std::move(socket), self->hub_, self->page_, self->Port())->Start();
-      if (self->acceptor_.is_open()) self->Accept();
+      if (!self->acceptor_.is_open()) return;
+      if (!error) {
+        self->accept_failing_ = false;
+        std::make_shared<HttpSession>(std::move(socket), self->hub_, self->page_, self->Port())->Start();
+        self->Accept();
+        return;
+      }
+      // Out of file descriptors the accept fails at once, again and again: wait before the next.
+      if (!self->accept_failing_) self->hub_.Log("cannot accept a connection (" + error.message() + "): waiting");
+      self->accept_failing_ = true;
+      self->backoff_.expires_after(std::chrono::milliseconds(kAcceptBackoffMs));
+      self->backoff_.async_wait([self](beast::error_code wait_error) {
+        if (!wait_error) self->Accept();
+      });
     });
   }
 
  private:
   tcp::acceptor acceptor_;
+  net::steady_timer backoff_;
+  bool accept_failing_ = false;  ///< the last accept failed (said once until one succeeds)
   Hub& hub_;
   const std::string& page_;
 };
