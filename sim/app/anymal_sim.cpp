@@ -16,6 +16,12 @@
 #include "rbcp/sim/world_events.h"
 #include "rbcp/transport/run_loop.h"
 
+namespace {
+/// [m] how far from the scenario's goal a plan may end and still reach it (the contact planner
+/// ends its plans at the root path's end, the goal, give or take the body's shift).
+constexpr double kGoalReach_m = 0.3;
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace rbcp;
   using Clock = std::chrono::steady_clock;
@@ -80,7 +86,10 @@ int main(int argc, char** argv) {
         sim::WriteTickCsvRow(csv, execution);
         if (!csv) throw InputError("cannot write " + log_csv_path);
       }
-      const sim::ExecutionOutcome& outcome = execution.Outcome();
+      // The plan's verdict is about the plan; the run's is about the scenario: a plan that ends
+      // away from the scenario's goal does not reach it, however well it was walked.
+      sim::ExecutionOutcome outcome = execution.Outcome();
+      sim::JudgeAgainstGoal(outcome, plan, scenario.goal, kGoalReach_m);
       const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
       if (json) {
         nlohmann::json j = sim::OutcomeToJson(outcome);

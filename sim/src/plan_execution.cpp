@@ -267,6 +267,20 @@ std::string PlanExecution::ShouldHaveCaught(const ExecutionFailure& f) const {
   return out;
 }
 
+void JudgeAgainstGoal(ExecutionOutcome& outcome, const ContactPlan& plan, const BaseGoal& goal, double tolerance_m) {
+  if (!outcome.ok() || plan.states.empty()) return;
+  const double off = (plan.states.back().base_position.head<2>() - goal.position).norm();
+  if (off <= tolerance_m) return;
+  ExecutionFailure f;
+  f.what = "short_of_goal";
+  f.t = outcome.sim_time_s;
+  f.step = outcome.steps_total;
+  f.detail = "the plan was walked whole, but it ends " + FixedNumber(off, 2) + " m from the scenario's goal (at most " +
+             FixedNumber(tolerance_m, 2) + " m)";
+  outcome.failure = std::move(f);
+  outcome.reached_goal = false;
+}
+
 void PlanExecution::Abort(const std::string& what, const std::string& detail) {
   if (!decided_) Decide(Failure(what, "", detail));
 }

@@ -88,6 +88,28 @@ TEST(PlanExecution, AShortFlatGroundPlanReachesItsGoal) {
   }
 }
 
+TEST(PlanExecution, APlanWalkedWholeReachesTheScenarioGoalOnlyWhereItEnds) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));  // goal 5 m ahead
+  ContactPlan plan = BuildFlatGroundPlan(g.robot, 1, 0.08);
+  plan.states.resize(1);  // stand where it starts
+  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+  run.Start(plan);
+  ExecutionOutcome o = run.Run();
+  ASSERT_TRUE(o.ok()) << "the plan of one state is walked at once: " << Why(o);
+  JudgeAgainstGoal(o, plan, scenario.goal, 0.3);
+  EXPECT_FALSE(o.reached_goal);
+  ASSERT_TRUE(o.failure.has_value());
+  EXPECT_EQ(o.failure->what, "short_of_goal");
+  EXPECT_NE(o.failure->detail.find("ends 5.00 m from the scenario's goal"), std::string::npos) << o.failure->detail;
+  // Where the plan ends at the goal, the verdict stands.
+  BaseGoal here = scenario.goal;
+  here.position = plan.states.back().base_position.head<2>() + Eigen::Vector2d(0.2, 0.0);
+  ExecutionOutcome at_goal = run.Outcome();
+  JudgeAgainstGoal(at_goal, plan, here, 0.3);
+  EXPECT_TRUE(at_goal.ok()) << Why(at_goal);
+}
+
 TEST(PlanExecution, AHindLegSteppingDownFromCloseBelowItsHipKeepsItsThighOffTheTrunk) {
   // On the plinth's stairs, going down: LH steps from the second tread, 0.21 m below its hip, to
   // the first. A swing path that lifts the foot straight up folds the thigh against the trunk and

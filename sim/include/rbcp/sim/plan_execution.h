@@ -39,7 +39,8 @@
 namespace rbcp::sim {
 
 struct ExecutionFailure {
-  std::string what;    ///< "fall", "foot_slip", "torque_saturation", "no_ground", "controller", "timeout"
+  std::string what;    ///< "fall", "foot_slip", "torque_saturation", "no_ground", "controller", "timeout",
+                       ///< "short_of_goal" (JudgeAgainstGoal)
   double t = 0.0;      ///< simulated time [s]
   int step = 0;        ///< plan state being walked to
   std::string leg;     ///< leg or joint concerned ("LF", "RH_KFE", "" when none)
@@ -94,6 +95,12 @@ struct ExecutionOutcome {
   bool fell() const { return failure && failure->what == "fall"; }
   bool ok() const { return reached_goal && !failure; }
 };
+
+/// A run of a whole plan judged against the scenario's goal too: walked whole (outcome.ok()) but
+/// ending farther than tolerance_m (horizontally) from `goal`, the goal is not reached; the
+/// outcome then fails as "short_of_goal" with the distance. A plan of one state, walked at once,
+/// reaches the goal only where it stands on it.
+void JudgeAgainstGoal(ExecutionOutcome& outcome, const ContactPlan& plan, const BaseGoal& goal, double tolerance_m);
 
 class PlanExecution {
  public:
