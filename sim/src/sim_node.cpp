@@ -66,7 +66,9 @@ void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
   // walked is not started over (replanning: a plan from a stance left is stale, below).
   if (!options_.replan && plans_ > 0 && msg.plan_seq == plan_seq_ && msg.request_id == plan_request_id_ && msg.utime == plan_utime_) return;
   const char* stale_why = nullptr;
-  if (latest_request_ && msg.request_id != latest_request_->request_id) stale_why = "it answers another goal";
+  if (const auto* goal = requests_taken_.Latest(); goal && msg.request_id != goal->request_id) {
+    stale_why = "it answers another goal";
+  }
   if (options_.replan && world_changed_utime_ >= 0 && msg.start_utime < world_changed_utime_) {
     stale_why = "it was planned before the world changed";
   }
@@ -224,16 +226,16 @@ void SimNode::Apply(const WorldEvent& e, TerrainEdit& edit) {
       return;
     case WorldEvent::Kind::kGoal: {
       rbcp_msgs::plan_request_t r{};
-      if (latest_request_) r = *latest_request_;
+      const rbcp_msgs::plan_request_t* latest = requests_taken_.Latest();
+      if (latest) r = *latest;
       r.utime = Utime();
-      r.request_id = (latest_request_ ? latest_request_->request_id : 0) + 1;
+      r.request_id = (latest ? latest->request_id : 0) + 1;
       r.use_start = false;
       r.goal_position[0] = e.goal.position.x();
       r.goal_position[1] = e.goal.position.y();
       r.goal_position[2] = 0.0;
       r.goal_yaw = e.goal.yaw;
-      if (!latest_request_) r.seed = 1;
-      latest_request_ = r;
+      if (!latest) r.seed = 1;
       requests_taken_.Take(r);
       own_request_ = r;
       own_request_wall_ = std::chrono::steady_clock::now();
@@ -248,10 +250,7 @@ void SimNode::Tick() {
   if (auto request = requests_.Take()) {
     // Ids identify requests, they are not ordered: the latest new request is the goal, and a late
     // repeat of one given up since (its operator repeats it every second) is not.
-    if (!requests_taken_.Superseded(*request)) {
-      requests_taken_.Take(*request);
-      latest_request_ = *request;
-    }
+    if (!requests_taken_.Superseded(*request)) requests_taken_.Take(*request);
   }
   if (auto msg = plans_in_.Take()) TakePlan(*msg);
   UpdateWait();

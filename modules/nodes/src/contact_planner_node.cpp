@@ -402,12 +402,17 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   PlanAhead();
 }
 
-bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status_t& state) {
-  if (!(options_.resend_period_s > 0.0) || !answer_ || answer_->start_utime < state.awaiting_since) return false;
+bool ContactPlannerNode::ResendAnswerIfDue() {
+  if (!(options_.resend_period_s > 0.0) || !answer_) return false;
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - answer_wall_).count() < options_.resend_period_s) return false;
   answer_wall_ = now;
   lcm_.publish(options_.contact_plan_channel, &*answer_);
+  return true;
+}
+
+bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status_t& state) {
+  if (!answer_ || answer_->start_utime < state.awaiting_since || !ResendAnswerIfDue()) return false;
   if (verbose_) {
     std::fprintf(stderr, "[%s] plan %lld sent again: the robot still waits at utime %lld\n", kProcessName,
                  static_cast<long long>(answer_->plan_seq), static_cast<long long>(state.awaiting_since));
@@ -517,12 +522,7 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
   // plan of it went out already, and goes out again (at most every resend_period_s) for a
   // process that missed it. A failure stays on STATUS.
   if (IsRepeat(msg.request_id, samples)) {
-    const auto now = std::chrono::steady_clock::now();
-    if (options_.resend_period_s > 0.0 && answer_ && answer_->request_id == msg.request_id &&
-        std::chrono::duration<double>(now - answer_wall_).count() >= options_.resend_period_s) {
-      answer_wall_ = now;
-      lcm_.publish(options_.contact_plan_channel, &*answer_);
-    }
+    if (answer_ && answer_->request_id == msg.request_id) ResendAnswerIfDue();
     return;
   }
   status_.Busy(Now(), msg.utime);

@@ -116,8 +116,7 @@ class SimNode {
   transport::LatestMessage<rbcp_msgs::contact_plan_t> plans_in_;
   transport::LatestMessage<rbcp_msgs::process_status_t> planner_failures_;
   transport::LatestMessage<rbcp_msgs::plan_request_t> requests_;
-  transport::RequestHistory requests_taken_;                 ///< the goal requests seen (or sent), newest last
-  std::optional<rbcp_msgs::plan_request_t> latest_request_;  ///< the newest goal request seen (or sent)
+  transport::RequestHistory requests_taken_;  ///< the goal requests seen (or sent), the goal last
   std::optional<rbcp_msgs::plan_request_t> own_request_;     ///< the latest goal an event sent, repeated
   std::chrono::steady_clock::time_point own_request_wall_;
   std::size_t next_event_ = 0;

@@ -135,6 +135,9 @@ class ContactPlannerNode {
   /// Horizon mode: plans from the measured stance of a waiting robot (or takes the plan made
   /// ahead when the robot stands where it starts), then plans ahead.
   void Replan(const rbcp_msgs::robot_state_t& state, const rbcp_msgs::controller_status_t& controller);
+  /// Sends the last CONTACT_PLAN again when resend_period_s has passed since it went out; true
+  /// if it did.
+  bool ResendAnswerIfDue();
   /// Horizon mode: sends the last plan again when the robot still waits for it after
   /// resend_period_s; true if it did.
   bool ResendIfStillAwaited(const rbcp_msgs::controller_status_t& state);
