@@ -108,13 +108,7 @@ std::string WorldEvent::Describe() const {
 }
 
 std::vector<WorldEvent> ParseWorldEvents(const std::string& yaml_text, const std::string& where) {
-  YAML::Node node;
-  try {
-    node = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(where + ": not valid YAML: " + e.what());
-  }
-  const YamlMap root(node, where);
+  const YamlMap root = YamlMap::Parse(yaml_text, where);
   std::vector<WorldEvent> events;
   const std::vector<YamlMap> listed = root.MapList("events");
   if (listed.size() > WorldEventLimits::kMaxEvents) {

@@ -46,6 +46,7 @@
 #include "rbcp/transport/run_loop.h"
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/plan_request_t.hpp"
+#include "rbcp/page_socket.h"
 #include "view_json.h"
 
 namespace {
@@ -64,9 +65,6 @@ constexpr std::size_t kMaxQueuedStates = 256;
 constexpr std::size_t kMaxKeptStates = 18000;
 /// Pages followed at once; more are refused (503) until one leaves.
 constexpr std::size_t kMaxPages = 32;
-/// The largest message a page may send [bytes]: it has nothing to say, so a large or unfinished
-/// frame is cut short instead of held (a page's memory stays bounded).
-constexpr std::size_t kMaxPageMessageBytes = 4096;
 /// Out of file descriptors (or another accept error), the listener waits this long before it
 /// accepts again, instead of retrying at once [ms].
 constexpr int kAcceptBackoffMs = 200;
@@ -279,9 +277,7 @@ class Hub {
 };
 
 void Session::Start(http::request<http::string_body> request) {
-  ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-  ws_.read_message_max(kMaxPageMessageBytes);
-  ws_.text(true);
+  rbcp::live_bridge::ConfigurePageSocket(ws_);
   ws_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
     if (error) return;
     self->hub_.Join(self);
@@ -296,23 +292,20 @@ void Session::Close() {
   hub_.Leave(shared_from_this());
 }
 
-/// Origins allowed to open the websocket: a page from disk, or one the bridge served.
-bool AllowedOrigin(const std::string& origin, unsigned short port) {
-  const std::string p = ":" + std::to_string(port);
-  return origin.empty() || origin == "null" || origin.rfind("file://", 0) == 0 || origin == "http://127.0.0.1" + p ||
-         origin == "http://localhost" + p;
-}
-
 /// One HTTP connection: the page (GET /) or the upgrade to a websocket (GET /ws).
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(tcp::socket socket, Hub& hub, const std::string& page, unsigned short port)
-      : stream_(std::move(socket)), hub_(hub), page_(page), port_(port) {}
+      : stream_(std::move(socket)), hub_(hub), page_(page), port_(port) {
+    rbcp::live_bridge::BoundRequest(parser_);
+  }
 
   void Start() {
     stream_.expires_after(std::chrono::seconds(30));
-    http::async_read(stream_, buffer_, request_, [self = shared_from_this()](beast::error_code error, std::size_t) {
-      if (!error) self->Handle();
+    http::async_read(stream_, buffer_, parser_, [self = shared_from_this()](beast::error_code error, std::size_t) {
+      if (error) return;
+      self->request_ = self->parser_.release();
+      self->Handle();
     });
   }
 
@@ -321,7 +314,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const std::string target(request_.target());
     const std::string origin(request_[http::field::origin]);
     if (websocket::is_upgrade(request_)) {
-      if (target != "/ws" || !AllowedOrigin(origin, port_)) {
+      if (target != "/ws" || !rbcp::live_bridge::AllowedOrigin(origin, port_)) {
         hub_.Log("refused a websocket for " + target + " from origin '" + origin + "'");
         return Respond(http::status::forbidden, "text/plain", "live_bridge: websocket at /ws, from a page on disk or this host\n");
       }
@@ -365,6 +358,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   const std::string& page_;
   unsigned short port_;
   beast::flat_buffer buffer_;
+  http::request_parser<http::string_body> parser_;
   http::request<http::string_body> request_;
 };
 

@@ -178,7 +178,9 @@ bool Separated(const Shape& a, const Eigen::Isometry3d& Ta, const Shape& b, cons
 // The same for a shape against a terrain triangle (whose own normal the caller has tested): the
 // line from the shape's centre to the triangle's centroid, the box face normals, the cylinder axis.
 bool SeparatedFromTriangle(const Shape& s, const Eigen::Isometry3d& T, const GridTriangle& t) {
-  const auto& [p, q, r] = t.corners;
+  const Eigen::Vector3d& p = t.corners[0];
+  const Eigen::Vector3d& q = t.corners[1];
+  const Eigen::Vector3d& r = t.corners[2];
   const auto apart = [&](const Eigen::Vector3d& n) {
     const double c = n.dot(T.translation());
     const double lo = std::min({n.dot(p), n.dot(q), n.dot(r)});

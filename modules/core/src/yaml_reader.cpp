@@ -34,6 +34,16 @@ YamlMap YamlMap::LoadFile(const std::string& path) {
   return YamlMap(root, path);
 }
 
+YamlMap YamlMap::Parse(const std::string& yaml_text, const std::string& where) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(where + ": invalid YAML: " + e.what());
+  }
+  return YamlMap(root, where);
+}
+
 void YamlMap::Fail(const std::string& key, const std::string& problem) const {
   throw InputError(where_ + (key.empty() ? "" : ": '" + key + "'") + ": " + problem);
 }

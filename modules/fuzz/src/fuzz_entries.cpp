@@ -1,10 +1,21 @@
 #include "rbcp/fuzz/fuzz_entries.h"
 
+#include <boost/beast/_experimental/test/stream.hpp>
+#include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include <cstdlib>
 #include <functional>
+#include <limits>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/yaml_reader.h"
+#include "rbcp/nodes/supervisor.h"
+#include "rbcp/page_socket.h"
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/scenario/scenario.h"
+#include "rbcp/sim/world_events.h"
 #include "rbcp/transport/convert.h"
 #include "rbcp/transport/message_parts.h"
 #include "rbcp/transport/wire_check.h"
@@ -112,6 +123,58 @@ Outcome ReadMessageParts(const std::uint8_t* data, std::size_t size) {
   return outcome;
 }
 
+Outcome ReadWorldEvents(const std::uint8_t* data, std::size_t size) {
+  return Guard([&] { sim::ParseWorldEvents(Text(data, size), "fuzz_input.yaml"); });
+}
+
+Outcome ReadSupervisorSpec(const std::uint8_t* data, std::size_t size) {
+  return Guard([&] { nodes::SupervisorSpec::Load(YamlMap::Parse(Text(data, size), "fuzz_input.yaml")); });
+}
+
+/// Bytes a client sends to live_bridge: one HTTP request read with the bridge's bounds and, when it
+/// asks for a websocket, the handshake and every frame after it read as a page's session reads
+/// them, until the bytes end or the session fails. Accepted when at least one message came whole.
+/// A read buffer beyond the bridge's bound is a bug (abort): the bound is what the target checks.
+Outcome ServePageBytes(const std::uint8_t* data, std::size_t size) {
+  namespace beast = boost::beast;
+  namespace http = beast::http;
+  namespace websocket = beast::websocket;
+  boost::asio::io_context io;
+  beast::test::stream server(io, beast::string_view(reinterpret_cast<const char*>(data), size));
+  beast::test::stream client(io);
+  server.connect(client);
+  client.close();  // the client's bytes end where the input does
+
+  // The request is read a byte at a time, so that the frames after it stay in the stream for the
+  // websocket (the bridge's client sends none before the handshake's answer).
+  server.read_size(1);
+  beast::flat_buffer buffer;
+  http::request_parser<http::string_body> parser;
+  live_bridge::BoundRequest(parser);
+  beast::error_code error;
+  http::read(server, buffer, parser, error);
+  if (error) return {false, "HTTP request: " + error.message()};
+  server.read_size(std::numeric_limits<std::size_t>::max());
+  const http::request<http::string_body> request = parser.release();
+  if (!websocket::is_upgrade(request)) return {false, "not a websocket upgrade"};
+
+  websocket::stream<beast::test::stream&> ws(server);
+  live_bridge::ConfigurePageSocket(ws);
+  ws.accept(request, error);
+  if (error) return {false, "websocket handshake: " + error.message()};
+  Outcome outcome{false, "no whole message"};
+  for (;;) {
+    beast::flat_buffer message;
+    ws.read(message, error);
+    if (message.size() > live_bridge::kMaxPageMessageBytes) std::abort();
+    if (error) {
+      if (!outcome.accepted) outcome.reason = "websocket: " + error.message();
+      return outcome;
+    }
+    outcome = {true, ""};
+  }
+}
+
 }  // namespace
 
 const std::vector<Entry>& Entries() {
@@ -132,6 +195,12 @@ const std::vector<Entry>& Entries() {
       {"lcm_process_status", "STATUS message: DecodeMessage", ReadProcessStatus},
       {"lcm_message_part", "TERRAIN/PART messages, each after a 2-byte length: PartAssembler, then as TERRAIN",
        ReadMessageParts},
+      {"world_events", "events file YAML text: sim::ParseWorldEvents (LoadWorldEvents without the file)",
+       ReadWorldEvents},
+      {"supervisor_spec", "supervisor spec YAML text: SupervisorSpec::Load (LoadFile without the file)",
+       ReadSupervisorSpec},
+      {"websocket_frames", "a client's bytes to live_bridge: HTTP request, websocket handshake and frames",
+       ServePageBytes},
   };
   return entries;
 }

@@ -152,13 +152,7 @@ TriangleMesh BuildTerrainMesh(const std::vector<TerrainElement>& terrain) {
 
 Scenario ParseScenario(const std::string& yaml_text, const std::string& path) {
   const std::string where = path.empty() ? std::string("<scenario text>") : path;
-  YAML::Node node;
-  try {
-    node = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(where + ": invalid YAML: " + e.what());
-  }
-  const YamlMap root(node, where);
+  const YamlMap root = YamlMap::Parse(yaml_text, where);
 
   Scenario s;
   s.path = path;

@@ -21,6 +21,8 @@ class YamlMap {
 
   /// Loads a file whose top level must be a map. Throws InputError naming the file.
   static YamlMap LoadFile(const std::string& path);
+  /// The same from text; `where` names it in errors (a file's path, "<scenario text>").
+  static YamlMap Parse(const std::string& yaml_text, const std::string& where);
 
   bool Has(const std::string& key) const;
 
