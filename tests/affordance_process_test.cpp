@@ -91,9 +91,11 @@ TEST_F(AffordanceProcess, AnswersTerrainWithTheSurfacesOfTheLibrary) {
       << process_->Log();
   const auto got = affordances_->Take();
   EXPECT_EQ(got->utime, 123456);
+  EXPECT_EQ(got->terrain_id, terrain.terrain_id) << "the surfaces name the terrain they come from";
 
   const auto config = AffordanceConfig::Load(YamlMap::LoadFile(kSrc + "/config/affordance.yaml"));
-  const auto expected = transport::ToAffordanceMsg(AffordanceExtractor(config).Extract(scenario.terrain_mesh), 123456);
+  const auto expected = transport::ToAffordanceMsg(AffordanceExtractor(config).Extract(scenario.terrain_mesh), 123456,
+                                                       terrain.terrain_id);
   ASSERT_GT(expected.num_surfaces, 0);
   testing::ExpectSameSurfaces(*got, expected);
 }

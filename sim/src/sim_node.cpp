@@ -50,6 +50,7 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
   execution_.SetAwaitPlans(options_.replan);
   execution_.StandAt(scenario_.start);
   element_names_.assign(execution_.CurrentWorld().terrain.size(), "");
+  terrain_id_ = transport::TerrainId(execution_.CurrentWorld().terrain_mesh);
 }
 
 int64_t SimNode::Utime() const { return static_cast<int64_t>(std::llround(execution_.Time() * 1e6)); }
@@ -69,9 +70,7 @@ void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
   if (const auto* goal = requests_taken_.Latest(); goal && msg.request_id != goal->request_id) {
     stale_why = "it answers another goal";
   }
-  if (options_.replan && world_changed_utime_ >= 0 && msg.start_utime < world_changed_utime_) {
-    stale_why = "it was planned before the world changed";
-  }
+  if (msg.terrain_id != terrain_id_) stale_why = "it was planned on another terrain";
   if (stale_why) {
     stale_plans_ += 1;
     if (status_.verbose()) {
@@ -97,7 +96,7 @@ void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
     plans_ += 1;
     plan_seq_ = msg.plan_seq;
     plan_request_id_ = msg.request_id;
-    walked_plan_utime_ = msg.start_utime;
+    walked_plan_terrain_id_ = msg.terrain_id;
     failed_waits_ = 0;
     awaiting_since_.reset();
     answered_utime_ = Utime();
@@ -131,7 +130,7 @@ void SimNode::UpdateWait() {
   const bool timed_out = std::chrono::duration<double>(now - await_wall_start_).count() > options_.await_timeout_s;
   if (!failed && !timed_out) return;
   // The rest of the current plan is walked only if it was planned on the world as it is.
-  const bool go_on = execution_.CanContinue() && (world_changed_utime_ < 0 || walked_plan_utime_ >= world_changed_utime_);
+  const bool go_on = execution_.CanContinue() && walked_plan_terrain_id_ == terrain_id_;
   if (status_.verbose()) {
     std::fprintf(stderr, "[%s] no new plan for the wait since utime %lld (%s): %s\n", kProcessName,
                  static_cast<long long>(*awaiting_since_), failed ? "the contact planner failed" : "timed out",
@@ -191,8 +190,8 @@ void SimNode::ApplyEvents() {
     try {
       execution_.SetTerrain(edit.terrain);
       element_names_ = std::move(edit.names);
-      // The terrain changed: everyone hears of it at once; plans made before are stale.
-      world_changed_utime_ = Utime();
+      // The terrain changed: everyone hears of it at once; plans made on the old one are stale.
+      terrain_id_ = transport::TerrainId(execution_.CurrentWorld().terrain_mesh);
       PublishTerrain();
     } catch (const InputError& error) {
       status_.Failed(Utime(), Utime(), 0.0, std::string("the events' terrain: ") + error.what());

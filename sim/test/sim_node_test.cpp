@@ -46,6 +46,8 @@ class SimWorld : public ::testing::Test {
   transport::LatestMessage<rbcp_msgs::controller_status_t> controllers_{lcm_, channels::kControllerStatus};
   transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_{lcm_, channels::kTerrain};
   transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
+  /// The terrain the simulated world stands on, as a planner's plans name it.
+  int64_t WorldTerrainId() const { return transport::TerrainId(execution_.CurrentWorld().terrain_mesh); }
 };
 
 class SimNodeTest : public SimWorld {
@@ -89,7 +91,7 @@ TEST_F(SimNodeTest, PublishesTheTerrainAndTheStateAtTheControlRate) {
 
 TEST_F(SimNodeTest, WalksAPlanAndReportsTheVerdict) {
   TickFor(0.3, [] { return false; });
-  const auto plan = transport::ToContactPlanMsg(rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08), 0, 7);
+  const auto plan = transport::ToContactPlanMsg(rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08), 0, 7, WorldTerrainId());
   lcm_.publish(channels::kContactPlan, &plan);
   Pump();
   TickFor(1.0, [] { return false; });
@@ -104,8 +106,26 @@ TEST_F(SimNodeTest, WalksAPlanAndReportsTheVerdict) {
   EXPECT_NE(status_.Latest()->reason.find("goal reached"), std::string::npos);
 }
 
+TEST_F(SimNodeTest, APlanMadeOnAnotherTerrainIsNotWalked) {
+  TickFor(0.3, [] { return false; });
+  ASSERT_TRUE(terrain_.Latest().has_value());
+  EXPECT_EQ(terrain_.Latest()->terrain_id, WorldTerrainId());
+  const ContactPlan plan = rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08);
+  const auto elsewhere = transport::ToContactPlanMsg(plan, 0, 7, WorldTerrainId() + 1);
+  lcm_.publish(channels::kContactPlan, &elsewhere);
+  Pump();
+  TickFor(0.5, [] { return false; });
+  EXPECT_EQ(node_.Plans(), 0);
+  EXPECT_EQ(node_.StalePlans(), 1);
+  const auto here = transport::ToContactPlanMsg(plan, 0, 7, WorldTerrainId());
+  lcm_.publish(channels::kContactPlan, &here);
+  Pump();
+  TickFor(0.1, [] { return false; });
+  EXPECT_EQ(node_.Plans(), 1);
+}
+
 TEST_F(SimNodeTest, AMalformedPlanIsRejectedAndTheRobotKeepsStanding) {
-  auto plan = transport::ToContactPlanMsg(rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08), 0, 7);
+  auto plan = transport::ToContactPlanMsg(rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08), 0, 7, WorldTerrainId());
   plan.states[1].base_position[2] = std::numeric_limits<double>::quiet_NaN();
   lcm_.publish(channels::kContactPlan, &plan);
   Pump();
@@ -121,7 +141,7 @@ TEST_F(SimNodeTest, AMalformedPlanIsRejectedAndTheRobotKeepsStanding) {
 TEST_F(SimNodeTest, APlanOfThousandsOfStepsIsRejectedAndTheRobotKeepsStanding) {
   ContactPlan plan = rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08);
   while (plan.states.size() < PlanExecution::kMaxPlanSteps + 2) plan.states.push_back(plan.states.back());
-  const auto msg = transport::ToContactPlanMsg(plan, 0, 7);
+  const auto msg = transport::ToContactPlanMsg(plan, 0, 7, WorldTerrainId());
   lcm_.publish(channels::kContactPlan, &msg);
   Pump();
   TickFor(0.2, [] { return false; });
@@ -202,7 +222,7 @@ TEST_F(ReplanningSimNodeTest, WaitsAtEveryStepBoundaryForAPlanFromThatStance) {
   // A plan of two steps that stops short of the goal, from this wait: taken.
   ContactPlan piece = rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08);
   piece.reaches_goal = false;
-  const auto first = transport::ToContactPlanMsg(piece, state.state.utime, 7, 1, state.state.utime);
+  const auto first = transport::ToContactPlanMsg(piece, state.state.utime, 7, WorldTerrainId(), 1, state.state.utime);
   lcm_.publish(channels::kContactPlan, &first);
   Pump();
   state = Tick();

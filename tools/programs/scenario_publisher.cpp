@@ -462,7 +462,8 @@ int main(int argc, char** argv) {
         *lcm, board, timeout_s,
         [&] {
           auto p = contact_plan.Take();
-          if (p && p->request_id == request.request_id) plan_msg = std::move(p);
+          // The plan of this request, made on the terrain its root path was planned on.
+          if (p && p->request_id == request.request_id && p->terrain_id == path->terrain_id) plan_msg = std::move(p);
           return plan_msg.has_value();
         },
         repeat_request);

@@ -26,15 +26,22 @@ bool AffordanceNode::Step() {
   const auto start = std::chrono::steady_clock::now();
   try {
     const TriangleMesh mesh = transport::FromTerrainMsg(*msg);
-    surfaces_ = extractor_.Extract(mesh);
+    // The simulator republishes its terrain for late processes: the same terrain's surfaces
+    // are sent again, not extracted again.
+    if (msg->terrain_id != surfaces_terrain_id_) {
+      surfaces_terrain_id_ = 0;
+      surfaces_ = extractor_.Extract(mesh);
+      surfaces_terrain_id_ = msg->terrain_id;
+    }
   } catch (const InputError& e) {
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     surfaces_.clear();
+    surfaces_terrain_id_ = 0;
     status_.Failed(msg->utime, msg->utime, ms, e.what());
     return true;
   }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  const auto out = transport::ToAffordanceMsg(surfaces_, msg->utime);
+  const auto out = transport::ToAffordanceMsg(surfaces_, msg->utime, msg->terrain_id);
   const std::string problem = publisher_.Publish(channels_.affordances, out);
   if (!problem.empty()) {
     status_.Failed(msg->utime, msg->utime, ms, problem);

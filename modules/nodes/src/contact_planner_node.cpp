@@ -122,8 +122,6 @@ std::optional<std::string> ContactPlannerNode::TakeInputs() {
   if (auto e = world_.Take(&clock_)) return e;
   if (world_.TakeChanged()) {
     world_set_ = false;
-    // The path was planned on another world: wait for the root planner's path on this one.
-    if (!path_.empty()) path_stale_ = true;
     next_.reset();
     if (world_.Ready()) {
       const TriangleMesh& mesh = *world_.terrain();
@@ -154,6 +152,9 @@ void ContactPlannerNode::LogWaiting() {
   if (!world_.terrain()) add(options_.terrain_channel.c_str());
   if (!world_.surfaces()) add(options_.affordances_channel.c_str());
   if (!pending_ && !last_result_) add(options_.root_path_channel.c_str());
+  if (pending_ && world_.terrain() && pending_->terrain_id != world_.terrain_id()) {
+    add("the terrain its root path was planned on");
+  }
   if (waiting == logged_waiting_) return;
   logged_waiting_ = waiting;
   if (verbose_ && !waiting.empty()) std::fprintf(stderr, "[%s] waiting for %s\n", kProcessName, waiting.c_str());
@@ -167,7 +168,7 @@ bool ContactPlannerNode::Step() {
   LogWaiting();
   if (options_.horizon_steps > 0) {
     bool worked = false;
-    if (pending_ && world_set_) {
+    if (PendingPathFitsTheWorld()) {
       const rbcp_msgs::root_path_t msg = std::move(*pending_);
       pending_.reset();
       TakePath(msg);
@@ -180,7 +181,7 @@ bool ContactPlannerNode::Step() {
         !world_set_ || path_.empty()) {
       return worked;
     }
-    if (path_stale_) {
+    if (path_terrain_id_ != world_.terrain_id()) {
       if (verbose_ && !logged_stale_) std::fprintf(stderr, "[%s] the terrain changed: waiting for a root path on it\n", kProcessName);
       logged_stale_ = true;
       return worked;
@@ -190,18 +191,24 @@ bool ContactPlannerNode::Step() {
     Replan(*state, *controller);
     return true;
   }
-  if (!pending_ || !world_set_) return false;
+  if (!PendingPathFitsTheWorld()) return false;
   const rbcp_msgs::root_path_t msg = std::move(*pending_);
   pending_.reset();
   Plan(msg);
   return true;
 }
 
-bool ContactPlannerNode::IsRepeat(int64_t request_id, const std::vector<RootPathSample>& samples) const {
+bool ContactPlannerNode::PendingPathFitsTheWorld() const {
+  // A path planned on another terrain waits: the terrain it was planned on may still be on its
+  // way (a large terrain comes in parts), or the root planner plans again on this one.
+  return pending_ && world_set_ && pending_->terrain_id == world_.terrain_id();
+}
+
+bool ContactPlannerNode::IsRepeat(const rbcp_msgs::root_path_t& msg, const std::vector<RootPathSample>& samples) const {
   const auto same_sample = [](const RootPathSample& a, const RootPathSample& b) {
     return a.t == b.t && a.p == b.p && a.v == b.v && a.yaw == b.yaw;
   };
-  return !path_stale_ && request_id == path_request_id_ && samples.size() == path_.size() &&
+  return msg.request_id == path_request_id_ && msg.terrain_id == path_terrain_id_ && samples.size() == path_.size() &&
          std::equal(samples.begin(), samples.end(), path_.begin(), same_sample);
 }
 
@@ -211,14 +218,14 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
     status_.Failed(Now(), msg.utime, 0.0, *problem);
     return;
   }
-  if (IsRepeat(msg.request_id, samples)) return;  // the root planner repeats its path for late processes
+  if (IsRepeat(msg, samples)) return;  // the root planner repeats its path for late processes
   // Request ids identify goals, they are not ordered: the latest goal's path is followed. An
   // older path of the same goal, come late (the network reordered it), is superseded.
   if (!path_.empty() && msg.request_id == path_request_id_ && msg.utime < path_utime_) return;
-  path_stale_ = false;
   logged_stale_ = false;
   path_ = std::move(samples);
   path_request_id_ = msg.request_id;
+  path_terrain_id_ = msg.terrain_id;
   path_utime_ = msg.utime;
   path_progress_ = 0;
   answered_since_.reset();  // a wait already answered on the old path gets a plan on the new one
@@ -395,7 +402,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   plan_start_steps_ = controller.steps_done;
   // After a restart the sequence goes on from the plan the robot walks.
   plan_seq_ = std::max(plan_seq_, controller.plan_seq) + 1;
-  answer_ = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, plan_seq_, msg.utime);
+  answer_ = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, path_terrain_id_, plan_seq_, msg.utime);
   answer_wall_ = std::chrono::steady_clock::now();
   lcm_.publish(options_.contact_plan_channel, &*answer_);
   status_.Ok(Now(), msg.utime, ms, "plan " + std::to_string(plan_seq_) + ": " + Summary(r, k));
@@ -521,7 +528,7 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
   // The root planner repeats its path for late processes, and to answer a repeated request: the
   // plan of it went out already, and goes out again (at most every resend_period_s) for a
   // process that missed it. A failure stays on STATUS.
-  if (IsRepeat(msg.request_id, samples)) {
+  if (IsRepeat(msg, samples)) {
     if (answer_ && answer_->request_id == msg.request_id) ResendAnswerIfDue();
     return;
   }
@@ -529,7 +536,7 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
   answer_.reset();
   path_ = samples;
   path_request_id_ = msg.request_id;
-  path_stale_ = false;
+  path_terrain_id_ = msg.terrain_id;
   try {
     if (verbose_) {
       std::fprintf(stderr, "[%s] planning the whole root path (request %lld): %zu points, %.2f s\n", kProcessName,
@@ -548,7 +555,7 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
     return;
   }
   plan_seq_ += 1;
-  answer_ = transport::ToContactPlanMsg(r.plan, Now(), msg.request_id, plan_seq_, 0);
+  answer_ = transport::ToContactPlanMsg(r.plan, Now(), msg.request_id, msg.terrain_id, plan_seq_, 0);
   answer_wall_ = std::chrono::steady_clock::now();
   lcm_.publish(options_.contact_plan_channel, &*answer_);
   status_.Ok(Now(), msg.utime, ms, Summary(r, 0));

@@ -231,7 +231,7 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     status_.Failed(Now(), request.utime, ms, ToString(last_result_->status) + ": " + last_result_->reason);
     return;
   }
-  published_ = ToRootPathMsg(*last_result_, Now(), request.request_id);
+  published_ = ToRootPathMsg(*last_result_, Now(), request.request_id, world_.terrain_id());
   lcm_.publish(options_.root_path_channel, &*published_);
   active_ = request;
   status_.Ok(Now(), request.utime, ms, why.empty() ? "" : "replanned from the measured base: " + why);
@@ -243,10 +243,12 @@ void RootPlannerNode::Heartbeat() {
   if (published_ && last_result_ && last_result_->ok()) lcm_.publish(options_.root_path_channel, &*published_);
 }
 
-rbcp_msgs::root_path_t ToRootPathMsg(const RootPlanResult& result, int64_t utime, int64_t request_id) {
+rbcp_msgs::root_path_t ToRootPathMsg(const RootPlanResult& result, int64_t utime, int64_t request_id,
+                                     int64_t terrain_id) {
   rbcp_msgs::root_path_t msg;
   msg.utime = utime;
   msg.request_id = request_id;
+  msg.terrain_id = terrain_id;
   msg.num_points = static_cast<int32_t>(result.samples.size());
   for (const auto& s : result.samples) {
     rbcp_msgs::root_path_point_t p;

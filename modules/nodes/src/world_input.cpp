@@ -16,35 +16,28 @@ std::optional<std::string> WorldInput::Take(transport::SimClock* clock) {
   if (auto e = affordances_msg_.TakeDecodeError()) return e;
   if (auto msg = terrain_msg_.Take()) {
     if (std::string bad = clock->World(msg->utime, terrain_channel()); !bad.empty()) return bad;
-    // A new terrain makes the surfaces of every other terrain stale, whatever their time (a
-    // restarted world, or another operator's run, counts its time from 0 again): they wait for
-    // their own.
-    const auto new_terrain = [&] {
-      terrain_utimes_.clear();
-      changed_ = true;
-      surfaces_.reset();
-    };
+    // A new terrain makes the surfaces of every other terrain stale: they wait for their own.
     try {
       TriangleMesh mesh = transport::FromTerrainMsg(*msg);
       // The simulator republishes the same terrain for late processes: only new content counts.
-      if (!terrain_ || mesh.vertices != terrain_->vertices || mesh.triangles != terrain_->triangles) {
+      if (!terrain_ || msg->terrain_id != terrain_id_) {
         terrain_ = std::move(mesh);
-        new_terrain();
+        terrain_id_ = msg->terrain_id;
+        changed_ = true;
+        surfaces_.reset();
       }
-      RememberTerrainUtime(msg->utime);
     } catch (const InputError& e) {
       terrain_.reset();
-      new_terrain();
+      changed_ = true;
+      surfaces_.reset();
       return std::string(e.what());
     }
   }
   if (auto msg = affordances_msg_.Take()) {
     if (std::string bad = clock->Input(msg->utime, affordances_channel()); !bad.empty()) return bad;
-    // Surfaces carry the utime of the terrain message they were extracted from: those of a
-    // message with other content are stale.
-    if (std::find(terrain_utimes_.begin(), terrain_utimes_.end(), msg->utime) == terrain_utimes_.end()) {
-      return std::nullopt;
-    }
+    // Surfaces of another terrain than the current one are stale (or early: the terrain they
+    // come from is still on its way, and they come again after it).
+    if (!terrain_ || msg->terrain_id != terrain_id_) return std::nullopt;
     try {
       std::vector<AffordanceSurface> surfaces = transport::FromAffordanceMsg(*msg);
       const auto same = [](const AffordanceSurface& a, const AffordanceSurface& b) {
@@ -65,11 +58,5 @@ std::optional<std::string> WorldInput::Take(transport::SimClock* clock) {
 }
 
 bool WorldInput::TakeChanged() { return std::exchange(changed_, false); }
-
-void WorldInput::RememberTerrainUtime(int64_t utime) {
-  if (std::find(terrain_utimes_.begin(), terrain_utimes_.end(), utime) != terrain_utimes_.end()) return;
-  terrain_utimes_.push_back(utime);
-  if (terrain_utimes_.size() > kRememberedTerrainUtimes) terrain_utimes_.pop_front();
-}
 
 }  // namespace rbcp::nodes

@@ -50,7 +50,7 @@ const rbcp_msgs::root_path_t& FlatGroundRootPath() {
     const RootPlanResult r = planner.Plan(scenario.terrain_mesh, surfaces, *start, scenario.start.yaw, *goal,
                                           scenario.goal.yaw, 3, 5.0);
     EXPECT_TRUE(r.ok()) << r.reason;
-    return ToRootPathMsg(r, 200, 7);
+    return ToRootPathMsg(r, 200, 7, transport::TerrainId(scenario.terrain_mesh));
   }();
   return msg;
 }
@@ -202,6 +202,29 @@ TEST_F(ContactPlannerNodeTest, ARepeatedPathGetsItsPlanAgainAndASecondRunItsOwnP
   EXPECT_EQ(second->num_states, first->num_states);
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK);
   EXPECT_EQ(status_.Latest()->handled, handled + 1);
+}
+
+TEST_F(ContactPlannerNodeTest, APathPlannedOnAnotherTerrainWaitsForThatTerrain) {
+  // The planner holds the plinth; the flat floor's path comes first (its terrain, large, still
+  // on its way, or the plinth's path not planned yet): it is not planned on the plinth.
+  const Scenario plinth = LoadScenario(kConfig + "/scenarios/plinth.yaml");
+  test::PublishWorld(lcm_, plinth, kConfig);
+  const auto& path = FlatGroundRootPath();
+  lcm_.publish(channels::kRootPath, &path);
+  Pump();
+  EXPECT_FALSE(node_->Step());
+  Pump();
+  EXPECT_FALSE(plan_.Take().has_value());
+  EXPECT_FALSE(status_.Latest().has_value()) << "a wait, not a failure: " << status_.Latest()->reason;
+  // The floor comes: the path is planned on it, and the plan names it.
+  PublishWorld();
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  Pump();
+  const auto plan = plan_.Take();
+  ASSERT_TRUE(plan.has_value()) << status_.Latest()->reason;
+  EXPECT_EQ(plan->terrain_id, path.terrain_id);
+  EXPECT_EQ(plan->terrain_id, transport::TerrainId(FlatGround().terrain_mesh));
 }
 
 TEST_F(ContactPlannerNodeTest, InvalidPathsFailWithAReasonAndNoPlan) {

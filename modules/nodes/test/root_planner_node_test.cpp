@@ -323,7 +323,7 @@ TEST_F(RootPlannerNodeTest, SurfacesWithoutUnitNormalsFailAndTheNextValidWorldIs
   const auto surfaces = AffordanceExtractor(AffordanceConfig::Load(YamlMap::LoadFile(kConfig + "/affordance.yaml")))
                             .Extract(scenario.terrain_mesh);
   const auto terrain = transport::ToTerrainMsg(scenario.terrain_mesh, 100, scenario.name);
-  auto affordances = transport::ToAffordanceMsg(surfaces, 100);
+  auto affordances = transport::ToAffordanceMsg(surfaces, 100, terrain.terrain_id);
   ASSERT_FALSE(affordances.surfaces.empty());
   for (double& n : affordances.surfaces[0].normal) n = 0.0;
   lcm_.publish(channels::kTerrain, &terrain);
@@ -372,13 +372,14 @@ TEST_F(RootPlannerNodeTest, ANewTerrainIsNeverPairedWithTheSurfacesOfTheOldOne) 
   const auto request = Request(0.0, 1.5, 13);
   lcm_.publish(channels::kPlanRequest, &request);
   EXPECT_EQ(WaitingFor(), "waiting for TERRAIN and AFFORDANCES") << "the request waits for the new terrain's surfaces";
-  // Surfaces extracted from the old terrain, arriving late, are not the new terrain's either.
-  const auto stale = transport::ToAffordanceMsg({}, 100);
+  // Surfaces of the old terrain, even sent at the new terrain's time, are not the new terrain's.
+  const Scenario flat = LoadScenario(kConfig + "/scenarios/flat_ground.yaml");
+  const auto stale = transport::ToAffordanceMsg({}, 300, transport::TerrainId(flat.terrain_mesh));
   lcm_.publish(channels::kAffordances, &stale);
   Pump();
   EXPECT_FALSE(node_.Step());
   // The new terrain's surfaces, even none at all, pair with it.
-  const auto none = transport::ToAffordanceMsg({}, 300);
+  const auto none = transport::ToAffordanceMsg({}, 300, terrain.terrain_id);
   lcm_.publish(channels::kAffordances, &none);
   Pump();
   ASSERT_TRUE(node_.Step());
@@ -468,7 +469,8 @@ TEST_F(RootPlannerNodeTest, ARestartedClockDoesNotPairATerrainWithTheSurfacesOfA
   lcm_.publish(channels::kPlanRequest, &request);
   EXPECT_EQ(WaitingFor(), "waiting for TERRAIN and AFFORDANCES") << "the plinth's surfaces are not the floor's";
   // The plinth's surfaces once more, late and later in time: still not the floor's.
-  const auto plinth_surfaces = transport::ToAffordanceMsg({}, 5'000'000);
+  const auto plinth_surfaces = transport::ToAffordanceMsg(
+      {}, 5'000'000, transport::TerrainId(LoadScenario(kConfig + "/scenarios/plinth.yaml").terrain_mesh));
   lcm_.publish(channels::kAffordances, &plinth_surfaces);
   Pump();
   EXPECT_FALSE(node_.Step());
@@ -478,6 +480,7 @@ TEST_F(RootPlannerNodeTest, ARestartedClockDoesNotPairATerrainWithTheSurfacesOfA
   const auto path = PathNow();
   ASSERT_TRUE(path.has_value());
   EXPECT_EQ(path->request_id, 31);
+  EXPECT_EQ(path->terrain_id, transport::TerrainId(flat.terrain_mesh)) << "the path names the terrain it was planned on";
 }
 
 TEST_F(RootPlannerNodeTest, AMessageWithAWrongTimeIsRejectedAndDoesNotStopTheClock) {

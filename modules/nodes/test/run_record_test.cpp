@@ -40,14 +40,14 @@ TEST(RunRecord, RebuildsTheWalkedPlanAndTheReplanLatency) {
   RunRecord run(20.0);
   // The robot waits at t = 0; plan 1 (3 steps) answers 50 ms later (the first plan: no replan).
   Feed(run, 1000, 0, 0, 0, true);
-  run.OnContactPlan(51000, transport::ToContactPlanMsg(Plan(3, 0.0, false), 0, 1, 1, 0));
+  run.OnContactPlan(51000, transport::ToContactPlanMsg(Plan(3, 0.0, false), 0, 1, 9, 1, 0));
   // It walks one step of plan 1 and waits; plan 2 answers in 4 ms, from that wait.
   Feed(run, 60000, 100000, 1, 0, false);
   Feed(run, 70000, 2000000, 1, 1, true);
   Feed(run, 72000, 2000000, 1, 1, true);  // the same wait again (the world stands still)
-  run.OnContactPlan(74000, transport::ToContactPlanMsg(Plan(2, 0.1, true), 0, 1, 2, 2000000));
+  run.OnContactPlan(74000, transport::ToContactPlanMsg(Plan(2, 0.1, true), 0, 1, 9, 2, 2000000));
   // A stale plan (from the first wait) is no answer and no replan.
-  run.OnContactPlan(75000, transport::ToContactPlanMsg(Plan(3, 0.0, false), 0, 1, 3, 0));
+  run.OnContactPlan(75000, transport::ToContactPlanMsg(Plan(3, 0.0, false), 0, 1, 9, 3, 0));
   // Plan 2 is walked to the goal.
   Feed(run, 80000, 2002500, 2, 1, false);
   Feed(run, 90000, 6000000, 2, 3, false);

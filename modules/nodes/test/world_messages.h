@@ -18,7 +18,7 @@ inline void PublishWorld(lcm::LCM& lcm, const Scenario& scenario, const std::str
   const auto surfaces = AffordanceExtractor(AffordanceConfig::Load(YamlMap::LoadFile(config_dir + "/affordance.yaml")))
                             .Extract(scenario.terrain_mesh);
   const auto terrain = transport::ToTerrainMsg(scenario.terrain_mesh, utime, scenario.name);
-  const auto affordances = transport::ToAffordanceMsg(surfaces, utime);
+  const auto affordances = transport::ToAffordanceMsg(surfaces, utime, terrain.terrain_id);
   lcm.publish(channels::kTerrain, &terrain);
   lcm.publish(channels::kAffordances, &affordances);
 }

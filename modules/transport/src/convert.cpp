@@ -1,6 +1,7 @@
 #include "rbcp/transport/convert.h"
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include "rbcp/core/error.h"
@@ -50,10 +51,38 @@ double YawOf(const double q[4]) {  // (w, x, y, z), base to world
 
 }  // namespace
 
+int64_t TerrainId(const TriangleMesh& mesh) {
+  // FNV-1a over 64-bit words (each coordinate's bits, each triangle's indices), then a final mix
+  // so that every bit of the id depends on every word.
+  uint64_t h = 0xcbf29ce484222325ULL;
+  const auto add = [&h](uint64_t word) {
+    h ^= word;
+    h *= 0x100000001b3ULL;
+  };
+  add(mesh.vertices.size());
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    for (int k = 0; k < 3; ++k) {
+      uint64_t bits = 0;
+      std::memcpy(&bits, &v[k], sizeof bits);
+      add(bits);
+    }
+  }
+  add(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    add((static_cast<uint64_t>(static_cast<uint32_t>(t[0])) << 32) | static_cast<uint32_t>(t[1]));
+    add(static_cast<uint32_t>(t[2]));
+  }
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdULL;
+  h ^= h >> 33;
+  return h == 0 ? 1 : static_cast<int64_t>(h);
+}
+
 rbcp_msgs::terrain_mesh_t ToTerrainMsg(const TriangleMesh& mesh, int64_t utime, const std::string& scenario_name) {
   rbcp_msgs::terrain_mesh_t msg;
   msg.utime = utime;
   msg.scenario_name = scenario_name;
+  msg.terrain_id = TerrainId(mesh);
   msg.num_vertices = static_cast<int32_t>(mesh.vertices.size());
   msg.vertices.reserve(mesh.vertices.size());
   for (const auto& v : mesh.vertices) msg.vertices.push_back({v.x(), v.y(), v.z()});
@@ -77,12 +106,18 @@ TriangleMesh FromTerrainMsg(const rbcp_msgs::terrain_mesh_t& msg) {
     const std::string bad = CheckPosition(mesh.vertices[i], "vertex " + std::to_string(i));
     if (!bad.empty()) throw InputError("terrain mesh: " + bad);
   }
+  if (const int64_t id = TerrainId(mesh); id != msg.terrain_id) {
+    throw InputError("terrain mesh: terrain_id " + std::to_string(msg.terrain_id) + " is not its content's (" +
+                     std::to_string(id) + ")");
+  }
   return mesh;
 }
 
-rbcp_msgs::affordance_set_t ToAffordanceMsg(const std::vector<AffordanceSurface>& surfaces, int64_t utime) {
+rbcp_msgs::affordance_set_t ToAffordanceMsg(const std::vector<AffordanceSurface>& surfaces, int64_t utime,
+                                            int64_t terrain_id) {
   rbcp_msgs::affordance_set_t msg;
   msg.utime = utime;
+  msg.terrain_id = terrain_id;
   msg.num_surfaces = static_cast<int32_t>(surfaces.size());
   msg.surfaces.reserve(surfaces.size());
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
@@ -132,10 +167,11 @@ std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set
 }
 
 rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utime, int64_t request_id,
-                                           int64_t plan_seq, int64_t start_utime) {
+                                           int64_t terrain_id, int64_t plan_seq, int64_t start_utime) {
   rbcp_msgs::contact_plan_t msg;
   msg.utime = utime;
   msg.request_id = request_id;
+  msg.terrain_id = terrain_id;
   msg.plan_seq = plan_seq;
   msg.start_utime = start_utime;
   msg.reaches_goal = plan.reaches_goal;

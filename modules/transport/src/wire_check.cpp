@@ -52,10 +52,12 @@ const WireLayout kAffordanceSurface{"affordance_surface_t",
 
 const WireLayout kAffordanceSet{
     "affordance_set_t",
-    {Bytes("utime", kInt64), Count("num_surfaces"), Array("surfaces", "num_surfaces", kAffordanceSurface)}};
+    {Bytes("utime", kInt64), Bytes("terrain_id", kInt64), Count("num_surfaces"),
+     Array("surfaces", "num_surfaces", kAffordanceSurface)}};
 
 const WireLayout kTerrainMesh{"terrain_mesh_t",
-                              {Bytes("utime", kInt64), String("scenario_name"), Count("num_vertices"),
+                              {Bytes("utime", kInt64), String("scenario_name"), Bytes("terrain_id", kInt64),
+                               Count("num_vertices"),
                                Array("vertices", "num_vertices", 3 * kDouble), Count("num_triangles"),
                                Array("triangles", "num_triangles", 3 * kInt32)}};
 
@@ -80,13 +82,15 @@ const WireLayout kControllerStatus{
 
 constexpr int64_t kRootPathPointBytes = kDouble + 3 * kDouble + 3 * kDouble + 4 * kDouble;
 const WireLayout kRootPath{"root_path_t",
-                           {Bytes("utime", kInt64), Bytes("request_id", kInt64), Count("num_points"),
+                           {Bytes("utime", kInt64), Bytes("request_id", kInt64), Bytes("terrain_id", kInt64),
+                            Count("num_points"),
                             Array("points", "num_points", kRootPathPointBytes)}};
 
 constexpr int64_t kWholeBodyStateBytes =
     3 * kDouble + 3 * kDouble + 12 * kDouble + 12 * kDouble + 12 * kDouble + kInt8 + kDouble + 2 * kDouble;
 const WireLayout kContactPlan{"contact_plan_t",
-                              {Bytes("utime", kInt64), Bytes("request_id", kInt64), Bytes("plan_seq", kInt64),
+                              {Bytes("utime", kInt64), Bytes("request_id", kInt64), Bytes("terrain_id", kInt64),
+                               Bytes("plan_seq", kInt64),
                                Bytes("start_utime", kInt64), Bytes("reaches_goal", kBoolean), Count("num_states"),
                                Array("states", "num_states", kWholeBodyStateBytes)}};
 

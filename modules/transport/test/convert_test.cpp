@@ -20,6 +20,7 @@ TEST(Convert, TerrainRoundTrip) {
   ASSERT_EQ(back.vertices.size(), box.vertices.size());
   for (std::size_t i = 0; i < box.vertices.size(); ++i) EXPECT_EQ(back.vertices[i], box.vertices[i]);
   EXPECT_EQ(back.triangles, box.triangles);
+  EXPECT_EQ(msg.terrain_id, TerrainId(box));
 }
 
 TEST(Convert, MalformedTerrainIsRejectedWithAReason) {
@@ -134,18 +135,18 @@ TEST(Convert, APlanStateCarriesItsSwing) {
   plan.states[1].base_position = Eigen::Vector3d(0, 0, 0.45);
   plan.states[1].swing_apex_z = 0.12;
   plan.states[1].swing_bow = Eigen::Vector2d(0.03, -0.01);
-  const ContactPlan back = FromContactPlanMsg(ToContactPlanMsg(plan, 1, 1));
+  const ContactPlan back = FromContactPlanMsg(ToContactPlanMsg(plan, 1, 1, 5));
   EXPECT_FALSE(back.states[0].HasSwing());
   ASSERT_TRUE(back.states[1].HasSwing());
   EXPECT_EQ(back.states[1].swing_apex_z, 0.12);
   EXPECT_EQ(back.states[1].swing_bow, Eigen::Vector2d(0.03, -0.01));
-  auto msg = ToContactPlanMsg(plan, 1, 1);
+  auto msg = ToContactPlanMsg(plan, 1, 1, 5);
   msg.states[1].swing_apex_z = 30.0;  // far above the base
   EXPECT_THROW(FromContactPlanMsg(msg), InputError);
-  msg = ToContactPlanMsg(plan, 1, 1);
+  msg = ToContactPlanMsg(plan, 1, 1, 5);
   msg.states[1].swing_bow[0] = std::numeric_limits<double>::infinity();
   EXPECT_THROW(FromContactPlanMsg(msg), InputError);
-  msg = ToContactPlanMsg(plan, 1, 1);
+  msg = ToContactPlanMsg(plan, 1, 1, 5);
   msg.states[0].swing_apex_z = 0.1;  // the first state has no swing
   EXPECT_THROW(FromContactPlanMsg(msg), InputError);
 }
@@ -155,7 +156,7 @@ TEST(Convert, AffordanceRoundTripAndValidation) {
   s.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
   s.normal = {0, 0, 1};
   s.area = 0.5;
-  const auto msg = ToAffordanceMsg({s, s}, 7);
+  const auto msg = ToAffordanceMsg({s, s}, 7, 5);
   EXPECT_EQ(msg.num_surfaces, 2);
   EXPECT_EQ(msg.surfaces[1].id, 1);
   const auto back = FromAffordanceMsg(msg);
@@ -193,7 +194,7 @@ TEST(Convert, SurfacesNeedUnitNormalsSaneVerticesAndAreas) {
   s.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
   s.normal = {0, 0, 1};
   s.area = 0.5;
-  const auto msg = ToAffordanceMsg({s}, 7);
+  const auto msg = ToAffordanceMsg({s}, 7, 5);
   EXPECT_EQ(AffordanceProblem(msg), "");
   auto nearly = msg;
   nearly.surfaces[0].normal[2] = 1.0005;  // within the tolerance: made exactly unit
@@ -298,8 +299,9 @@ TEST(Convert, ContactPlanRoundTripAndValidation) {
     plan.states.push_back(s);
   }
   plan.reaches_goal = false;
-  const auto msg = ToContactPlanMsg(plan, 11, 3, 42, 9000);
+  const auto msg = ToContactPlanMsg(plan, 11, 3, 77, 42, 9000);
   EXPECT_EQ(msg.request_id, 3);
+  EXPECT_EQ(msg.terrain_id, 77);
   EXPECT_EQ(msg.plan_seq, 42);
   EXPECT_EQ(msg.start_utime, 9000);
   EXPECT_FALSE(msg.reaches_goal);
@@ -317,6 +319,27 @@ TEST(Convert, ContactPlanRoundTripAndValidation) {
   bad = msg;
   bad.states[0].joint_position[5] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(FromContactPlanMsg(bad), InputError);
+}
+
+TEST(Convert, ATerrainsIdIsItsContentAndIsChecked) {
+  const TriangleMesh box = MakeBoxMesh({1.0, 2.0, 0.5});
+  TriangleMesh moved = box;
+  moved.vertices[5].z() += 1e-9;
+  TriangleMesh rewound = box;
+  std::swap(rewound.triangles[0][1], rewound.triangles[0][2]);
+  EXPECT_NE(TerrainId(box), 0);
+  EXPECT_EQ(TerrainId(box), TerrainId(MakeBoxMesh({1.0, 2.0, 0.5})));  // whoever makes it, whenever
+  EXPECT_NE(TerrainId(box), TerrainId(moved));
+  EXPECT_NE(TerrainId(box), TerrainId(rewound));
+  EXPECT_NE(TerrainId(box), TerrainId(MakeBoxMesh({1.0, 2.0, 0.6})));
+  // A message whose id is not its content's is rejected: an id names one terrain only.
+  auto msg = ToTerrainMsg(box, 1, "box");
+  msg.vertices[5][2] += 1e-9;
+  const std::string problem = ProblemOf([&] { FromTerrainMsg(msg); });
+  EXPECT_NE(problem.find("terrain_id " + std::to_string(TerrainId(box)) + " is not its content's"), std::string::npos)
+      << problem;
+  msg.terrain_id = TerrainId(moved);
+  EXPECT_EQ(ProblemOf([&] { FromTerrainMsg(msg); }), "");
 }
 
 }  // namespace

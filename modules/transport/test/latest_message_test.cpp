@@ -122,9 +122,9 @@ TEST(LatestMessage, NegativeArrayCountDoesNotCrash) {
   msg.num_triangles = 0;
   std::vector<uint8_t> buf(static_cast<std::size_t>(msg.getEncodedSize()));
   ASSERT_GT(msg.encode(buf.data(), 0, static_cast<int>(buf.size())), 0);
-  // num_vertices sits after the 8-byte fingerprint, the 8-byte utime and the string (4-byte
-  // length + NUL): overwrite it with -5 (big-endian).
-  const std::size_t offset = 8 + 8 + 4 + 1;
+  // num_vertices sits after the 8-byte fingerprint, the 8-byte utime, the string (4-byte
+  // length + NUL) and the 8-byte terrain_id: overwrite it with -5 (big-endian).
+  const std::size_t offset = 8 + 8 + 4 + 1 + 8;
   buf[offset] = 0xff;
   buf[offset + 1] = 0xff;
   buf[offset + 2] = 0xff;

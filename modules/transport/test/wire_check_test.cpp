@@ -86,8 +86,9 @@ TEST(WireCheck, EveryLayoutMatchesTheGeneratedEncoding) {
 std::vector<uint8_t> TerrainClaimingHugeCount() {
   rbcp_msgs::terrain_mesh_t msg{};
   std::vector<uint8_t> buf = Encode(msg);
-  // After the 8-byte fingerprint, the 8-byte utime and the empty string (4-byte length + NUL).
-  PutInt32(buf, 8 + 8 + 4 + 1, 0x7fffffffu);
+  // After the 8-byte fingerprint, the 8-byte utime, the empty string (4-byte length + NUL) and
+  // the 8-byte terrain_id.
+  PutInt32(buf, 8 + 8 + 4 + 1 + 8, 0x7fffffffu);
   return buf;
 }
 
@@ -105,7 +106,7 @@ TEST(WireCheck, NestedCountsAndStringsAreCheckedToo) {
   // A set that claims 2^31 - 1 surfaces.
   rbcp_msgs::affordance_set_t set{};
   std::vector<uint8_t> buf = Encode(set);
-  PutInt32(buf, 8 + 8, 0x7fffffffu);
+  PutInt32(buf, 8 + 8 + 8, 0x7fffffffu);  // after the fingerprint, utime and terrain_id
   EXPECT_EQ(CheckEncoded<rbcp_msgs::affordance_set_t>(buf.data(), buf.size()),
             "affordance_set_t: num_surfaces 2147483647 claims at least 85899345880 bytes of surfaces, 0 remain");
 
@@ -113,7 +114,7 @@ TEST(WireCheck, NestedCountsAndStringsAreCheckedToo) {
   set.num_surfaces = 1;
   set.surfaces.resize(1);
   buf = Encode(set);
-  PutInt32(buf, 8 + 8 + 4 + 4, 1000000);
+  PutInt32(buf, 8 + 8 + 8 + 4 + 4, 1000000);
   EXPECT_EQ(CheckEncoded<rbcp_msgs::affordance_set_t>(buf.data(), buf.size()),
             "affordance_set_t.surfaces[0]: affordance_surface_t: num_vertices 1000000 claims at least 24000000 bytes "
             "of vertices, 32 remain");
@@ -131,7 +132,7 @@ TEST(WireCheck, NestedCountsAndStringsAreCheckedToo) {
 
 TEST(WireCheck, ANegativeCountOrAnotherTypeIsRejected) {
   std::vector<uint8_t> buf = Encode(rbcp_msgs::root_path_t{});
-  PutInt32(buf, 8 + 8 + 8, 0xfffffffbu);
+  PutInt32(buf, 8 + 8 + 8 + 8, 0xfffffffbu);
   EXPECT_EQ(CheckEncoded<rbcp_msgs::root_path_t>(buf.data(), buf.size()), "root_path_t: num_points -5 is negative");
   buf = Encode(rbcp_msgs::plan_request_t{});
   EXPECT_EQ(CheckEncoded<rbcp_msgs::root_path_t>(buf.data(), buf.size()),

@@ -122,8 +122,8 @@ class SimNode {
   std::size_t next_event_ = 0;
   std::vector<std::string> element_names_;  ///< per terrain element: the event box's name, "" for the scenario's
   double push_until_s_ = -1.0;              ///< a push ends at this simulated time (< 0: none)
-  int64_t world_changed_utime_ = -1;        ///< when the terrain last changed
-  int64_t walked_plan_utime_ = -1;          ///< utime of the plan being walked
+  int64_t terrain_id_ = 0;                  ///< transport::TerrainId of the world's terrain now
+  int64_t walked_plan_terrain_id_ = 0;      ///< the terrain the plan being walked was made on
   std::optional<int64_t> awaiting_since_;  // replan: utime the current wait began
   std::chrono::steady_clock::time_point await_wall_start_;
   double hold_until_s_ = 0.0;              // replan: no new wait before this simulated time

@@ -45,6 +45,7 @@ class AffordanceNode {
   transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_;
   transport::StatusReporter status_;
   std::vector<AffordanceSurface> surfaces_;
+  int64_t surfaces_terrain_id_ = 0;  ///< the terrain surfaces_ were extracted from; 0: none
   int64_t latest_utime_ = 0;
 };
 

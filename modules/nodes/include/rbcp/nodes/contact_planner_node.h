@@ -128,9 +128,11 @@ class ContactPlannerNode {
   /// Takes new terrain / surfaces / path; returns a reason if an input was rejected.
   std::optional<std::string> TakeInputs();
   void Plan(const rbcp_msgs::root_path_t& msg);
+  /// A path is waiting and was planned on the terrain the planner holds.
+  bool PendingPathFitsTheWorld() const;
+  /// The path taken last, again: same request, terrain and samples.
+  bool IsRepeat(const rbcp_msgs::root_path_t& msg, const std::vector<RootPathSample>& samples) const;
   /// Horizon mode: keeps a new path as the one to follow.
-  /// The path of this request as it was taken last (not after a terrain change): a repeat.
-  bool IsRepeat(int64_t request_id, const std::vector<RootPathSample>& samples) const;
   void TakePath(const rbcp_msgs::root_path_t& msg);
   /// Horizon mode: plans from the measured stance of a waiting robot (or takes the plan made
   /// ahead when the robot stands where it starts), then plans ahead.
@@ -172,8 +174,10 @@ class ContactPlannerNode {
   std::vector<RootPathSample> path_;
   int64_t path_request_id_ = 0;
   int64_t path_utime_ = 0;  ///< ROOT_PATH.utime of the path followed
+  /// The terrain the path followed was planned on: while the world's is another, the path is stale
+  /// and no answer goes out until a path on the world's terrain comes.
+  int64_t path_terrain_id_ = 0;
   std::size_t path_progress_ = 0;
-  bool path_stale_ = false;   ///< the terrain changed since the path came: no answer until a new path
   bool logged_stale_ = false;
   std::optional<int64_t> answered_since_;
   /// The last CONTACT_PLAN published and when it went out (wall clock).

@@ -118,7 +118,9 @@ class RootPlannerNode {
   std::optional<std::pair<int32_t, int64_t>> failure_acted_;
 };
 
-/// The LCM message of a planned path: samples every time step, orientation from the yaw.
-rbcp_msgs::root_path_t ToRootPathMsg(const RootPlanResult& result, int64_t utime, int64_t request_id);
+/// The LCM message of a path planned on the terrain `terrain_id`: samples every time step,
+/// orientation from the yaw.
+rbcp_msgs::root_path_t ToRootPathMsg(const RootPlanResult& result, int64_t utime, int64_t request_id,
+                                     int64_t terrain_id);
 
 }  // namespace rbcp::nodes

@@ -6,7 +6,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <optional>
 #include <string>
@@ -29,13 +28,14 @@ class WorldInput {
   /// (a message with a time the clock rejects is rejected).
   /// Returns why one was rejected (undecodable, or an invalid mesh or surface); that part of
   /// the world is then unknown until a valid message arrives. Surfaces belong to the terrain
-  /// message whose utime they carry: a terrain of new content drops the current surfaces, and
-  /// only surfaces carrying the utime of a message of the current terrain are taken, so a
-  /// terrain and the surfaces of another never pair, even when a restarted world counts its
-  /// time from 0 again.
+  /// whose terrain_id they carry: a terrain of new content drops the current surfaces, and only
+  /// surfaces of the current terrain are taken, so a terrain and the surfaces of another never
+  /// pair, whatever the messages' times.
   std::optional<std::string> Take(transport::SimClock* clock);
 
   const std::optional<TriangleMesh>& terrain() const { return terrain_; }
+  /// The current terrain's transport::TerrainId; 0 while there is none.
+  int64_t terrain_id() const { return terrain_ ? terrain_id_ : 0; }
   const std::optional<std::vector<AffordanceSurface>>& surfaces() const { return surfaces_; }
   bool Ready() const { return terrain_.has_value() && surfaces_.has_value(); }
   /// True once after the terrain or the surfaces changed (the call clears it): a message that
@@ -50,12 +50,8 @@ class WorldInput {
   transport::LatestMessage<rbcp_msgs::affordance_set_t> affordances_msg_;
   std::optional<TriangleMesh> terrain_;
   std::optional<std::vector<AffordanceSurface>> surfaces_;
-  void RememberTerrainUtime(int64_t utime);
-
-  /// The utimes of the latest messages of the current terrain (it is republished every period).
-  static constexpr std::size_t kRememberedTerrainUtimes = 256;
+  int64_t terrain_id_ = 0;
   bool changed_ = false;
-  std::deque<int64_t> terrain_utimes_;
 };
 
 }  // namespace rbcp::nodes

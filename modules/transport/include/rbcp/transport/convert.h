@@ -36,23 +36,34 @@ inline bool AllFinite(const double* v, int n) {
   return true;
 }
 
+/// A terrain's identity: a 64-bit hash of its vertices and triangles, never 0. Two terrains of
+/// the same content have the same id, whoever sent them and whenever; surfaces, root paths and
+/// contact plans carry the id of the terrain they were made from, so that no process pairs
+/// inputs made from different terrains.
+int64_t TerrainId(const TriangleMesh& mesh);
+
+/// The terrain's message, with terrain_id = TerrainId(mesh).
 rbcp_msgs::terrain_mesh_t ToTerrainMsg(const TriangleMesh& mesh, int64_t utime, const std::string& scenario_name);
 
 /// Throws InputError if the counts disagree with the arrays, a vertex is not finite or beyond
-/// kMaxCoordinate_m, an index is out of range or a triangle is degenerate.
+/// kMaxCoordinate_m, an index is out of range, a triangle is degenerate or the terrain_id is not
+/// the content's.
 TriangleMesh FromTerrainMsg(const rbcp_msgs::terrain_mesh_t& msg);
 
-rbcp_msgs::affordance_set_t ToAffordanceMsg(const std::vector<AffordanceSurface>& surfaces, int64_t utime);
+/// The surfaces extracted from the terrain `terrain_id`, sent at `utime`.
+rbcp_msgs::affordance_set_t ToAffordanceMsg(const std::vector<AffordanceSurface>& surfaces, int64_t utime,
+                                            int64_t terrain_id);
 
 /// Throws InputError if counts disagree, a value is not finite, a vertex is beyond
 /// kMaxCoordinate_m, a polygon has < 3 vertices, a normal is not a unit vector or an area is
 /// negative.
 std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set_t& msg);
 
-/// The plan's message; reaches_goal comes from plan.reaches_goal. plan_seq numbers the planner's
-/// plans; start_utime is the utime of the ROBOT_STATE the plan starts from (0: the path start).
+/// The plan's message; reaches_goal comes from plan.reaches_goal. terrain_id is the terrain it was
+/// planned on; plan_seq numbers the planner's plans; start_utime is the utime of the ROBOT_STATE
+/// the plan starts from (0: the path start).
 rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utime, int64_t request_id,
-                                           int64_t plan_seq = 0, int64_t start_utime = 0);
+                                           int64_t terrain_id, int64_t plan_seq = 0, int64_t start_utime = 0);
 
 /// Throws InputError if counts disagree, a value is not finite, a position is beyond
 /// kMaxCoordinate_m, a foot normal is not a unit vector or a moving leg is out of range.
