@@ -494,8 +494,9 @@ int main(int argc, char** argv) {
       page = text.str();
     }
     const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
-    Hub hub(robot, common.quiet);
+    // The context outlives the hub: the pages' sockets in the hub are closed before it goes.
     net::io_context io;
+    Hub hub(robot, common.quiet);
     std::shared_ptr<Listener> listener;
     try {
       listener = std::make_shared<Listener>(io, tcp::endpoint(net::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)),

@@ -1,5 +1,6 @@
 #include "rbcp/nodes/supervisor.h"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -96,6 +98,29 @@ SupervisorSpec SupervisorSpec::Load(const YamlMap& map) {
 SupervisorSpec SupervisorSpec::LoadFile(const std::string& path) { return Load(YamlMap::LoadFile(path)); }
 
 // ---------------------------------------------------------------------------------------------
+
+std::vector<ProcessEntry> ListProcesses() {
+  std::vector<ProcessEntry> out;
+  DIR* proc = ::opendir("/proc");
+  if (proc == nullptr) return out;
+  while (const dirent* entry = ::readdir(proc)) {
+    if (!std::isdigit(static_cast<unsigned char>(entry->d_name[0]))) continue;
+    std::ifstream stat(std::string("/proc/") + entry->d_name + "/stat");
+    std::string text;
+    if (!std::getline(stat, text)) continue;  // ended meanwhile
+    // "PID (COMM) STATE PPID PGRP ...": COMM may hold spaces and parentheses, the last ')' ends it.
+    const std::size_t close = text.rfind(')');
+    if (close == std::string::npos) continue;
+    ProcessEntry e;
+    e.pid = std::atoi(text.c_str());
+    std::istringstream fields(text.substr(close + 1));
+    if (fields >> e.state >> e.ppid >> e.pgrp) out.push_back(e);
+  }
+  ::closedir(proc);
+  return out;
+}
+
+PosixProcessControl::PosixProcessControl() { ::prctl(PR_SET_CHILD_SUBREAPER, 1); }
 
 int PosixProcessControl::Start(const ProcessSpec& spec, const std::string& log_header) {
   // Non-blocking: a FIFO without a reader would block the supervisor here for ever. Only a
@@ -182,6 +207,27 @@ std::optional<ProcessExit> PosixProcessControl::Reap() {
     e.how = "ended (wait status " + std::to_string(status) + ")";
   }
   return e;
+}
+
+int PosixProcessControl::KillStrays() {
+  // A stray's own children become ours when it ends: a few rounds until none is left.
+  const pid_t self = ::getpid();
+  std::set<int> killed;
+  for (int round = 0; round < 100; ++round) {
+    bool any = false;
+    for (const ProcessEntry& p : ListProcesses()) {
+      if (p.ppid != self) continue;
+      any = true;
+      if (p.state == 'Z') continue;  // ended: reaped below
+      SignalGroup(p.pid, SIGKILL);
+      killed.insert(p.pid);
+    }
+    while (::waitpid(-1, nullptr, WNOHANG) > 0) {
+    }
+    if (!any) break;
+    ::usleep(10000);
+  }
+  return static_cast<int>(killed.size());
 }
 
 long PosixProcessControl::PeakResidentBytes(int pid) {
@@ -336,6 +382,9 @@ std::vector<std::string> Supervisor::StopAll(double (*clock)(), void (*sleep_s)(
   }
   // Children given up on or killed for silence may still be reaped here.
   while (control_.Reap()) {
+  }
+  if (const int strays = control_.KillStrays(); strays > 0) {
+    lines.push_back("killed " + std::to_string(strays) + " process(es) the supervised ones left behind outside their groups");
   }
   return lines;
 }

@@ -296,17 +296,8 @@ TEST(SupervisorName, NamesTheHostAndIsRecognised) {
 /// inherited it reaps it in its own time).
 int LiveMembers(int pgid) {
   int live = 0;
-  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
-    std::ifstream stat(entry.path() / "stat");
-    std::string text;
-    if (!std::getline(stat, text)) continue;
-    const std::size_t close = text.rfind(')');
-    if (close == std::string::npos) continue;
-    std::istringstream fields(text.substr(close + 1));
-    char state = 0;
-    int ppid = 0, pgrp = 0;
-    fields >> state >> ppid >> pgrp;
-    if (pgrp == pgid && state != 'Z') ++live;
+  for (const ProcessEntry& p : ListProcesses()) {
+    if (p.pgrp == pgid && p.state != 'Z') ++live;
   }
   return live;
 }
@@ -353,6 +344,38 @@ TEST(PosixSupervisor, StopsEveryChildAStoppedAndAStubbornOneIncluded) {
   // child ends when the kernel gets to it, which on a loaded machine takes a moment.
   for (int i = 0; i < 500 && LiveMembers(stubborn) > 0; ++i) WallSleep(0.01);
   EXPECT_EQ(LiveMembers(stubborn), 0) << "the stubborn shell's own children are gone too";
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PosixSupervisor, WhatAChildLeftBehindInASessionOfItsOwnIsStoppedToo) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("rbcp_supervisor_s" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string grandchild_pid = (dir / "grandchild.pid").string();
+  SupervisorSpec spec;
+  spec.config.stop_grace_s = 1.0;
+  // The shell starts a grandchild in a new session (out of the shell's process group, which is
+  // what the supervisor signals), says so, and waits.
+  spec.processes = {{"spawner",
+                     {"/bin/sh", "-c", "setsid sleep 300 & echo $! > " + grandchild_pid + "; wait"},
+                     (dir / "spawner.log").string()}};
+  PosixProcessControl control;
+  Supervisor supervisor(spec, control);
+  supervisor.Step(WallClock());
+  const int spawner = *supervisor.Pid("spawner");
+  int grandchild = 0;
+  for (int i = 0; i < 500 && grandchild == 0; ++i) {
+    std::ifstream in(grandchild_pid);
+    if (!(in >> grandchild)) grandchild = 0;
+    if (grandchild == 0) WallSleep(0.01);
+  }
+  ASSERT_GT(grandchild, 0);
+  // The grandchild is in a group of its own once setsid has run.
+  for (int i = 0; i < 500 && ::getpgid(grandchild) != grandchild; ++i) WallSleep(0.01);
+  ASSERT_EQ(::getpgid(grandchild), grandchild);
+  const std::vector<std::string> lines = supervisor.StopAll(&WallClock, &WallSleep);
+  EXPECT_FALSE(Alive(spawner));
+  EXPECT_FALSE(Alive(grandchild)) << "the grandchild outlived its supervisor";
+  EXPECT_TRUE(Contains(lines, "killed 1 process(es) the supervised ones left behind")) << ::testing::PrintToString(lines);
   std::filesystem::remove_all(dir);
 }
 

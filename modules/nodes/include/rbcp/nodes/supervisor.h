@@ -63,18 +63,35 @@ class ProcessControl {
   virtual std::optional<ProcessExit> Reap() = 0;
   /// Peak resident memory [bytes] of a running process, 0 when unknown.
   virtual long PeakResidentBytes(int /*pid*/) { return 0; }
+  /// Kills and reaps what the started processes left behind outside their process groups (a
+  /// grandchild that made itself a session of its own), once they have stopped; returns how many.
+  virtual int KillStrays() { return 0; }
 };
 
 /// fork/exec with the child in its own process group, killed with the supervisor
-/// (PR_SET_PDEATHSIG), stdin from /dev/null, stdout and stderr appended to the spec's log.
+/// (PR_SET_PDEATHSIG), stdin from /dev/null, stdout and stderr appended to the spec's log. The
+/// caller becomes a child subreaper (PR_SET_CHILD_SUBREAPER): whatever its children leave behind
+/// becomes its child when they end, never init's, so KillStrays can find it.
 class PosixProcessControl : public ProcessControl {
  public:
+  PosixProcessControl();
   int Start(const ProcessSpec& spec, const std::string& log_header) override;
   void Terminate(int pid) override;
   void Kill(int pid) override;
   std::optional<ProcessExit> Reap() override;
   long PeakResidentBytes(int pid) override;
+  int KillStrays() override;
 };
+
+/// A process as /proc/PID/stat describes it.
+struct ProcessEntry {
+  int pid = 0;
+  int ppid = 0;
+  int pgrp = 0;
+  char state = '?';  ///< R, S, D, T, Z (zombie: ended, not yet reaped), ...
+};
+/// Every process of the machine (of this PID namespace).
+std::vector<ProcessEntry> ListProcesses();
 
 class Supervisor {
  public:
