@@ -21,7 +21,6 @@
 #include <limits>
 #include <map>
 #include <optional>
-#include <random>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -37,6 +36,7 @@
 #include "rbcp/transport/convert.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/message_parts.h"
+#include "rbcp/transport/random_id.h"
 #include "rbcp/transport/run_loop.h"
 #include "rbcp/transport/status_reporter.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
@@ -53,13 +53,6 @@ using namespace rbcp;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kOk = 0, kPlanningFailed = 1, kNoAnswer = 3;
-
-/// A random nonzero 64-bit request id (the operator's runs are told apart by it, not ordered).
-int64_t RandomRequestId() {
-  std::random_device device;
-  std::uniform_int_distribution<int64_t> id(1, std::numeric_limits<int64_t>::max());
-  return id(device);
-}
 
 /// A ROOT_PATH that answers `request`'s question: it ends at the requested goal (the id alone
 /// could be another client's).
@@ -410,7 +403,7 @@ int main(int argc, char** argv) {
     // PLAN_REQUEST from the scenario's start to its goal, answered by ROOT_PATH.
     rbcp_msgs::plan_request_t request{};
     request.utime = utime;
-    request.request_id = request_id != 0 ? request_id : RandomRequestId();
+    request.request_id = request_id != 0 ? request_id : transport::RandomId();
     request.use_start = true;
     request.start_position[0] = scenario.start.position.x();
     request.start_position[1] = scenario.start.position.y();

@@ -49,8 +49,7 @@ std::optional<std::string> RootPlannerNode::TakeInputs() {
   if (auto e = robot_state_.TakeDecodeError()) return e;
   if (auto e = controller_.TakeDecodeError()) return e;
   contact_failure_.TakeDecodeError();  // STATUS is every process's: another's bad message is not ours to report
-  if (const auto& state = robot_state_.Latest(); state && state->utime != clocked_state_utime_) {
-    clocked_state_utime_ = state->utime;
+  if (const auto& state = robot_state_.Latest()) {
     if (std::string bad = clock_.World(state->utime, options_.robot_state_channel); !bad.empty()) return bad;
   }
   if (auto e = world_.Take(&clock_)) return e;

@@ -7,11 +7,11 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <random>
 #include <stdexcept>
 #include <thread>
 #include <utility>
 
+#include "rbcp/transport/random_id.h"
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/message_part_t.hpp"
 
@@ -23,15 +23,6 @@ std::string Megabytes(std::size_t bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f MB", mb);
   return text;
-}
-
-int64_t RandomSender() {
-  std::random_device device;
-  uint64_t s = 0;
-  while (s == 0) s = (uint64_t{device()} << 32) ^ device();
-  int64_t out;
-  std::memcpy(&out, &s, sizeof out);
-  return out;
 }
 
 /// The utime of an encoded rbcp_msgs message: its first field, after the 8-byte fingerprint.
@@ -85,7 +76,7 @@ std::string PartOptions::Problem() const {
 MessagePublisher::MessagePublisher(lcm::LCM& lcm, PartOptions options) : lcm_(lcm), options_(options) {
   const std::string problem = options_.Problem();
   if (!problem.empty()) throw std::invalid_argument("message parts: " + problem);
-  if (options_.sender == 0) options_.sender = RandomSender();
+  if (options_.sender == 0) options_.sender = RandomId();
 }
 
 std::string MessagePublisher::TooLarge(const std::string& channel, long long size) const {

@@ -18,6 +18,8 @@ std::string Insane(int64_t utime, const std::string& what) {
 }  // namespace
 
 std::string SimClock::World(int64_t utime, const std::string& what) {
+  if (last_world_offered_ == utime) return "";
+  last_world_offered_ = utime;
   if (std::string bad = Insane(utime, what); !bad.empty()) return bad;
   now_ = utime;
   world_heard_ = true;

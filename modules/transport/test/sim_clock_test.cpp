@@ -30,5 +30,18 @@ TEST(SimClockTest, OneMessageWithAWrongTimeDoesNotStopTheClock) {
   EXPECT_EQ(clock.Now(), 0);
 }
 
+TEST(SimClockTest, TheSameWorldMessageOfferedAgainChangesNothing) {
+  SimClock clock;
+  EXPECT_EQ(clock.World(1'000'000, "ROBOT_STATE"), "");
+  EXPECT_EQ(clock.Input(1'200'000, "ROOT_PATH"), "");
+  // A node looks at its latest ROBOT_STATE every step: the same state does not set the clock back.
+  EXPECT_EQ(clock.World(1'000'000, "ROBOT_STATE"), "");
+  EXPECT_EQ(clock.Now(), 1'200'000);
+  // A rejected world time is reported once, not at every step.
+  EXPECT_NE(clock.World(-5, "ROBOT_STATE"), "");
+  EXPECT_EQ(clock.World(-5, "ROBOT_STATE"), "");
+  EXPECT_EQ(clock.Now(), 1'200'000);
+}
+
 }  // namespace
 }  // namespace rbcp::transport

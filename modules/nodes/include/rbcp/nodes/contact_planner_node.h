@@ -197,7 +197,6 @@ class ContactPlannerNode {
   int32_t plan_start_steps_ = 0;  ///< ROBOT_STATE.steps_done when the last plan went out
   std::optional<ContactPlanResult> last_result_;
   transport::SimClock clock_;  ///< the simulated time heard of (message utimes)
-  int64_t clocked_state_utime_ = -1;  ///< utime of the ROBOT_STATE the clock took last
   bool verbose_ = true;
   std::string logged_waiting_;
 };

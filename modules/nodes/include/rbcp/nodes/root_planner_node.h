@@ -110,7 +110,6 @@ class RootPlannerNode {
   bool terrain_replan_due_ = false;                  ///< the terrain changed: replan at the next wait
   std::optional<RootPlanResult> last_result_;
   transport::SimClock clock_;  ///< the simulated time heard of (message utimes)
-  int64_t clocked_state_utime_ = -1;  ///< utime of the ROBOT_STATE the clock took last
   int guide_ = 0;  ///< the active request's guide: its paths use GuideSeed(seed, guide_)
   int guides_this_stance_ = 0;  ///< guides planned since the robot last stepped
   std::optional<int32_t> guide_stance_;  ///< CONTROLLER_STATUS steps_done when they were counted

@@ -6,6 +6,7 @@
 /// kMaxAhead_us, and a time outside [0, kMaxUtime] is no time at all.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace rbcp::transport {
@@ -16,7 +17,9 @@ class SimClock {
   static constexpr int64_t kMaxAhead_us = int64_t{600} * 1'000'000;      ///< [us] 10 minutes
 
   /// A world message at `utime`: the clock follows it. Returns "" or why the time is rejected
-  /// (the clock then keeps its time); `what` names the message.
+  /// (the clock then keeps its time); `what` names the message. The time of the last world
+  /// message offered, offered again (a node looks at its latest ROBOT_STATE every step), changes
+  /// nothing and is not rejected again.
   std::string World(int64_t utime, const std::string& what);
   /// Another input at `utime`: moves the clock forward to it. Returns "" or why it is rejected:
   /// outside [0, kMaxUtime], or more than kMaxAhead_us ahead of a world already heard.
@@ -27,6 +30,7 @@ class SimClock {
  private:
   int64_t now_ = 0;
   bool world_heard_ = false;
+  std::optional<int64_t> last_world_offered_;
 };
 
 }  // namespace rbcp::transport
