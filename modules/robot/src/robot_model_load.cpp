@@ -316,7 +316,6 @@ RobotModel RobotModel::Load(const std::string& urdf_path, const std::string& yam
     margins.Fail("min_knee_bend", "expected an angle in [0, 2) rad, got " + Num(m.margins_.min_knee_bend_rad));
   }
   margins.RejectUnknownKeys();
-  m.friction_coefficient_ = positive("friction_coefficient");
   m.torque_limit_ = positive("torque_limit");
   m.continuous_torque_limit_ = positive("continuous_torque_limit");
   if (m.continuous_torque_limit_ > m.torque_limit_) {

@@ -140,9 +140,9 @@ TEST_F(RobotLoadTest, UnknownNestedYamlKeyIsRejected) {
 }
 
 TEST_F(RobotLoadTest, MissingYamlKeyIsRejected) {
-  Replace(yaml_text_, "friction_coefficient: 0.5", "");
+  Replace(yaml_text_, "torque_limit: 80.0", "");
   const std::string error = LoadError();
-  EXPECT_EQ(error, YamlPath() + ": 'friction_coefficient': missing key");
+  EXPECT_EQ(error, YamlPath() + ": 'torque_limit': missing key");
 }
 
 TEST_F(RobotLoadTest, KneeBoundsMustKeepTheXConfiguration) {

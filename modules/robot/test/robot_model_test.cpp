@@ -330,7 +330,6 @@ TEST(RobotModel, PlanningParametersAreLoaded) {
   EXPECT_EQ(m.LegLowerBounds(Leg::kRF)[2], -2.35);
   EXPECT_TRUE(m.FootContactOffset().isApprox(Eigen::Vector3d(0, 0, -0.00775)));
   EXPECT_EQ(m.FootRadius(), 0.031);
-  EXPECT_EQ(m.FrictionCoefficient(), 0.5);
   EXPECT_EQ(m.TorqueLimit(), 80.0);
   EXPECT_EQ(m.ContinuousTorqueLimit(), 40.0);
   EXPECT_EQ(m.JointVelocityLimit(), 15.0);

@@ -82,7 +82,6 @@ class SimNode {
   double SimTime() const { return execution_.Time(); }
   /// Replanning: the robot waits at a step boundary and the world stands still (no physics).
   bool Paused() const { return options_.replan && options_.pause_while_awaiting && awaiting_since_.has_value(); }
-  int64_t PlanSeq() const { return plan_seq_; }
   int StalePlans() const { return stale_plans_; }
   /// True once a plan was walked to its outcome (and no newer plan is running).
   bool Decided() const { return execution_.Decided() && (plans_ > 0 || options_.replan); }

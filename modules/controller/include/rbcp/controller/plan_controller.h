@@ -112,7 +112,6 @@ class PlanController {
   /// With `await` the controller waits at every step boundary for ReplacePlan or ContinuePlan
   /// (see the top of this file); without, it walks each plan through (the default).
   void SetAwaitPlans(bool await) { await_plans_ = await; }
-  bool AwaitsPlans() const { return await_plans_; }
   /// At a step boundary (kAwait): go on with the rest of the current plan at the next Update. A
   /// plan that does not reach the goal and has no step left keeps waiting. No effect elsewhere.
   void ContinuePlan();

@@ -121,8 +121,6 @@ class ContactPlannerNode {
   transport::StatusReporter& status() { return status_; }
   /// The latest answer (not ok when the latest path failed); empty before the first plan.
   const std::optional<ContactPlanResult>& last_result() const { return last_result_; }
-  /// Horizon mode: the whole plan of the latest answer's search (its K steps and the look-ahead).
-  const ContactPlan& last_search() const { return searched_; }
 
  private:
   /// Takes new terrain / surfaces / path; returns a reason if an input was rejected.

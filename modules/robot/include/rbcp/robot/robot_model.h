@@ -170,8 +170,6 @@ class RobotModel {
   const Eigen::Vector3d& FootContactOffset() const { return foot_contact_offset_; }
   /// Foot sphere radius [m].
   double FootRadius() const { return foot_radius_; }
-  /// Coulomb friction coefficient assumed at the feet [-].
-  double FrictionCoefficient() const { return friction_coefficient_; }
   /// Peak joint torque [N m].
   double TorqueLimit() const { return torque_limit_; }
   /// Continuous joint torque [N m].
@@ -255,7 +253,6 @@ class RobotModel {
   double nominal_base_height_ = 0.0;
   Eigen::Vector3d foot_contact_offset_ = Eigen::Vector3d::Zero();
   double foot_radius_ = 0.0;
-  double friction_coefficient_ = 0.0;
   double torque_limit_ = 0.0;
   double continuous_torque_limit_ = 0.0;
   KinematicMargins margins_;
