@@ -1,12 +1,14 @@
 #include "search.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <exception>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <thread>
 #include <tuple>
 #include <utility>
@@ -26,6 +28,27 @@ namespace {
 constexpr double kSameFoothold = 0.01;
 
 long TimeKey(double t) { return std::lround(t * 1e6); }
+
+/// What decides a node's subtree: its path time, body shift, footholds, the leg that moved last
+/// and the crawl's count of steps without the trunk advancing; lengths to the micrometre. The
+/// search from a node depends on nothing else, so a node that was a dead end (its step undone
+/// after every step from it failed) is one wherever the search meets it again.
+using StateKey = std::array<long long, 3 + 3 + 3 * kNumLegs>;
+StateKey KeyOf(const Node& n) {
+  StateKey key{};
+  std::size_t i = 0;
+  const auto length = [](double m) { return std::llround(m * 1e6); };
+  long long stepped = 0;
+  for (int leg = 0; leg < kNumLegs; ++leg) stepped |= (n.stepped_at_time[static_cast<std::size_t>(leg)] ? 1LL : 0LL) << leg;
+  key[i++] = TimeKey(n.t);
+  key[i++] = n.steps_at_time * 16 + stepped;
+  key[i++] = n.state.moving_leg;
+  for (int k = 0; k < 3; ++k) key[i++] = length(n.shift[k]);
+  for (const FootContact& foot : n.state.feet) {
+    for (int k = 0; k < 3; ++k) key[i++] = length(foot.position[k]);
+  }
+  return key;
+}
 
 /// Whether `leg` may step from `node` at path time t: always once the trunk has advanced;
 /// without it, at most retry.max_steps_at_one_time steps and each leg once.
@@ -182,6 +205,7 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
   if (furthest_nodes) *furthest_nodes = {Unexpanded(stack.front())};
   const long long first_evaluation = ctx.stats.Evaluations();
   int backtracks = 0;
+  std::set<StateKey> dead_ends;
   Failure furthest;
   auto finish_fail = [&](ContactPlanStatus status, const std::string& reason) {
     result.ok = false;
@@ -245,7 +269,7 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
         const bool duplicate = std::any_of(node.children.begin(), node.children.end(), [&](const auto& c) {
           return c.leg == option.leg && std::abs(c.t - child.t) < 1e-9 && (c.foot - foot).norm() < kSameFoothold;
         });
-        if (duplicate) continue;
+        if (duplicate || dead_ends.count(KeyOf(child))) continue;  // reached by another way: failed already
         node.children.push_back({option.leg, child.t, foot});
         stack.push_back(std::move(child));
         if (furthest_nodes && stack.back().t > furthest_nodes->back().t + 1e-9) {
@@ -265,6 +289,7 @@ ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const
       return finish_fail(ContactPlanStatus::kNoFoothold,
                          furthest.Describe() + (stack.size() == 1 ? "" : " (backtracking limit reached)"));
     }
+    dead_ends.insert(KeyOf(stack.back()));
     stack.pop_back();
     ++backtracks;
     ++ctx.stats.backtracks;
