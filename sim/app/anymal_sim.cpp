@@ -7,7 +7,7 @@
 
 #include "rbcp/controller/controller_config.h"
 #include "rbcp/core/error.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/scenario/scenario.h"
@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
                "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time) and STATUS, and\n"
                "walks every CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints\n"
                "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input."};
-  nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddCommonOptions(app, common);
   std::string scenario_path, plan_path, sim_config_path, controller_config_path, log_csv_path;
   bool json = false, exit_when_decided = false;
   sim::SimNodeOptions node_options;
@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
   app.add_option("--sim-config", sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
   app.add_option("--controller-config", controller_config_path,
                  "controller parameters (default: CONFIG_DIR/controller.yaml)");
-  return nodes::GuardedMain(sim::SimNode::kProcessName, app, argc, argv, [&]() -> int {
+  return cli::GuardedMain(sim::SimNode::kProcessName, app, argc, argv, [&]() -> int {
     const sim::SimConfig sim_config =
         sim::SimConfig::LoadFile(sim_config_path.empty() ? common.config_dir + "/sim.yaml" : sim_config_path);
     const ControllerConfig controller_config = ControllerConfig::LoadFile(

@@ -20,7 +20,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/nodes/run_record.h"
 
 namespace {
@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "where table.md and table.json go")->required();
   app.add_option("--scenarios", order, "scenario order in the table (default: by name)")->delimiter(',');
   app.add_option("--title", title, "a line under the table's heading (date, runs, seeds, machine)");
-  return nodes::GuardedMain("bench_table", app, argc, argv, [&]() -> int {
+  return cli::GuardedMain("bench_table", app, argc, argv, [&]() -> int {
     std::map<std::string, Row> rows;
     for (const auto& entry : fs::directory_iterator(runs_dir)) {
       const fs::path meta_path = entry.path() / "meta.json";

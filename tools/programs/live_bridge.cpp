@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "rbcp/core/error.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/nodes/run_record.h"
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/robot/robot_model.h"
@@ -471,8 +471,8 @@ int main(int argc, char** argv) {
                "--page; the websocket is at /ws. A page that connects late first gets what came before.\n"
                "Prints 'live_bridge: listening on http://127.0.0.1:PORT/' once it listens. Runs until SIGINT or\n"
                "SIGTERM (or --max-runtime). Exit status: 0 stopped, 2 bad input."};
-  nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddCommonOptions(app, common);
   int port = 8765;
   std::string page_path, follow_log, lcm_netns;
   app.add_option("--port", port, "TCP port on 127.0.0.1 (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
@@ -485,7 +485,7 @@ int main(int argc, char** argv) {
                  "127.0.0.1 where the bridge started: a pipeline in a namespace followed from a browser outside it\n"
                  "(needs root)")
       ->excludes("--follow-log");
-  return nodes::GuardedMain("live_bridge", app, argc, argv, [&]() -> int {
+  return cli::GuardedMain("live_bridge", app, argc, argv, [&]() -> int {
     std::string page;
     if (!page_path.empty()) {
       std::ifstream file(page_path, std::ios::binary);

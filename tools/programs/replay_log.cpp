@@ -47,7 +47,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/message_parts.h"
@@ -311,8 +311,8 @@ int main(int argc, char** argv) {
                "recorded order and pace; at each recorded answer the replay waits for the replayed one.\n"
                "tools/replay-log starts the planners and runs it. Exit status: 0 reproduced, 1 an answer differs\n"
                "or is missing, 2 bad input, 3 a planner did not answer in time."};
-  nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddCommonOptions(app, common);
   std::string log_path;
   double tolerance = 1e-6, timeout_s = 30.0;
   app.add_option("--log", log_path, "the LCM log of a run (tools/launch's run.lcmlog)")->required()->check(CLI::ExistingFile);
@@ -328,7 +328,7 @@ int main(int argc, char** argv) {
                  "replays the same (the planners act only on the states of a robot waiting at a step boundary)");
   app.add_option("--walking-state-hz", walking_state_hz, "with --write-thinned: ROBOT_STATE kept while walking [Hz]")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  return nodes::GuardedMain("replay_log", app, argc, argv, [&]() -> int {
+  return cli::GuardedMain("replay_log", app, argc, argv, [&]() -> int {
     const auto say = [&](const std::string& line) {
       if (!common.quiet) std::cerr << "replay_log: " << line << "\n";
     };

@@ -17,7 +17,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/pose.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/nodes/run_record.h"
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/robot/robot_model.h"
@@ -81,11 +81,11 @@ int main(int argc, char** argv) {
                "the wall time of every input answered OK, from STATUS). A walked plan missing from the log is left out of\n"
                "\"states\" and named in missing_plans. The JSON is described in docs/json_schema.md.\n"
                "Reads a file; talks no LCM. Exit status: 0 written, 2 bad input."};
-  nodes::CommonOptions common;
-  nodes::AddOfflineOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddOfflineOptions(app, common);
   std::string log_path;
   app.add_option("--log", log_path, "the LCM log of a run")->required()->check(CLI::ExistingFile);
-  return nodes::GuardedMain("run_log", app, argc, argv, [&]() -> int {
+  return cli::GuardedMain("run_log", app, argc, argv, [&]() -> int {
     const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
     lcm::LogFile log(log_path, "r");
     if (!log.good()) throw InputError("cannot read the LCM log " + log_path);

@@ -27,7 +27,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/nodes/run_record.h"
 #include "rbcp/nodes/supervisor_process.h"
 #include "rbcp/plan_checker/plan_checker.h"
@@ -295,8 +295,8 @@ int main(int argc, char** argv) {
                "the outcome. Exit status: 0 answered (the plan passes the checker and, with --until sim, the robot\n"
                "reached the goal), 1 a process failed, the plan fails the checker or the run failed, 2 bad input,\n"
                "3 no answer in time."};
-  nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddCommonOptions(app, common);
   std::string scenario_path, until = "contact";
   double timeout_s = 10.0, period_s = 1.0, budget_s = 5.0, sim_timeout_s = 900.0;
   int seed = 1;
@@ -319,7 +319,7 @@ int main(int argc, char** argv) {
   app.add_option("--time-budget", budget_s, "root planning time budget of the request [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "random seed of the request")->capture_default_str();
-  return nodes::GuardedMain("scenario_publisher", app, argc, argv, [&]() -> int {
+  return cli::GuardedMain("scenario_publisher", app, argc, argv, [&]() -> int {
     const Scenario scenario = LoadScenario(scenario_path);
     auto lcm = transport::OpenLcm(common.lcm_url);
     StatusBoard board(*lcm, channels::kStatus);

@@ -4,14 +4,14 @@
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/nodes/affordance_node.h"
 #include "rbcp/nodes/affordance_offline.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/transport/run_loop.h"
 
 int main(int argc, char** argv) {
   using namespace rbcp;
   CLI::App app{"Affordance extraction: terrain mesh (TERRAIN) -> convex contact surfaces (AFFORDANCES)."};
-  nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddCommonOptions(app, common);
   std::string scenario, config;
   bool once = false, json = false;
   app.add_option("--scenario", scenario, "scenario YAML to extract from instead of listening (needs --once)")
@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   app.add_flag("--once", once, "extract from --scenario, print the result and exit");
   app.add_flag("--json", json, "with --once: print one JSON object (surfaces, extract_ms)");
   app.add_option("--config", config, "affordance parameters (default: CONFIG_DIR/affordance.yaml)");
-  return nodes::GuardedMain(nodes::AffordanceNode::kProcessName, app, argc, argv, [&] {
+  return cli::GuardedMain(nodes::AffordanceNode::kProcessName, app, argc, argv, [&] {
     const auto cfg = AffordanceConfig::Load(YamlMap::LoadFile(config.empty() ? common.config_dir + "/affordance.yaml" : config));
     if (once != !scenario.empty()) throw InputError("--once and --scenario go together (see --help)");
     if (once) {

@@ -3,15 +3,15 @@
 
 #include "rbcp/limb_database/limb_database.h"
 #include "rbcp/nodes/contact_planner_node.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/run_loop.h"
 
 int main(int argc, char** argv) {
   using namespace rbcp;
   CLI::App app{"Contact planner: footholds and whole-body states along the root path (RB-PRM limb database)."};
-  nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddCommonOptions(app, common);
   std::string config;
   nodes::ContactPlannerNodeOptions options;
   app.add_option("--config", config, "contact planner parameters (default: CONFIG_DIR/contact_planner.yaml)");
@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   app.add_option("--lookahead-steps", options.lookahead_steps,
                  "with --horizon-steps K: steps searched beyond the K published, so they lead on (the default reaches the goal)")
       ->capture_default_str()->check(CLI::Range(0, 1000));
-  return nodes::GuardedMain(nodes::ContactPlannerNode::kProcessName, app, argc, argv, [&] {
+  return cli::GuardedMain(nodes::ContactPlannerNode::kProcessName, app, argc, argv, [&] {
     const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
     const auto eq = EquilibriumConfig::LoadFile(common.config_dir + "/equilibrium.yaml");
     const auto cfg = ContactPlannerConfig::LoadFile(config.empty() ? common.config_dir + "/contact_planner.yaml" : config);

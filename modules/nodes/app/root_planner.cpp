@@ -1,7 +1,7 @@
 // root_planner: PLAN_REQUEST / ROBOT_STATE / TERRAIN / AFFORDANCES in, ROOT_PATH and STATUS out.
 #include <iostream>
 
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/nodes/root_planner_node.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/run_loop.h"
@@ -9,14 +9,14 @@
 int main(int argc, char** argv) {
   using namespace rbcp;
   CLI::App app{"Root (trunk) path planner: kinodynamic bidirectional RRT under the reachability condition."};
-  nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddCommonOptions(app, common);
   std::string config;
   nodes::RootPlannerNodeOptions options;
   app.add_option("--config", config, "root planner parameters (default: CONFIG_DIR/root_planner.yaml)");
   app.add_option("--time-budget", options.default_time_budget_s, "planning budget when a request gives none [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  return nodes::GuardedMain(nodes::RootPlannerNode::kProcessName, app, argc, argv, [&] {
+  return cli::GuardedMain(nodes::RootPlannerNode::kProcessName, app, argc, argv, [&] {
     const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
     auto cfg = RootPlannerConfig::LoadFile(config.empty() ? common.config_dir + "/root_planner.yaml" : config,
                                            common.config_dir);

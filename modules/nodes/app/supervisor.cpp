@@ -1,6 +1,6 @@
 // supervisor: keeps the pipeline's processes running (restart with back-off, silent ones named
 // and restarted) and stops them all, a hung one included, on SIGINT or SIGTERM.
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/nodes/supervisor_process.h"
 #include "rbcp/transport/run_loop.h"
 
@@ -11,8 +11,8 @@ int main(int argc, char** argv) {
                "stops them all (SIGTERM, then SIGKILL after stop_grace_s). Publishes its events on STATUS as\n"
                "process \"supervisor\" (\"supervisor@HOST\" with --host). Exit status: 0 stopped, 1 a process was given\n"
                "up on, 2 bad input."};
-  nodes::CommonOptions common;
-  nodes::AddCommonOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddCommonOptions(app, common);
   std::string spec_path, host;
   app.add_option("--spec", spec_path,
                  "YAML: heartbeat_timeout_s, startup_timeout_s, backoff_initial_s, backoff_max_s, healthy_after_s,\n"
@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   app.add_option("--host", host,
                  "the host it supervises, when each host of a pipeline split over several runs its own supervisor:\n"
                  "its STATUS comes as process supervisor@HOST (letters, digits, _ and -)");
-  return nodes::GuardedMain(nodes::kSupervisorName, app, argc, argv, [&] {
+  return cli::GuardedMain(nodes::kSupervisorName, app, argc, argv, [&] {
     const std::string name = nodes::SupervisorName(host);
     const nodes::SupervisorSpec spec = nodes::SupervisorSpec::LoadFile(spec_path);
     auto lcm = transport::OpenLcm(common.lcm_url);

@@ -17,8 +17,8 @@
 #include <thread>
 
 #include "rbcp/core/format.h"
-#include "rbcp/nodes/offline_pipeline.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/offline_pipeline/offline_pipeline.h"
+#include "rbcp/cli/cli.h"
 #include "rbcp/plan_checker/plan_checker.h"
 
 namespace {
@@ -50,7 +50,7 @@ double Median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Plans and simulates every scenario over several seeds; prints the success table. Talks no LCM."};
-  std::string config_dir = nodes::DefaultConfigDir(), json_path;
+  std::string config_dir = DefaultConfigDir(), json_path;
   std::vector<std::string> scenarios = {"flat_ground",       "slalom_debris",       "plinth",       "darpa_rubble",
                                         "paper_flat_ground", "paper_slalom_debris", "paper_plinth", "paper_darpa"};
   unsigned seeds = 20, first_seed = 1;
@@ -63,8 +63,8 @@ int main(int argc, char** argv) {
   app.add_option("--jobs", jobs, "runs in parallel")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--time-budget", budget, "root planning time budget [s]")->capture_default_str();
   app.add_option("--json", json_path, "also write every run to this JSON file");
-  return nodes::GuardedMain("sim_bench", app, argc, argv, [&]() -> int {
-    nodes::OfflinePipeline pipeline(config_dir);
+  return cli::GuardedMain("sim_bench", app, argc, argv, [&]() -> int {
+    OfflinePipeline pipeline(config_dir);
     // Runs in parallel share the cores with the contact planner's own search threads.
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     if (jobs > 1) pipeline.SetContactSearchThreads(std::max(1, cores / jobs));
@@ -89,9 +89,9 @@ int main(int argc, char** argv) {
         Run& run = runs[w];
         run.scenario = scenario.name;
         run.seed = seed;
-        nodes::PipelineResult r;
+        PipelineResult r;
         try {
-          r = pipeline.Run(scenario, nodes::PipelineStage::kSim, seed, budget);
+          r = pipeline.Run(scenario, PipelineStage::kSim, seed, budget);
         } catch (const std::exception& e) {
           // A run that cannot even start (bad input, a configuration error) is a failed run.
           run.failure = "error";

@@ -1,6 +1,7 @@
 #pragma once
-/// What every process main() shares: common command-line options, the config folder, and a
-/// top-level guard that turns any escaped exception into "<process>: error: <reason>" and exit 2.
+/// What every program's main() shares: the common command-line options (LCM URL, config folder,
+/// quiet, run time) and a top-level guard that turns any escaped exception into
+/// "<program>: error: <reason>" and exit status 2.
 
 #include <CLI/CLI.hpp>
 
@@ -9,7 +10,7 @@
 
 #include "rbcp/core/config_dir.h"
 
-namespace rbcp::nodes {
+namespace rbcp::cli {
 
 struct CommonOptions {
   std::string lcm_url;          ///< "" = LCM_DEFAULT_URL or LCM's default
@@ -17,8 +18,6 @@ struct CommonOptions {
   bool quiet = false;           ///< no per-input log lines on stderr
   double max_runtime_s = 0.0;   ///< stop after this long [s]; 0 = until SIGINT/SIGTERM
 };
-
-using rbcp::DefaultConfigDir;
 
 /// Adds --lcm-url, --config-dir, --quiet and --max-runtime: the options of a process on LCM.
 void AddCommonOptions(CLI::App& app, CommonOptions& options);
@@ -30,4 +29,4 @@ void AddOfflineOptions(CLI::App& app, CommonOptions& options);
 /// and returns 2.
 int GuardedMain(const char* process, CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
-}  // namespace rbcp::nodes
+}  // namespace rbcp::cli

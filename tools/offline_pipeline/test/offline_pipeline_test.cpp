@@ -1,4 +1,4 @@
-#include "rbcp/nodes/offline_pipeline.h"
+#include "rbcp/offline_pipeline/offline_pipeline.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -13,7 +13,7 @@
 #include "rbcp/plan_checker/plan_checker.h"
 #include "rbcp/plan_checker/plan_json.h"
 
-namespace rbcp::nodes {
+namespace rbcp {
 namespace {
 
 const std::string kConfig = std::string(RBCP_SOURCE_DIR) + "/config";
@@ -176,4 +176,4 @@ TEST(OfflinePipeline, CheckPlanAcceptsThePlanPrintedByPlanScenario) {
 }
 
 }  // namespace
-}  // namespace rbcp::nodes
+}  // namespace rbcp

@@ -1,9 +1,9 @@
-#include "rbcp/nodes/process.h"
+#include "rbcp/cli/cli.h"
 
 #include <cstdio>
 #include <exception>
 
-namespace rbcp::nodes {
+namespace rbcp::cli {
 
 void AddOfflineOptions(CLI::App& app, CommonOptions& options) {
   options.config_dir = DefaultConfigDir();
@@ -35,4 +35,4 @@ int GuardedMain(const char* process, CLI::App& app, int argc, char** argv, const
   }
 }
 
-}  // namespace rbcp::nodes
+}  // namespace rbcp::cli

@@ -22,7 +22,7 @@
 #include "rbcp/sim/plan_execution.h"
 #include "rbcp/sim/sim_config.h"
 
-namespace rbcp::nodes {
+namespace rbcp {
 
 enum class PipelineStage { kAffordance, kRoot, kContact, kSim };
 
@@ -105,4 +105,4 @@ class OfflinePipeline {
 /// add theirs.
 nlohmann::json ToJson(const PipelineResult& result);
 
-}  // namespace rbcp::nodes
+}  // namespace rbcp

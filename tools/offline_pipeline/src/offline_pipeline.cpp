@@ -1,4 +1,4 @@
-#include "rbcp/nodes/offline_pipeline.h"
+#include "rbcp/offline_pipeline/offline_pipeline.h"
 
 #include <chrono>
 
@@ -7,7 +7,7 @@
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/plan_checker/plan_json.h"
 
-namespace rbcp::nodes {
+namespace rbcp {
 namespace {
 
 double MsSince(std::chrono::steady_clock::time_point start) {
@@ -182,4 +182,4 @@ nlohmann::json ToJson(const PipelineResult& result) {
   return j;
 }
 
-}  // namespace rbcp::nodes
+}  // namespace rbcp

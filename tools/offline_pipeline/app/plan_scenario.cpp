@@ -1,8 +1,8 @@
 // plan_scenario: the pipeline's libraries in one process on a scenario file, printing JSON.
 #include <iostream>
 
-#include "rbcp/nodes/offline_pipeline.h"
-#include "rbcp/nodes/process.h"
+#include "rbcp/offline_pipeline/offline_pipeline.h"
+#include "rbcp/cli/cli.h"
 
 int main(int argc, char** argv) {
   using namespace rbcp;
@@ -11,8 +11,8 @@ int main(int argc, char** argv) {
                "then walks the plan in the simulator and adds its outcome (sim_ok, failure, sim_trace, ...).\n"
                "The JSON is described in docs/json_schema.md. Talks no LCM.\n"
                "Exit status: 0 planned, 1 a stage failed (reason in 'failure'), 2 bad input."};
-  nodes::CommonOptions common;
-  nodes::AddOfflineOptions(app, common);
+  cli::CommonOptions common;
+  cli::AddOfflineOptions(app, common);
   std::string scenario_path, stage = "root";
   unsigned seed = 1;
   double budget = 5.0;
@@ -22,11 +22,11 @@ int main(int argc, char** argv) {
   app.add_option("--stage", stage, "last stage to run: affordance, root, contact or sim")->capture_default_str();
   app.add_option("--time-budget", budget, "root planning time budget [s]")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_flag("--json", json, "print one JSON object instead of a summary");
-  return nodes::GuardedMain("plan_scenario", app, argc, argv, [&] {
-    const nodes::OfflinePipeline pipeline(common.config_dir);
-    const auto result = pipeline.Run(LoadScenario(scenario_path), nodes::ParseStage(stage), seed, budget);
+  return cli::GuardedMain("plan_scenario", app, argc, argv, [&] {
+    const OfflinePipeline pipeline(common.config_dir);
+    const auto result = pipeline.Run(LoadScenario(scenario_path), ParseStage(stage), seed, budget);
     if (json) {
-      std::cout << nodes::ToJson(result).dump() << std::endl;
+      std::cout << ToJson(result).dump() << std::endl;
     } else {
       std::cout << result.scenario << " (seed " << seed << "): " << result.surfaces.size() << " surfaces in "
                 << result.affordance_ms << " ms";
