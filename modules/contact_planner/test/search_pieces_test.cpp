@@ -160,5 +160,33 @@ TEST_F(SearchPieces, MergingRemovesAStepAndKeepsEveryStepWalkable) {
   }
 }
 
+TEST(StepFailureTest, SaysWhatFailedWithItsNumbersAndHowTheStepEnded) {
+  StepFailure none(StepFailure::Kind::kNoFoothold);
+  none.count = 12;
+  none.last = CandidateFailure(CandidateFailure::Kind::kRobustness);
+  none.last->robustness_N = 2.104;
+  EXPECT_EQ(none.Describe(), "no valid foothold among 12 candidates (last rejected: robustness 2.10 N)");
+  EXPECT_EQ(none.Outcome(), StepOutcome::kNoCandidate);
+  EXPECT_EQ(StepFailure(StepFailure::Kind::kNoFoothold).Describe(),
+            "no valid foothold among 0 candidates (last rejected: no database sample near a contact surface)");
+
+  StepFailure capped(StepFailure::Kind::kStabilityCap);
+  capped.count = 3;
+  capped.last = CandidateFailure(CandidateFailure::Kind::kKinematics);
+  EXPECT_EQ(capped.Describe(), "no stable foothold among the 3 best candidates (last: kinematics)");
+  EXPECT_EQ(capped.Outcome(), StepOutcome::kCapped);
+
+  StepFailure off_centre(StepFailure::Kind::kCoMNotInside);
+  off_centre.margin_m = 0.03;
+  EXPECT_EQ(off_centre.Describe(), "CoM cannot be shifted 0.030 m inside the swing support triangle");
+  EXPECT_EQ(off_centre.Outcome(), StepOutcome::kPoseInvalid);
+
+  StanceVerdict torque;
+  torque.check = StanceCheck::kTorque;
+  torque.detail = "LF_KFE 45.0 Nm";
+  EXPECT_EQ(StepFailure(StepFailure::Kind::kLiftOffTorque, torque).Describe(),
+            "three-foot stance at lift-off: LF_KFE 45.0 Nm");
+}
+
 }  // namespace
 }  // namespace rbcp::contact_planner_detail
