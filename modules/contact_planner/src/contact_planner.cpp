@@ -37,6 +37,7 @@ using contact_planner_detail::PlannerContext;
 using contact_planner_detail::SearchWithRetries;
 using contact_planner_detail::SolveStance;
 using contact_planner_detail::StandingAt;
+using contact_planner_detail::StandingFailure;
 using contact_planner_detail::StandingResult;
 using contact_planner_detail::TimeBudget;
 using contact_planner_detail::Yaw;
@@ -148,7 +149,8 @@ struct ContactPlanner::Impl {
     return result;
   }
 
-  std::string CheckPath(const std::vector<RootPathSample>& samples) const {
+  /// Why `samples` cannot be planned along (or no terrain is set); nullopt when they can.
+  std::optional<std::string> PathProblem(const std::vector<RootPathSample>& samples) const {
     if (samples.empty()) return "the root path has no sample";
     for (std::size_t i = 0; i < samples.size(); ++i) {
       if (!samples[i].p.allFinite() || !std::isfinite(samples[i].yaw) || !std::isfinite(samples[i].t)) {
@@ -159,7 +161,7 @@ struct ContactPlanner::Impl {
       }
     }
     if (!stance.HasTerrain()) return "no terrain set";
-    return "";
+    return std::nullopt;
   }
 };
 
@@ -191,19 +193,19 @@ ContactPlanResult ContactPlanner::Plan(const RootPath& path) { return Plan(path.
 ContactPlanResult ContactPlanner::Plan(const std::vector<RootPathSample>& samples) {
   Impl& m = *impl_;
   ContactPlanResult result;
-  const std::string problem = m.CheckPath(samples);
-  if (!problem.empty()) {
+  if (std::optional<std::string> problem = m.PathProblem(samples)) {
     result.status = ContactPlanStatus::kInvalidInput;
-    result.reason = problem;
+    result.reason = std::move(*problem);
     return result;
   }
   m.BeginQuery(samples);
   const PathPose start = m.path->At(m.path->Begin());
   const StandingResult stance = StandingAt(m.ctx(), start.p, start.yaw);
   if (!stance.state) {
-    result.status = stance.timed_out ? ContactPlanStatus::kTimeout : ContactPlanStatus::kNoStartStance;
-    result.reason = stance.timed_out ? "time budget of " + FixedNumber(m.config.time_budget_s, 2) + " s exhausted in the start stance"
-                                     : "start stance: " + stance.why;
+    const bool timed_out = stance.failure->kind == StandingFailure::Kind::kTimeBudget;
+    result.status = timed_out ? ContactPlanStatus::kTimeout : ContactPlanStatus::kNoStartStance;
+    result.reason = timed_out ? "time budget of " + FixedNumber(m.config.time_budget_s, 2) + " s exhausted in the start stance"
+                              : "start stance: " + stance.failure->Describe();
     result.failure_time_s = m.path->Begin();
     result.planning_time_s = m.budget.Elapsed();
     result.stats = m.stats;
@@ -220,17 +222,17 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
                                               const std::vector<RootPathSample>& remaining_path, int max_steps) {
   Impl& m = *impl_;
   ContactPlanResult result;
-  std::string problem = m.CheckPath(remaining_path);
-  if (problem.empty() && max_steps < 1) problem = "max_steps must be at least 1";
-  if (problem.empty() && (!current.base_position.allFinite() || !current.base_rpy.allFinite())) {
+  std::optional<std::string> problem = m.PathProblem(remaining_path);
+  if (!problem && max_steps < 1) problem = "max_steps must be at least 1";
+  if (!problem && (!current.base_position.allFinite() || !current.base_rpy.allFinite())) {
     problem = "current state: base pose is not finite";
   }
-  if (problem.empty() && !(current.moving_leg >= -1 && current.moving_leg < kNumLegs)) {
+  if (!problem && !(current.moving_leg >= -1 && current.moving_leg < kNumLegs)) {
     problem = "current state: moving_leg must be -1 or a leg index, got " + std::to_string(current.moving_leg);
   }
-  if (!problem.empty()) {
+  if (problem) {
     result.status = ContactPlanStatus::kInvalidInput;
-    result.reason = problem;
+    result.reason = std::move(*problem);
     return result;
   }
   m.BeginQuery(remaining_path);
@@ -277,7 +279,7 @@ std::optional<WholeBodyState> ContactPlanner::StandingStance(const Eigen::Vector
     return std::nullopt;
   }
   StandingResult stance = StandingAt(impl_->ctx(), base_position_W, yaw);
-  if (!stance.state && reason) *reason = stance.why;
+  if (!stance.state && reason) *reason = stance.failure->Describe();
   return std::move(stance.state);
 }
 
@@ -317,32 +319,54 @@ std::optional<WholeBodyState> ContactPlanner::MeasuredStance(const Eigen::Vector
   return state;
 }
 
-ContactPlan ContactPlanner::MergeSteps(const ContactPlan& plan, int* removed) {
-  if (!impl_->context) throw InputError("ContactPlanner::MergeSteps: no terrain set");
+namespace {
+
+/// Why `plan` cannot be merged: a state with a non-finite number, or states not one step apart;
+/// nullopt when it can.
+std::optional<std::string> MergeProblem(const ContactPlan& plan) {
   for (std::size_t i = 0; i < plan.states.size(); ++i) {
     const WholeBodyState& s = plan.states[i];
     bool finite = s.base_position.allFinite() && s.base_rpy.allFinite() && s.joints.allFinite();
     for (const FootContact& foot : s.feet) finite = finite && foot.position.allFinite() && foot.normal.allFinite();
-    if (!finite) throw InputError("ContactPlanner::MergeSteps: state " + std::to_string(i) + " is not finite");
+    if (!finite) return "ContactPlanner::MergeSteps: state " + std::to_string(i) + " is not finite";
   }
   for (std::size_t i = 1; i < plan.states.size(); ++i) {
     const int leg = plan.states[i].moving_leg;
     if (leg < 0 || leg >= kNumLegs) {
-      throw InputError("ContactPlanner::MergeSteps: state " + std::to_string(i) + " has no moving leg");
+      return "ContactPlanner::MergeSteps: state " + std::to_string(i) + " has no moving leg";
     }
     for (int other = 0; other < kNumLegs; ++other) {
       const std::size_t o = static_cast<std::size_t>(other);
       if (other != leg && (plan.states[i].feet[o].position - plan.states[i - 1].feet[o].position).norm() > 1e-9) {
-        throw InputError("ContactPlanner::MergeSteps: state " + std::to_string(i) + " moves " +
-                         std::string(LegName(kAllLegs[o])) + ", not only its moving leg");
+        return "ContactPlanner::MergeSteps: state " + std::to_string(i) + " moves " +
+               std::string(LegName(kAllLegs[o])) + ", not only its moving leg";
       }
     }
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+ContactPlanResult ContactPlanner::MergeSteps(const ContactPlan& plan) {
+  ContactPlanResult result;
+  std::optional<std::string> problem =
+      impl_->context ? MergeProblem(plan) : std::optional<std::string>("ContactPlanner::MergeSteps: no terrain set");
+  if (problem) {
+    result.status = ContactPlanStatus::kInvalidInput;
+    result.reason = std::move(*problem);
+    return result;
+  }
   impl_->budget.Start(impl_->config.time_budget_s);
-  ContactPlan out = plan;
-  out.states = contact_planner_detail::MergeSteps(impl_->ctx(), plan.states, removed);
-  contact_planner_detail::AttachSwings(impl_->ctx(), out.states);
-  return out;
+  result.plan = plan;
+  result.plan.states = contact_planner_detail::MergeSteps(impl_->ctx(), plan.states, &result.stats.steps_merged);
+  contact_planner_detail::AttachSwings(impl_->ctx(), result.plan.states);
+  result.ok = true;
+  result.status = ContactPlanStatus::kOk;
+  result.steps = static_cast<int>(result.plan.states.size()) - 1;
+  result.reached_goal = plan.reaches_goal;
+  result.planning_time_s = impl_->budget.Elapsed();
+  return result;
 }
 
 const ContactPlannerConfig& ContactPlanner::Config() const { return impl_->config; }

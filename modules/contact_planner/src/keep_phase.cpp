@@ -9,47 +9,50 @@
 
 namespace rbcp::contact_planner_detail {
 
+std::string KeepStop::Describe() const {
+  switch (kind) {
+    case Kind::kLeg:
+      return std::string(LegName(leg)) + (leg_failure == KeepFailure::kWorkspace    ? " leaves its workspace"
+                                          : leg_failure == KeepFailure::kKinematics ? " out of kinematic reach"
+                                                                                    : " in collision");
+    case Kind::kBody: return "trunk collision or CoM near the edge of the support polygon";
+    case Kind::kTimeBudget: return "time budget exhausted";
+  }
+  return "unknown keep stop";
+}
+
 KeepCheck KeepAt(const PlannerContext& ctx, const PathTrack& path, const Node& node, double t) {
   KeepCheck check;
   const Eigen::Isometry3d base = StanceBaseAt(ctx, path.At(t), node.shift, node.state.feet).base_W;
   JointVector q = JointVector::Zero();
-  bool all_ok = true;
   for (Leg leg : kAllLegs) {
     const std::size_t i = static_cast<std::size_t>(Index(leg));
     const LegKeep keep = KeepLeg(ctx, leg, base, node.state.feet[i].position);
     check.stretch[i] = keep.stretch;
-    const KeepFailure f = keep.failure;
-    check.failing[i] = f != KeepFailure::kNone;
-    if (f != KeepFailure::kNone) {
-      all_ok = false;
-      if (check.why.empty()) {
-        check.why = std::string(LegName(leg)) +
-                    (f == KeepFailure::kWorkspace    ? " leaves its workspace"
-                     : f == KeepFailure::kKinematics ? " out of kinematic reach"
-                                                     : " in collision");
-      }
+    check.failing[i] = keep.failure != KeepFailure::kNone;
+    if (keep.failure != KeepFailure::kNone) {
+      if (!check.failure) check.failure = KeepStop{KeepStop::Kind::kLeg, leg, keep.failure};
     } else {
       SetLegJoints(q, leg, keep.q);
     }
   }
-  if (!all_ok) return check;
+  if (check.failure) return check;
   bool body_ok = !ctx.stance.TerrainCollision().CheckTrunk(base).collision;
   if (body_ok) body_ok = SupportHolds(ctx, node.state.feet, -1, CoM(ctx, base, q));
   if (!body_ok) {
     // Not attributable to one leg: every leg may step, the most stretched first.
     check.failing.fill(true);
-    check.why = "trunk collision or CoM near the edge of the support polygon";
-    return check;
+    check.failure = KeepStop{KeepStop::Kind::kBody};
   }
-  check.ok = true;
   return check;
 }
 
-KeepResult KeepPhase(const PlannerContext& ctx, const PathTrack& path, const Node& node) {
-  KeepResult result;
+KeptFeetAdvance AdvanceWithFeetKept(const PlannerContext& ctx, const PathTrack& path, const Node& node) {
+  KeptFeetAdvance result;
   const double end = path.End();
-  auto finish = [&](double t_good, const std::array<bool, kNumLegs>& fail, const std::array<double, kNumLegs>& str) {
-    result.t_good = t_good;
+  auto finish = [&](double t_last_keepable, const std::array<bool, kNumLegs>& fail,
+                    const std::array<double, kNumLegs>& str) {
+    result.t_last_keepable = t_last_keepable;
     for (Leg leg : kAllLegs) {
       const std::size_t i = static_cast<std::size_t>(Index(leg));
       result.ranking.push_back({leg, str[i], fail[i]});
@@ -61,8 +64,8 @@ KeepResult KeepPhase(const PlannerContext& ctx, const PathTrack& path, const Nod
     });
   };
   const KeepCheck first = KeepAt(ctx, path, node, node.t);
-  if (!first.ok) {
-    result.why = first.why;
+  if (!first.ok()) {
+    result.stop = first.failure;
     finish(node.t, first.failing, first.stretch);
     return result;
   }
@@ -71,7 +74,7 @@ KeepResult KeepPhase(const PlannerContext& ctx, const PathTrack& path, const Nod
   while (t_ok < end) {
     if (ctx.budget.Exhausted()) {
       // A long path is walked in small steps: the search ends on the budget, not on the path.
-      result.why = "time budget exhausted";
+      result.stop = KeepStop{KeepStop::Kind::kTimeBudget};
       std::array<bool, kNumLegs> every{};
       every.fill(true);
       finish(t_ok, every, ok_stretch);
@@ -79,7 +82,7 @@ KeepResult KeepPhase(const PlannerContext& ctx, const PathTrack& path, const Nod
     }
     const double t = std::min(end, t_ok + ctx.config.path_step_s);
     const KeepCheck next = KeepAt(ctx, path, node, t);
-    if (next.ok) {
+    if (next.ok()) {
       t_ok = t;
       ok_stretch = next.stretch;
       continue;
@@ -90,14 +93,14 @@ KeepResult KeepPhase(const PlannerContext& ctx, const PathTrack& path, const Nod
     while (hi - lo > ctx.config.step_time_resolution_s) {
       const double mid = 0.5 * (lo + hi);
       KeepCheck at_mid = KeepAt(ctx, path, node, mid);
-      if (at_mid.ok) {
+      if (at_mid.ok()) {
         lo = mid;
       } else {
         hi = mid;
         at_hi = std::move(at_mid);
       }
     }
-    result.why = at_hi.why;
+    result.stop = at_hi.failure;
     finish(lo, at_hi.failing, at_hi.stretch);
     return result;
   }

@@ -17,7 +17,7 @@ namespace {
 /// Whether the step from `prev` to `cur` (cur.moving_leg swings, the base moves to cur's pose
 /// first) is valid at lift-off and in the swing: every foot of `prev` reachable at cur's pose
 /// (the swing foot within the lift-off margin), the search's lift-off checks (LiftOffFailure) and
-/// its swing check (SwingProblem).
+/// its swing check (SwingClearanceFailure).
 bool LiftOffValid(const PlannerContext& ctx, const WholeBodyState& prev, const WholeBodyState& cur) {
   const int j = cur.moving_leg;
   StanceBase base;
@@ -25,14 +25,15 @@ bool LiftOffValid(const PlannerContext& ctx, const WholeBodyState& prev, const W
   base.rpy = cur.base_rpy;
   const std::optional<JointVector> q_pre = SolveStance(ctx, base.base_W, prev.feet, j);
   if (!q_pre || LiftOffFailure(ctx, prev, kAllLegs[static_cast<std::size_t>(j)], base, *q_pre)) return false;
-  return SwingProblem(ctx, prev.feet, j, cur.feet[static_cast<std::size_t>(j)].position, base.base_W, cur.joints).empty();
+  return !SwingClearanceFailure(ctx, prev.feet, j, cur.feet[static_cast<std::size_t>(j)].position, base.base_W,
+                                cur.joints);
 }
 
 /// `cur` with its base at `base`, checked at touch-down of its step from `prev`: the `changed`
 /// leg's foot and the new foothold within the workspace box scaled by merge.workspace_scale (the
 /// search placed them for other poses), every foot within the margins, the new foothold's leg
 /// clear of the terrain and apart from the other feet, the touch-down triangle, and the search's
-/// touch-down stance checks (TouchDownStanceProblem). Its joints are solved again. nullopt when
+/// touch-down stance checks (TouchDownStanceFailure). Its joints are solved again. nullopt when
 /// invalid.
 std::optional<WholeBodyState> AtTouchDown(const PlannerContext& ctx, const WholeBodyState& prev, WholeBodyState cur,
                                           int changed, const StanceBase& base) {
@@ -56,7 +57,7 @@ std::optional<WholeBodyState> AtTouchDown(const PlannerContext& ctx, const Whole
   if (ctx.stance.ExactCollision().CheckSelf(*q).collision) return std::nullopt;
   const Eigen::Vector3d com = CoM(ctx, base.base_W, *q);
   if (!SupportHolds(ctx, prev.feet, j, com)) return std::nullopt;
-  if (!TouchDownStanceProblem(ctx, base.base_W, *q, cur.feet, j, com).empty()) return std::nullopt;
+  if (TouchDownStanceFailure(ctx, base.base_W, *q, cur.feet, j, com)) return std::nullopt;
   cur.base_position = base.base_W.translation();
   cur.base_rpy = base.rpy;
   cur.joints = *q;
@@ -79,7 +80,7 @@ std::optional<WholeBodyState> Revalidated(const PlannerContext& ctx, const Whole
   parent.state = prev;
   const SwingShiftResult shifted = SwingShift(ctx, PathPose{cur.base_position, cur.base_rpy.z()}, parent,
                                               kAllLegs[static_cast<std::size_t>(cur.moving_leg)], Eigen::Vector3d::Zero());
-  if (!shifted.shift) return std::nullopt;
+  if (!shifted.ok()) return std::nullopt;
   std::optional<WholeBodyState> valid = AtTouchDown(ctx, prev, cur, changed, shifted.base);
   if (valid && LiftOffValid(ctx, prev, *valid)) return valid;
   return std::nullopt;

@@ -99,16 +99,16 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
     }
     return std::nullopt;
   }
-  const KeepResult keep = KeepPhase(ctx, path, node);
+  const KeptFeetAdvance keep = AdvanceWithFeetKept(ctx, path, node);
   RBCP_CHECK(keep.ranking.size() == static_cast<std::size_t>(kNumLegs), "the keep phase ranks every leg");
   if (keep.reached_end) {
     // The trunk reaches the path end with these feet: the remaining steps happen there.
     for (const auto& [d, leg] : LegsByGoalDistance(ctx, path, node)) node.options.push_back({leg, end, 0, true, 0});
     return std::nullopt;
   }
-  std::vector<double> times = {keep.t_good};
+  std::vector<double> times = {keep.t_last_keepable};
   for (double back : config.retry.earlier_step_s) {
-    const double t = std::max(node.t, keep.t_good - back);
+    const double t = std::max(node.t, keep.t_last_keepable - back);
     if (std::none_of(times.begin(), times.end(), [&](double x) { return std::abs(x - t) < 1e-9; })) times.push_back(t);
   }
   // Crawl prior: after a hind leg, the fore leg on the same side steps next if it must.
@@ -123,26 +123,28 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
   // foot can no longer be kept before then, the failing legs step first: the crawl's leg would
   // step at the failure time, and the failing leg right after it at the same time.
   // A leg at time t with every target lead, then from every other start of the shift search.
-  const auto add_every_variant = [&](Leg leg, double t) {
+  const auto add_every_lead_and_shift_start = [&](Leg leg, double t) {
     for (int lead = 0; lead < n_leads; ++lead) node.options.push_back({leg, t, lead, false, 0});
-    for (int v = 1; v < NumVariants(config); ++v) {
-      if ((BaseVariant(config, node, v) - BaseVariant(config, node, 0)).norm() < 1e-9) continue;  // same start
-      node.options.push_back({leg, t, 0, false, v});
+    for (int start = 1; start < NumShiftStarts(config); ++start) {
+      if ((ShiftStart(config, node, start) - ShiftStart(config, node, 0)).norm() < 1e-9) continue;  // same start
+      node.options.push_back({leg, t, 0, false, start});
     }
   };
   if (gait_advance > 0.0) {
-    const double t_gait = std::min(keep.t_good, node.t + gait_advance);
+    const double t_gait = std::min(keep.t_last_keepable, node.t + gait_advance);
     const Leg gait_leg = node.state.moving_leg < 0 ? ranking.front().leg
                                                    : CrawlNext(kAllLegs[static_cast<std::size_t>(node.state.moving_leg)]);
-    const bool before_failure = node.t + gait_advance < keep.t_good - 1e-9;
+    const bool before_failure = node.t + gait_advance < keep.t_last_keepable - 1e-9;
     const bool gait_leg_fails = std::any_of(ranking.begin(), ranking.end(),
                                             [&](const LegRank& r) { return r.failing && r.leg == gait_leg; });
-    if ((before_failure || gait_leg_fails) && allowed(gait_leg, t_gait)) add_every_variant(gait_leg, t_gait);
+    if ((before_failure || gait_leg_fails) && allowed(gait_leg, t_gait)) {
+      add_every_lead_and_shift_start(gait_leg, t_gait);
+    }
   }
   // Failing legs at the failure time, every lead, then with the other starts of the shift
   // search; then earlier; then the other legs.
   for (const LegRank& r : ranking) {
-    if (r.failing && allowed(r.leg, keep.t_good)) add_every_variant(r.leg, keep.t_good);
+    if (r.failing && allowed(r.leg, keep.t_last_keepable)) add_every_lead_and_shift_start(r.leg, keep.t_last_keepable);
   }
   for (std::size_t k = 1; k < times.size(); ++k) {
     for (const LegRank& r : ranking) {
@@ -155,7 +157,8 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
     }
   }
   if (keep.ranking.front().failing) {
-    return Failure{keep.t_good, Index(keep.ranking.front().leg), keep.why};
+    RBCP_CHECK(keep.stop.has_value(), "a keep phase short of the path end says what stopped it");
+    return Failure{keep.t_last_keepable, Index(keep.ranking.front().leg), *keep.stop};
   }
   return std::nullopt;
 }
@@ -164,14 +167,15 @@ std::optional<Failure> Expand(const PlannerContext& ctx, const PathTrack& path, 
 
 std::string Failure::Describe() const {
   RBCP_CHECK(leg >= -1 && leg < kNumLegs, "failure leg " + std::to_string(leg));
-  std::string r;
-  if (leg >= 0) {
-    r = std::string("no valid step for ") + std::string(LegName(kAllLegs[static_cast<std::size_t>(leg)])) +
-        " at path time " + FixedNumber(t, 2) + " s";
-    if (!why.empty()) r += ": " + why;
-  } else {
-    r = "no valid step: " + why;
-  }
+  const auto what_text = [this]() -> std::string {
+    if (const auto* stop = std::get_if<KeepStop>(&what)) return stop->Describe();
+    if (const auto* step = std::get_if<StepFailure>(&what)) return step->Describe();
+    return "";
+  };
+  if (leg < 0) return "no valid step: " + what_text();
+  std::string r = std::string("no valid step for ") + std::string(LegName(kAllLegs[static_cast<std::size_t>(leg)])) +
+                  " at path time " + FixedNumber(t, 2) + " s";
+  if (!std::holds_alternative<std::monostate>(what)) r += ": " + what_text();
   return r;
 }
 
@@ -194,111 +198,157 @@ std::string EvaluationsReason(const PlannerContext& ctx) {
   return "search bound of " + std::to_string(ctx.config.retry.max_evaluations) + " leg evaluations spent";
 }
 
+/// The depth-first search of Search(): the stack of nodes from the root, the states found to be
+/// dead ends, and the failure furthest along the path.
+class DepthFirstSearch {
+ public:
+  DepthFirstSearch(const PlannerContext& ctx, const PathTrack& path, const CrawlProfile& profile, int max_steps,
+                   std::vector<Node>* path_to_furthest)
+      : ctx_(ctx),
+        path_(path),
+        profile_(profile),
+        max_steps_(max_steps),
+        path_to_furthest_(path_to_furthest),
+        first_evaluation_(ctx.stats.Evaluations()) {}
+
+  ContactPlanResult Run(Node root) {
+    stack_.push_back(std::move(root));
+    if (path_to_furthest_) *path_to_furthest_ = {Unexpanded(stack_.front())};
+    while (true) {
+      if (std::optional<ContactPlanResult> stopped = LimitReached()) return *stopped;
+      RBCP_CHECK(!stack_.empty(), "the root is never undone");
+      Node& node = stack_.back();
+      if (!node.expanded) ExpandTop();
+      if (node.goal) break;
+      if (node.next_option < node.options.size() &&
+          static_cast<int>(node.children.size()) < ctx_.config.retry.max_children_per_state) {
+        TryNextOption();
+        continue;
+      }
+      // Every option failed: undo this node's step.
+      if (stack_.size() == 1 || backtracks_ >= ctx_.config.retry.max_backtracks) {
+        return Failed(ContactPlanStatus::kNoFoothold,
+                      furthest_failure_.Describe() + (stack_.size() == 1 ? "" : " (backtracking limit reached)"));
+      }
+      dead_ends_.insert(KeyOf(stack_.back()));
+      stack_.pop_back();
+      ++backtracks_;
+      ++ctx_.stats.backtracks;
+    }
+    result_.ok = true;
+    result_.status = ContactPlanStatus::kOk;
+    for (const Node& n : stack_) result_.plan.states.push_back(n.state);
+    result_.steps = static_cast<int>(result_.plan.states.size()) - 1;
+    return result_;
+  }
+
+ private:
+  ContactPlanResult Failed(ContactPlanStatus status, const std::string& reason) {
+    result_.ok = false;
+    result_.status = status;
+    result_.reason = reason;
+    result_.failure_time_s = furthest_failure_.t;
+    result_.failure_leg = furthest_failure_.leg;
+    return result_;
+  }
+
+  /// The search's answer when the time budget, the query's evaluation bound or this search's
+  /// share of it is spent; nullopt to go on.
+  std::optional<ContactPlanResult> LimitReached() {
+    const ContactPlannerConfig& config = ctx_.config;
+    if (ctx_.budget.Exhausted()) {
+      return Failed(ContactPlanStatus::kTimeout, "time budget of " + FixedNumber(config.time_budget_s, 2) +
+                                                     " s exhausted; furthest failure: " + furthest_failure_.Describe());
+    }
+    if (EvaluationsSpent(ctx_)) {
+      return Failed(ContactPlanStatus::kNoFoothold,
+                    EvaluationsReason(ctx_) + "; furthest failure: " + furthest_failure_.Describe());
+    }
+    if (ctx_.stats.Evaluations() - first_evaluation_ >= config.retry.max_search_evaluations) {
+      return Failed(ContactPlanStatus::kNoFoothold,
+                    furthest_failure_.Describe() + " (" + std::to_string(config.retry.max_search_evaluations) +
+                        " leg evaluations spent in this search)");
+    }
+    return std::nullopt;
+  }
+
+  /// Gives the top node its options, or marks it the goal (also once max_steps steps are made).
+  void ExpandTop() {
+    Node& node = stack_.back();
+    const int steps = static_cast<int>(stack_.size()) - 1;
+    if (max_steps_ >= 0 && steps >= max_steps_) {
+      node.expanded = true;
+      node.goal = true;
+      result_.reached_goal = false;
+      return;
+    }
+    if (std::optional<Failure> keep_failure = Expand(ctx_, path_, profile_.gait_advance_s, node)) {
+      furthest_failure_.Note(std::move(*keep_failure));
+    }
+    if (node.goal) result_.reached_goal = true;
+  }
+
+  /// Tries the top node's next option: a step found goes on the stack; a stance leg that blocks
+  /// it is re-placed first.
+  void TryNextOption() {
+    Node& node = stack_.back();
+    const Node::Option option = node.options[node.next_option++];
+    const std::tuple<int, long, int> key{Index(option.leg), TimeKey(option.t), option.shift_start};
+    if (node.exhausted.count(key)) return;
+    StepAttempt attempt = TryStep(ctx_, path_, node, option, profile_);
+    if (attempt.blocking) RePlaceFirst(node, option, *attempt.blocking);
+    const StepOutcome outcome = attempt.outcome();
+    if (outcome == StepOutcome::kFound) return Push(node, option, std::move(attempt.child));
+    if (outcome == StepOutcome::kNoCandidate || outcome == StepOutcome::kPoseInvalid) node.exhausted.insert(key);
+    furthest_failure_.Note({option.t, Index(option.leg), std::move(*attempt.failure)});
+  }
+
+  /// A stance leg hits the terrain (a riser, a wall) when the body shifts for this swing, or
+  /// narrows the swing's support triangle: re-place that leg first, at the same time, before the
+  /// remaining options.
+  void RePlaceFirst(Node& node, const Node::Option& option, Leg blocker) const {
+    RBCP_CHECK(blocker != option.leg, "a leg does not block its own lift-off");
+    if (MayStep(ctx_.config, node, blocker, option.t) &&
+        node.repositions.insert({Index(blocker), TimeKey(option.t)}).second) {
+      node.options.insert(node.options.begin() + static_cast<std::ptrdiff_t>(node.next_option),
+                          Node::Option{blocker, option.t, 0, option.goal_step, 0});
+    }
+  }
+
+  /// Puts the child found by `option` on the stack, unless the same step was explored from
+  /// `node` already or its state is a dead end.
+  void Push(Node& node, const Node::Option& option, Node child) {
+    const Eigen::Vector3d& foot = child.state.feet[static_cast<std::size_t>(Index(option.leg))].position;
+    const bool duplicate = std::any_of(node.children.begin(), node.children.end(), [&](const auto& c) {
+      return c.leg == option.leg && std::abs(c.t - child.t) < 1e-9 && (c.foot - foot).norm() < kSameFoothold;
+    });
+    if (duplicate || dead_ends_.count(KeyOf(child))) return;  // reached by another way: failed already
+    node.children.push_back({option.leg, child.t, foot});
+    stack_.push_back(std::move(child));
+    if (path_to_furthest_ && stack_.back().t > path_to_furthest_->back().t + 1e-9) {
+      path_to_furthest_->clear();
+      for (const Node& n : stack_) path_to_furthest_->push_back(Unexpanded(n));
+    }
+  }
+
+  const PlannerContext& ctx_;
+  const PathTrack& path_;
+  const CrawlProfile& profile_;
+  const int max_steps_;
+  std::vector<Node>* const path_to_furthest_;
+  const long long first_evaluation_;
+  ContactPlanResult result_;
+  std::vector<Node> stack_;
+  std::set<StateKey> dead_ends_;
+  Failure furthest_failure_;
+  int backtracks_ = 0;
+};
+
 }  // namespace
 
 ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const CrawlProfile& profile, Node root,
-                         int max_steps, std::vector<Node>* furthest_nodes) {
-  const ContactPlannerConfig& config = ctx.config;
-  ContactPlanResult result;
-  std::vector<Node> stack;
-  stack.push_back(std::move(root));
-  if (furthest_nodes) *furthest_nodes = {Unexpanded(stack.front())};
-  const long long first_evaluation = ctx.stats.Evaluations();
-  int backtracks = 0;
-  std::set<StateKey> dead_ends;
-  Failure furthest;
-  auto finish_fail = [&](ContactPlanStatus status, const std::string& reason) {
-    result.ok = false;
-    result.status = status;
-    result.reason = reason;
-    result.failure_time_s = furthest.t;
-    result.failure_leg = furthest.leg;
-    return result;
-  };
-  while (true) {
-    if (ctx.budget.Exhausted()) {
-      return finish_fail(ContactPlanStatus::kTimeout, "time budget of " + FixedNumber(config.time_budget_s, 2) +
-                                                          " s exhausted; furthest failure: " + furthest.Describe());
-    }
-    if (EvaluationsSpent(ctx)) {
-      return finish_fail(ContactPlanStatus::kNoFoothold, EvaluationsReason(ctx) + "; furthest failure: " +
-                                                             furthest.Describe());
-    }
-    if (ctx.stats.Evaluations() - first_evaluation >= config.retry.max_search_evaluations) {
-      return finish_fail(ContactPlanStatus::kNoFoothold,
-                         furthest.Describe() + " (" + std::to_string(config.retry.max_search_evaluations) +
-                             " leg evaluations spent in this search)");
-    }
-    RBCP_CHECK(!stack.empty(), "the root is never undone");
-    Node& node = stack.back();
-    const int steps = static_cast<int>(stack.size()) - 1;
-    if (!node.expanded) {
-      if (max_steps >= 0 && steps >= max_steps) {
-        node.expanded = true;
-        node.goal = true;
-        result.reached_goal = false;
-      } else {
-        if (const std::optional<Failure> keep_failure = Expand(ctx, path, profile.gait_advance_s, node)) {
-          furthest.Note(*keep_failure);
-        }
-        if (node.goal) result.reached_goal = true;
-      }
-    }
-    if (node.goal) break;
-    if (node.next_option < node.options.size() &&
-        static_cast<int>(node.children.size()) < config.retry.max_children_per_state) {
-      const Node::Option option = node.options[node.next_option++];
-      const std::tuple<int, long, int> key{Index(option.leg), TimeKey(option.t), option.variant};
-      if (node.exhausted.count(key)) continue;
-      StepAttempt attempt = TryStep(ctx, path, node, option, profile);
-      if (attempt.blocking) {
-        // A stance leg hits the terrain (a riser, a wall) when the body shifts for this swing,
-        // or narrows the swing's support triangle: re-place that leg first, at the same time,
-        // before the remaining options.
-        const Leg blocker = *attempt.blocking;
-        RBCP_CHECK(blocker != option.leg, "a leg does not block its own lift-off");
-        if (MayStep(config, node, blocker, option.t) &&
-            node.repositions.insert({Index(blocker), TimeKey(option.t)}).second) {
-          node.options.insert(node.options.begin() + static_cast<std::ptrdiff_t>(node.next_option),
-                              Node::Option{blocker, option.t, 0, option.goal_step, 0});
-        }
-      }
-      if (attempt.outcome == StepOutcome::kFound) {
-        Node& child = attempt.child;
-        const Eigen::Vector3d& foot = child.state.feet[static_cast<std::size_t>(Index(option.leg))].position;
-        const bool duplicate = std::any_of(node.children.begin(), node.children.end(), [&](const auto& c) {
-          return c.leg == option.leg && std::abs(c.t - child.t) < 1e-9 && (c.foot - foot).norm() < kSameFoothold;
-        });
-        if (duplicate || dead_ends.count(KeyOf(child))) continue;  // reached by another way: failed already
-        node.children.push_back({option.leg, child.t, foot});
-        stack.push_back(std::move(child));
-        if (furthest_nodes && stack.back().t > furthest_nodes->back().t + 1e-9) {
-          furthest_nodes->clear();
-          for (const Node& n : stack) furthest_nodes->push_back(Unexpanded(n));
-        }
-        continue;
-      }
-      if (attempt.outcome == StepOutcome::kNoCandidate || attempt.outcome == StepOutcome::kPoseInvalid) {
-        node.exhausted.insert(key);
-      }
-      furthest.Note({option.t, Index(option.leg), std::move(attempt.why)});
-      continue;
-    }
-    // Every option failed: undo this node's step.
-    if (stack.size() == 1 || backtracks >= config.retry.max_backtracks) {
-      return finish_fail(ContactPlanStatus::kNoFoothold,
-                         furthest.Describe() + (stack.size() == 1 ? "" : " (backtracking limit reached)"));
-    }
-    dead_ends.insert(KeyOf(stack.back()));
-    stack.pop_back();
-    ++backtracks;
-    ++ctx.stats.backtracks;
-  }
-  result.ok = true;
-  result.status = ContactPlanStatus::kOk;
-  for (const Node& n : stack) result.plan.states.push_back(n.state);
-  result.steps = static_cast<int>(result.plan.states.size()) - 1;
-  return result;
+                         int max_steps, std::vector<Node>* path_to_furthest) {
+  return DepthFirstSearch(ctx, path, profile, max_steps, path_to_furthest).Run(std::move(root));
 }
 
 namespace {
@@ -462,11 +512,11 @@ class RetrySequence {
                              equilibrium, stats, budget, body_poses};
     const Node& start = task.from_root ? root_ : restart_node_;
     const int steps = max_steps_ < 0 || task.from_root ? max_steps_ : max_steps_ - static_cast<int>(restart_);
-    std::vector<Node> furthest;
+    std::vector<Node> path_to_furthest;
     ContactPlanResult result;
     try {
       result = Search(ctx, path_, profiles_[task.profile], start, steps,
-                      i == 0 && ctx_.config.retry.restart_back_s > 0.0 ? &furthest : nullptr);
+                      i == 0 && ctx_.config.retry.restart_back_s > 0.0 ? &path_to_furthest : nullptr);
     } catch (...) {
       if (in_order) throw;
       // On another thread: handed to Run(), which stops the others and throws it.
@@ -480,22 +530,22 @@ class RetrySequence {
     task.result = std::move(result);
     task.work = stats - before;
     task.done = true;
-    if (i == 0) SetRestart(furthest);
+    if (i == 0) SetRestart(path_to_furthest);
     finished_.notify_all();
   }
 
-  /// The restart state from the first search's furthest states.
-  void SetRestart(const std::vector<Node>& furthest) {
+  /// The restart state from the states of the first search's path to its furthest node.
+  void SetRestart(const std::vector<Node>& path_to_furthest) {
     restart_ = 0;
-    if (furthest.empty()) return;
-    const double t_restart = furthest.back().t - ctx_.config.retry.restart_back_s;
-    for (std::size_t k = 0; k < furthest.size() && furthest[k].t <= t_restart + 1e-9; ++k) restart_ = k;
+    if (path_to_furthest.empty()) return;
+    const double t_restart = path_to_furthest.back().t - ctx_.config.retry.restart_back_s;
+    for (std::size_t k = 0; k < path_to_furthest.size() && path_to_furthest[k].t <= t_restart + 1e-9; ++k) restart_ = k;
     // A piece of a receding horizon counts its steps from the root: the restarted search makes
     // the ones left, and none when the restart state already has them all.
     if (max_steps_ >= 0 && static_cast<int>(restart_) >= max_steps_) restart_ = 0;
     restart_prefix_.clear();
-    for (std::size_t k = 0; k < restart_; ++k) restart_prefix_.push_back(furthest[k].state);
-    if (restart_ > 0) restart_node_ = furthest[restart_];
+    for (std::size_t k = 0; k < restart_; ++k) restart_prefix_.push_back(path_to_furthest[k].state);
+    if (restart_ > 0) restart_node_ = path_to_furthest[restart_];
   }
 
   /// Task i's answer when it ends the sequence (a plan, or a stop for another reason than a

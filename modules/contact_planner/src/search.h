@@ -5,12 +5,16 @@
 /// timings when it runs out of options.
 
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
+#include "keep_phase.h"
 #include "path_track.h"
 #include "planner_context.h"
 #include "rbcp/contact_planner/contact_planner.h"
 #include "search_node.h"
+#include "step_failure.h"
 
 namespace rbcp::contact_planner_detail {
 
@@ -18,23 +22,25 @@ namespace rbcp::contact_planner_detail {
 struct Failure {
   double t = -1.0;  ///< path time [s]; -1 while there is none
   int leg = -1;     ///< Index(Leg) of the leg that could not step; -1 while there is none
-  std::string why;
+  /// What failed: the keep phase's stop (the leg must step there) or the leg's step; none while
+  /// there is none.
+  std::variant<std::monostate, KeepStop, StepFailure> what;
 
   /// Keeps `other` when it lies at least as far along the path (the later of two at one time).
-  void Note(const Failure& other) {
-    if (other.t >= t) *this = other;
+  void Note(Failure other) {
+    if (other.t >= t) *this = std::move(other);
   }
-  /// "no valid step for LF at path time 2.84 s: <why>".
+  /// "no valid step for LF at path time 2.84 s: <what>".
   std::string Describe() const;
 };
 
 /// Searches for steps from `root` along `path` with the crawl `profile`, to the goal or, with
 /// max_steps >= 0, for at most max_steps steps. The result's plan, status, reason, failure time
 /// and leg; the caller sets the planning time and the stats.
-/// With `furthest` set, it receives the states (as unexpanded nodes) from the root to the node
-/// that got furthest along the path.
+/// With `path_to_furthest` set, it receives the states (as unexpanded nodes) from the root to
+/// the node that got furthest along the path.
 ContactPlanResult Search(const PlannerContext& ctx, const PathTrack& path, const CrawlProfile& profile, Node root,
-                         int max_steps, std::vector<Node>* furthest = nullptr);
+                         int max_steps, std::vector<Node>* path_to_furthest = nullptr);
 
 /// Search() with gait_advance_s and base_shift.keep_fraction; when that fails for want of
 /// footholds (not time), again with each of retry.keep_fraction, then with each of

@@ -33,13 +33,13 @@ struct Node {
   struct Option {
     Leg leg;
     double t;
-    int lead;                  ///< index into lead_time_factors
-    bool goal_step;
-    int variant = 0;           ///< start of the shift search, see BaseVariant()
+    int lead_factor_index;     ///< the target's lead: index into foothold.lead_time_factors
+    bool goal_step;            ///< toward the reference foot at the path end
+    int shift_start = 0;       ///< where the shift search starts: index of ShiftStart()
   };
   std::vector<Option> options;
   std::size_t next_option = 0;
-  std::set<std::tuple<int, long, int>> exhausted;  ///< (leg, time key, variant) with no valid candidate
+  std::set<std::tuple<int, long, int>> exhausted;  ///< (leg, time key, shift start) with no valid candidate
   std::set<std::pair<int, long>> repositions;      ///< (leg, time key) added as blocking a lift-off
   struct Child {
     Leg leg;

@@ -46,42 +46,48 @@ Node ChildNode(const CrawlProfile& profile, const Node& parent, const Node::Opti
 std::optional<StepAttempt> LiftOffFailure(const PlannerContext& ctx, const WholeBodyState& from, Leg leg,
                                           const StanceBase& base, const JointVector& q_pre) {
   const int j = Index(leg);
-  const auto invalid = [](std::string why, std::optional<Leg> blocking = std::nullopt) {
-    return StepAttempt{StepOutcome::kPoseInvalid, std::move(why), blocking, Node{}};
+  const auto invalid = [](StepFailure::Kind kind, StanceVerdict verdict = {},
+                          std::optional<Leg> blocking = std::nullopt) {
+    return StepAttempt{StepFailure(kind, std::move(verdict)), blocking, Node{}};
   };
-  const StanceVerdict hit = ctx.stance.LiftOffCollision(base.base_W, q_pre, leg);
+  // A stance leg that meets the terrain, at lift-off or as the body moves, is re-placed first.
+  const auto blocking_leg = [&](const StanceVerdict& v) {
+    return v.check == StanceCheck::kCollision && v.leg != leg ? v.leg : std::nullopt;
+  };
+  StanceVerdict hit = ctx.stance.LiftOffCollision(base.base_W, q_pre, leg);
   if (!hit.ok()) {
-    std::optional<Leg> blocking = hit.check == StanceCheck::kCollision ? hit.leg : std::nullopt;
-    if (blocking == leg) blocking.reset();
-    return invalid(std::string(ToString(hit.check)) + " before lift-off (" + hit.detail + ")", blocking);
+    const std::optional<Leg> blocking = blocking_leg(hit);
+    return invalid(StepFailure::Kind::kLiftOffCollision, std::move(hit), blocking);
   }
   const Eigen::Vector3d com_pre = CoM(ctx, base.base_W, q_pre);
-  if (!SupportHolds(ctx, from.feet, j, com_pre)) return invalid("CoM too close to the swing support triangle at lift-off");
-  if (const StanceVerdict torque = Torques(ctx, base.base_W, q_pre, from.feet, j, com_pre); !torque.ok()) {
-    return invalid("three-foot stance at lift-off: " + torque.detail);
+  if (!SupportHolds(ctx, from.feet, j, com_pre)) return invalid(StepFailure::Kind::kLiftOffSupport);
+  if (StanceVerdict torque = Torques(ctx, base.base_W, q_pre, from.feet, j, com_pre); !torque.ok()) {
+    return invalid(StepFailure::Kind::kLiftOffTorque, std::move(torque));
   }
-  const StanceVerdict shift =
-      ctx.stance.CheckShift(from.base_position, from.base_rpy, base.base_W, base.rpy, from.feet, j);
+  StanceVerdict shift = ctx.stance.CheckShift(from.base_position, from.base_rpy, base.base_W, base.rpy, from.feet, j);
   if (!shift.ok()) {
-    // A stance leg that meets the terrain as the body moves is re-placed first.
-    std::optional<Leg> blocking = shift.check == StanceCheck::kCollision ? shift.leg : std::nullopt;
-    if (blocking == leg) blocking.reset();
-    return invalid("while the body moves to the step pose: " + shift.detail, blocking);
+    const std::optional<Leg> blocking = blocking_leg(shift);
+    return invalid(StepFailure::Kind::kTransit, std::move(shift), blocking);
   }
   return std::nullopt;
 }
 
-std::string TouchDownStanceProblem(const PlannerContext& ctx, const Eigen::Isometry3d& base, const JointVector& q,
-                                   const Feet& feet, int swing, const Eigen::Vector3d& com_W) {
+std::optional<CandidateFailure> TouchDownStanceFailure(const PlannerContext& ctx, const Eigen::Isometry3d& base,
+                                                       const JointVector& q, const Feet& feet, int swing,
+                                                       const Eigen::Vector3d& com_W) {
   const EquilibriumResult eq = ctx.equilibrium.Robustness(Contacts(feet, -1), com_W);
-  if (!ctx.equilibrium.MeetsThreshold(eq)) return "robustness " + FixedNumber(eq.robustness_N, 2) + " N";
-  if (const StanceVerdict four = Torques(ctx, base, q, feet, -1, com_W); !four.ok()) {
-    return "four-foot stance: " + four.detail;
+  if (!ctx.equilibrium.MeetsThreshold(eq)) {
+    CandidateFailure failure(CandidateFailure::Kind::kRobustness);
+    failure.robustness_N = eq.robustness_N;
+    return failure;
   }
-  if (const StanceVerdict three = Torques(ctx, base, q, feet, swing, com_W); !three.ok()) {
-    return "three-foot stance at touch-down: " + three.detail;
+  if (StanceVerdict four = Torques(ctx, base, q, feet, -1, com_W); !four.ok()) {
+    return CandidateFailure(CandidateFailure::Kind::kFourFootTorque, std::move(four));
   }
-  return "";
+  if (StanceVerdict three = Torques(ctx, base, q, feet, swing, com_W); !three.ok()) {
+    return CandidateFailure(CandidateFailure::Kind::kThreeFootTorque, std::move(three));
+  }
+  return std::nullopt;
 }
 
 namespace {
@@ -95,12 +101,14 @@ SwingTrajectory PlannedSwing(const PlannerContext& ctx, const Feet& from_feet, i
 
 }  // namespace
 
-std::string SwingProblem(const PlannerContext& ctx, const Feet& from_feet, int swing, const Eigen::Vector3d& to_W,
-                         const Eigen::Isometry3d& base, const JointVector& q) {
+std::optional<CandidateFailure> SwingClearanceFailure(const PlannerContext& ctx, const Feet& from_feet, int swing,
+                                                      const Eigen::Vector3d& to_W, const Eigen::Isometry3d& base,
+                                                      const JointVector& q) {
   ++ctx.stats.swing_checks;
-  const StanceVerdict v =
+  StanceVerdict v =
       ctx.stance.SwingClearance(PlannedSwing(ctx, from_feet, swing, to_W, base, q), static_cast<Leg>(swing));
-  return v.ok() ? "" : "swing: " + v.detail;
+  if (v.ok()) return std::nullopt;
+  return CandidateFailure(CandidateFailure::Kind::kSwing, std::move(v));
 }
 
 void AttachSwings(const PlannerContext& ctx, std::vector<WholeBodyState>& states) {
@@ -121,16 +129,16 @@ void AttachSwings(const PlannerContext& ctx, std::vector<WholeBodyState>& states
   }
 }
 
-int NumVariants(const ContactPlannerConfig& config) {
+int NumShiftStarts(const ContactPlannerConfig& config) {
   return 2 + static_cast<int>(config.base_shift.lateral_offsets_m.size() + config.base_shift.height_offsets_m.size());
 }
 
-Eigen::Vector3d BaseVariant(const ContactPlannerConfig& config, const Node& parent, int variant) {
-  RBCP_CHECK(variant >= 0 && variant < NumVariants(config), "shift start " + std::to_string(variant));
+Eigen::Vector3d ShiftStart(const ContactPlannerConfig& config, const Node& parent, int shift_start) {
+  RBCP_CHECK(shift_start >= 0 && shift_start < NumShiftStarts(config), "shift start " + std::to_string(shift_start));
   const BaseShiftConfig& bs = config.base_shift;
-  if (variant == 0) return parent.shift;
-  if (variant == 1) return Eigen::Vector3d::Zero();
-  const std::size_t k = static_cast<std::size_t>(variant - 2);
+  if (shift_start == 0) return parent.shift;
+  if (shift_start == 1) return Eigen::Vector3d::Zero();
+  const std::size_t k = static_cast<std::size_t>(shift_start - 2);
   if (k < bs.lateral_offsets_m.size()) return {0.0, bs.lateral_offsets_m[k], 0.0};
   return {0.0, 0.0, bs.height_offsets_m.at(k - bs.lateral_offsets_m.size())};
 }
@@ -149,7 +157,7 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
   // A triangle the CoM cannot get into is widened by the leg before this one in the crawl.
   const Leg widening_leg = CrawlPrevious(swing);
   if (!eroded) {
-    result.why = "support triangle too small";
+    result.failure = StepFailure(StepFailure::Kind::kTriangleTooSmall);
     result.blocking = widening_leg;
     return result;
   }
@@ -169,7 +177,7 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
     base = base_at(shift);
     q_stance = SolveStance(ctx, base.base_W, parent.state.feet, skip);
     if (!q_stance) {
-      result.why = "stance feet out of reach at the step pose";
+      result.failure = StepFailure(StepFailure::Kind::kStanceOutOfReach);
       return result;
     }
   }
@@ -216,149 +224,182 @@ SwingShiftResult SwingShift(const PlannerContext& ctx, const PathPose& pose, con
     return result;
   }
   if (stuck) {
-    result.why = "stance feet out of reach with the body shifted for the swing";
+    result.failure = StepFailure(StepFailure::Kind::kShiftedOutOfReach);
   } else {
-    result.why = "CoM cannot be shifted " + FixedNumber(required) + " m inside the swing support triangle";
+    result.failure = StepFailure(StepFailure::Kind::kCoMNotInside);
+    result.failure->margin_m = required;
     result.blocking = widening_leg;
   }
   return result;
 }
 
-StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node& parent, const Node::Option& option,
-                    const CrawlProfile& profile) {
+namespace {
+
+StepAttempt Failed(StepFailure failure) { return StepAttempt{std::move(failure), std::nullopt, Node{}}; }
+
+/// The pose whose reference foot position a step aims at: the path pose the option's lead ahead,
+/// or the path end for a goal step.
+PathPose TargetPose(const PlannerContext& ctx, const PathTrack& path, const Node::Option& option) {
+  if (option.goal_step) return path.At(path.End());
   const FootholdConfig& fc = ctx.config.foothold;
-  ++ctx.stats.step_attempts;
-  const Leg leg = option.leg;
-  const int j = Index(leg);
-  const PathPose pose = path.At(option.t);
-  SwingShiftResult swing = SwingShift(ctx, pose, parent, leg, BaseVariant(ctx.config, parent, option.variant));
-  if (!swing.shift) return {StepOutcome::kPoseInvalid, std::move(swing.why), swing.blocking, Node{}};
-  const Eigen::Vector3d shift = *swing.shift;
-  const JointVector& q_pre = swing.q;
-  const StanceBase& step_base = swing.base;
-  const Eigen::Isometry3d& base = step_base.base_W;
+  const int k = option.lead_factor_index;
+  RBCP_CHECK(k >= 0 && static_cast<std::size_t>(k) < fc.lead_time_factors.size(), "lead index " + std::to_string(k));
+  const double lead = fc.lead_time_s * fc.lead_time_factors[static_cast<std::size_t>(k)];
+  return LeadPose(path, option.t, lead, fc.max_lead_yaw_rad);
+}
 
-  // The stance before lift-off: collision, swing triangle, torques of the three-foot stance.
-  if (std::optional<StepAttempt> invalid = LiftOffFailure(ctx, parent.state, leg, step_base, q_pre)) {
-    return std::move(*invalid);
-  }
+/// One step's search through its foothold candidates: what every candidate is tested against
+/// (the stance before lift-off at the swing's body shift) and what the candidates tested so far
+/// found.
+struct CandidateSearch {
+  const PlannerContext& ctx;
+  const Node& parent;
+  const Node::Option& option;
+  const SwingShiftResult& swing;  ///< the body shift, base pose and joints before lift-off
+  PathPose ahead_pose;            ///< the look-ahead's path pose (lead_time_s after the step)
+  std::vector<Eigen::Vector3d> swing_failed;  ///< footholds whose swing cannot keep clear
+  int stability_evaluations = 0;              ///< candidates tested for stability
+  std::optional<CandidateFailure> last_reject;
+};
 
-  // Target of the new foothold.
-  PathPose target_pose;
-  if (option.goal_step) {
-    target_pose = path.At(path.End());
-  } else {
-    RBCP_CHECK(option.lead >= 0 && static_cast<std::size_t>(option.lead) < fc.lead_time_factors.size(),
-               "lead index " + std::to_string(option.lead));
-    const double lead = fc.lead_time_s * fc.lead_time_factors[static_cast<std::size_t>(option.lead)];
-    target_pose = LeadPose(path, option.t, lead, fc.max_lead_yaw_rad);
+/// Whether a candidate is passed over untested: too short a step, too close to another foot, or
+/// near a foothold whose swing failed.
+bool PassedOver(const CandidateSearch& s, const Eigen::Vector3d& foothold) {
+  const FootholdConfig& fc = s.ctx.config.foothold;
+  const int j = Index(s.option.leg);
+  if ((foothold - s.parent.state.feet[static_cast<std::size_t>(j)].position).norm() < fc.min_step_length_m) return true;
+  if (!FarEnoughFromFeet(s.ctx, s.parent.state.feet, j, foothold)) return true;
+  return std::any_of(s.swing_failed.begin(), s.swing_failed.end(), [&](const Eigen::Vector3d& f) {
+    return (f - foothold).norm() < fc.swing_failure_radius_m;
+  });
+}
+
+/// The tests of a candidate before its equilibrium: workspace, kinematics, the CoM in the swing
+/// triangle at touch-down, leg and self-collision, and the look-ahead. Sets *q_post and
+/// *com_post (the joints and CoM at touch-down) as far as it gets.
+std::optional<CandidateFailure> PlacementFailure(const CandidateSearch& s, const Eigen::Vector3d& foothold,
+                                                 JointVector* q_post, Eigen::Vector3d* com_post) {
+  const PlannerContext& ctx = s.ctx;
+  const Leg leg = s.option.leg;
+  const Eigen::Isometry3d& base = s.swing.base.base_W;
+  using Kind = CandidateFailure::Kind;
+  const Eigen::Vector3d p_B = base.inverse() * foothold;
+  if (WorkspaceRatio(ctx, leg, p_B) > 1.0) return CandidateFailure(Kind::kWorkspace);
+  const IkResult ik = ctx.robot.SolveLegIk(leg, p_B);
+  if (!ik.ok() || !ctx.robot.KneeBent(ik.q)) return CandidateFailure(Kind::kKinematics);
+  *q_post = s.swing.q;
+  SetLegJoints(*q_post, leg, ik.q);
+  *com_post = CoM(ctx, base, *q_post);
+  if (!SupportHolds(ctx, s.parent.state.feet, Index(leg), *com_post)) return CandidateFailure(Kind::kTouchDownSupport);
+  if (ctx.stance.TerrainCollision().CheckLeg(leg, base, ik.q, true).collision) {
+    return CandidateFailure(Kind::kLegCollision);
   }
+  // The lift-off stance passed the whole self-collision test; only the stepping leg moved.
+  if (ctx.stance.ExactCollision().CheckSelf(*q_post, leg).collision) return CandidateFailure(Kind::kSelfCollision);
+  // Look-ahead: the foot must stay keepable (workspace, kinematics, no collision) at the path
+  // pose lead_time_s later, so it is not placed where the advancing trunk would at once drag
+  // its shank into a riser or a block edge.
+  if (!s.option.goal_step) {
+    std::array<FootContact, kNumLegs> ahead_feet = s.parent.state.feet;
+    ahead_feet[static_cast<std::size_t>(Index(leg))].position = foothold;
+    const Eigen::Isometry3d ahead =
+        StanceBaseAt(ctx, s.ahead_pose, Eigen::Vector3d(0.0, 0.0, s.swing.shift.z()), ahead_feet).base_W;
+    if (KeepLeg(ctx, leg, ahead, foothold).failure != KeepFailure::kNone) return CandidateFailure(Kind::kNotKeepable);
+  }
+  return std::nullopt;
+}
+
+/// Tests candidate c: the step when it passes; a failure when the step ends with it (the
+/// stability cap, too many swings that cannot keep clear); nullopt to go on with the next one.
+std::optional<StepAttempt> TestCandidate(CandidateSearch& s, const Candidate& c, const CrawlProfile& profile) {
+  const PlannerContext& ctx = s.ctx;
+  const FootholdConfig& fc = ctx.config.foothold;
+  const int j = Index(s.option.leg);
+  ++ctx.stats.candidates_evaluated;
+  if (PassedOver(s, c.foothold)) return std::nullopt;
+  JointVector q_post;
+  Eigen::Vector3d com_post;
+  if (std::optional<CandidateFailure> failure = PlacementFailure(s, c.foothold, &q_post, &com_post)) {
+    s.last_reject = std::move(failure);
+    return std::nullopt;
+  }
+  if (s.stability_evaluations >= fc.max_stability_evaluations) {
+    StepFailure capped{StepFailure::Kind::kStabilityCap};
+    capped.count = static_cast<std::size_t>(s.stability_evaluations);
+    capped.last = s.last_reject;
+    return Failed(std::move(capped));
+  }
+  ++s.stability_evaluations;
+  ++ctx.stats.stability_evaluations;
+  const Eigen::Isometry3d& base = s.swing.base.base_W;
+  std::array<FootContact, kNumLegs> feet = s.parent.state.feet;
+  feet[static_cast<std::size_t>(j)].position = c.foothold;
+  feet[static_cast<std::size_t>(j)].normal = ctx.surfaces[static_cast<std::size_t>(c.surface)].Normal();
+  if (std::optional<CandidateFailure> failure = TouchDownStanceFailure(ctx, base, q_post, feet, j, com_post)) {
+    s.last_reject = std::move(failure);
+    return std::nullopt;
+  }
+  // The swing the controller will walk, from this base pose: the last test, and the dearest.
+  if (std::optional<CandidateFailure> failure =
+          SwingClearanceFailure(ctx, s.parent.state.feet, j, c.foothold, base, q_post)) {
+    s.last_reject = std::move(failure);
+    s.swing_failed.push_back(c.foothold);
+    if (static_cast<int>(s.swing_failed.size()) < fc.max_swing_failures) return std::nullopt;
+    StepFailure unclear{StepFailure::Kind::kSwingFailures};
+    unclear.count = s.swing_failed.size();
+    unclear.last = s.last_reject;
+    return Failed(std::move(unclear));
+  }
+  return StepAttempt{std::nullopt, std::nullopt,
+                     ChildNode(profile, s.parent, s.option, s.swing.base, q_post, feet, s.swing.shift)};
+}
+
+/// The candidates toward the target pose's reference foot, until one passes: those near the
+/// target first (most steps end there, and the database query is the planner's main cost), then
+/// the rest of the workspace.
+StepAttempt SearchCandidates(CandidateSearch& s, const PathPose& target_pose, const CrawlProfile& profile) {
+  const PlannerContext& ctx = s.ctx;
+  const Leg leg = s.option.leg;
   const Eigen::Vector3d target = PathBasePose(target_pose) * ctx.robot.ReferenceFootPosition(leg);
-  const Eigen::Isometry3d T_BW = base.inverse();
-  const Eigen::Vector3d old_foot = parent.state.feet[static_cast<std::size_t>(j)].position;
-  const std::vector<Eigen::Vector3d> stance = FeetPositions(parent.state.feet, j);
-  // The pose of the look-ahead below (the path pose lead_time_s later).
-  const PathPose ahead_pose = LeadPose(path, option.t, fc.lead_time_s, fc.max_lead_yaw_rad);
-  int lp_evaluations = 0;
-  std::vector<Eigen::Vector3d> swing_failed;  // footholds whose swing cannot keep clear
+  const double near_half = ctx.config.foothold.near_query_half_m;
   std::size_t candidates_seen = 0;
-  std::string last_reject;
-  // Footholds near the target first (most steps end there, and the database query is the
-  // planner's main cost), then the rest of the workspace.
-  const double near_half = fc.near_query_half_m;
   for (int stage = near_half > 0.0 ? 0 : 1; stage < 2; ++stage) {
     const std::vector<Candidate> cands =
-        RankedCandidates(ctx, leg, base, target, target_pose.yaw, stage == 0 ? near_half : 0.0);
-    if (ctx.budget.Exhausted()) return {StepOutcome::kCapped, "time budget exhausted", std::nullopt, Node{}};
+        RankedCandidates(ctx, leg, s.swing.base.base_W, target, target_pose.yaw, stage == 0 ? near_half : 0.0);
+    if (ctx.budget.Exhausted()) return Failed(StepFailure(StepFailure::Kind::kTimeBudget));
     candidates_seen += stage == 0 ? cands.size() : 0;
     for (const Candidate& c : cands) {
       if (stage == 1 && near_half > 0.0 && ((c.foothold - target).head<2>().cwiseAbs().array() < near_half).all()) {
         continue;  // evaluated in the first stage
       }
       if (stage == 1) ++candidates_seen;
-      if (ctx.budget.Exhausted()) return {StepOutcome::kCapped, "time budget exhausted", std::nullopt, Node{}};
-      ++ctx.stats.candidates_evaluated;
-      if ((c.foothold - old_foot).norm() < fc.min_step_length_m) continue;
-      if (!FarEnoughFromFeet(ctx, parent.state.feet, j, c.foothold)) continue;
-      if (std::any_of(swing_failed.begin(), swing_failed.end(), [&](const Eigen::Vector3d& f) {
-            return (f - c.foothold).norm() < fc.swing_failure_radius_m;
-          })) {
-        continue;
-      }
-      const Eigen::Vector3d p_B = T_BW * c.foothold;
-      if (WorkspaceRatio(ctx, leg, p_B) > 1.0) {
-        last_reject = "outside the workspace";
-        continue;
-      }
-      const IkResult ik = ctx.robot.SolveLegIk(leg, p_B);
-      if (!ik.ok() || !ctx.robot.KneeBent(ik.q)) {
-        last_reject = "kinematics";
-        continue;
-      }
-      JointVector q_post = q_pre;
-      SetLegJoints(q_post, leg, ik.q);
-      const Eigen::Vector3d com_post = CoM(ctx, base, q_post);
-      if (!SupportHolds(ctx, parent.state.feet, j, com_post)) {
-        last_reject = "CoM near the swing triangle edge at touch-down";
-        continue;
-      }
-      if (ctx.stance.TerrainCollision().CheckLeg(leg, base, ik.q, true).collision) {
-        last_reject = "leg collision";
-        continue;
-      }
-      // The lift-off stance passed the whole self-collision test; only the stepping leg moved.
-      if (ctx.stance.ExactCollision().CheckSelf(q_post, leg).collision) {
-        last_reject = "self-collision";
-        continue;
-      }
-      // Look-ahead: the foot must stay keepable (workspace, kinematics, no collision) at the path
-      // pose lead_time_s later, so it is not placed where the advancing trunk would at once drag
-      // its shank into a riser or a block edge.
-      if (!option.goal_step) {
-        std::array<FootContact, kNumLegs> ahead_feet = parent.state.feet;
-        ahead_feet[static_cast<std::size_t>(j)].position = c.foothold;
-        const Eigen::Isometry3d ahead =
-            StanceBaseAt(ctx, ahead_pose, Eigen::Vector3d(0.0, 0.0, shift.z()), ahead_feet).base_W;
-        if (KeepLeg(ctx, leg, ahead, c.foothold).failure != KeepFailure::kNone) {
-          last_reject = "not keepable as the trunk advances";
-          continue;
-        }
-      }
-      if (lp_evaluations >= fc.max_stability_evaluations) {
-        return {StepOutcome::kCapped,
-                "no stable foothold among the " + std::to_string(lp_evaluations) + " best candidates (last: " +
-                    last_reject + ")",
-                std::nullopt, Node{}};
-      }
-      ++lp_evaluations;
-      ++ctx.stats.stability_evaluations;
-      std::array<FootContact, kNumLegs> feet = parent.state.feet;
-      feet[static_cast<std::size_t>(j)].position = c.foothold;
-      feet[static_cast<std::size_t>(j)].normal = ctx.surfaces[static_cast<std::size_t>(c.surface)].Normal();
-      if (std::string problem = TouchDownStanceProblem(ctx, base, q_post, feet, j, com_post); !problem.empty()) {
-        last_reject = std::move(problem);
-        continue;
-      }
-      // The swing the controller will walk, from this base pose: the last test, and the dearest.
-      if (std::string problem = SwingProblem(ctx, parent.state.feet, j, c.foothold, base, q_post); !problem.empty()) {
-        last_reject = std::move(problem);
-        swing_failed.push_back(c.foothold);
-        if (static_cast<int>(swing_failed.size()) >= fc.max_swing_failures) {
-          return {StepOutcome::kNoCandidate,
-                  "the swings to the " + std::to_string(swing_failed.size()) + " best footholds cannot keep clear (last: " +
-                      last_reject + ")",
-                  std::nullopt, Node{}};
-        }
-        continue;
-      }
-      return {StepOutcome::kFound, "", std::nullopt, ChildNode(profile, parent, option, step_base, q_post, feet, shift)};
+      if (ctx.budget.Exhausted()) return Failed(StepFailure(StepFailure::Kind::kTimeBudget));
+      if (std::optional<StepAttempt> end = TestCandidate(s, c, profile)) return std::move(*end);
     }
   }
-  if (candidates_seen == 0) last_reject = "no database sample near a contact surface";
-  return {StepOutcome::kNoCandidate,
-          "no valid foothold among " + std::to_string(candidates_seen) + " candidates" +
-              (last_reject.empty() ? "" : " (last rejected: " + last_reject + ")"),
-          std::nullopt, Node{}};
+  StepFailure none{StepFailure::Kind::kNoFoothold};
+  none.count = candidates_seen;
+  none.last = s.last_reject;
+  return Failed(std::move(none));
+}
+
+}  // namespace
+
+StepAttempt TryStep(const PlannerContext& ctx, const PathTrack& path, const Node& parent, const Node::Option& option,
+                    const CrawlProfile& profile) {
+  const FootholdConfig& fc = ctx.config.foothold;
+  ++ctx.stats.step_attempts;
+  SwingShiftResult swing =
+      SwingShift(ctx, path.At(option.t), parent, option.leg, ShiftStart(ctx.config, parent, option.shift_start));
+  if (!swing.ok()) return {std::move(swing.failure), swing.blocking, Node{}};
+  // The stance before lift-off: collision, swing triangle, torques of the three-foot stance.
+  if (std::optional<StepAttempt> invalid = LiftOffFailure(ctx, parent.state, option.leg, swing.base, swing.q)) {
+    return std::move(*invalid);
+  }
+  const PathPose target_pose = TargetPose(ctx, path, option);
+  const PathPose ahead_pose = LeadPose(path, option.t, fc.lead_time_s, fc.max_lead_yaw_rad);
+  CandidateSearch search{ctx, parent, option, swing, ahead_pose, {}, 0, std::nullopt};
+  return SearchCandidates(search, target_pose, profile);
 }
 
 }  // namespace rbcp::contact_planner_detail

@@ -516,8 +516,10 @@ TEST(ContactPlannerTest, MergingRemovesAStepTakenInTwo) {
   split.states.insert(split.states.begin() + static_cast<std::ptrdiff_t>(k), half);
   ExpectValidPlan(split, world, w.samples);
 
-  int removed = 0;
-  const ContactPlan merged = w.planner.MergeSteps(split, &removed);
+  const ContactPlanResult merging = w.planner.MergeSteps(split);
+  ASSERT_TRUE(merging.ok) << merging.reason;
+  const ContactPlan& merged = merging.plan;
+  const int removed = merging.stats.steps_merged;
   EXPECT_GE(removed, 1);
   ASSERT_EQ(merged.states.size(), split.states.size() - static_cast<std::size_t>(removed));
   EXPECT_LE(merged.states.size(), w.full.plan.states.size());
@@ -530,10 +532,12 @@ TEST(ContactPlannerTest, MergingRemovesAStepTakenInTwo) {
   // A plan whose states are not one step apart, or with a NaN, is refused.
   ContactPlan jumbled = w.full.plan;
   std::swap(jumbled.states[1], jumbled.states[3]);
-  EXPECT_THROW(w.planner.MergeSteps(jumbled), InputError);
+  const ContactPlanResult refused = w.planner.MergeSteps(jumbled);
+  EXPECT_EQ(refused.status, ContactPlanStatus::kInvalidInput);
+  EXPECT_NE(refused.reason.find("not only its moving leg"), std::string::npos) << refused.reason;
   ContactPlan not_finite = w.full.plan;
   not_finite.states[2].feet[1].normal.z() = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(w.planner.MergeSteps(not_finite), InputError);
+  EXPECT_EQ(w.planner.MergeSteps(not_finite).reason, "ContactPlanner::MergeSteps: state 2 is not finite");
 }
 
 TEST(ContactPlannerTest, MergingShortensARubblePlanAndKeepsItValid) {
@@ -562,9 +566,10 @@ TEST(ContactPlannerTest, MergingShortensARubblePlanAndKeepsItValid) {
   for (std::size_t i = 0; i < static_cast<std::size_t>(kNumLegs); ++i) {
     EXPECT_EQ(merged.plan.states.back().feet[i].position, plain.plan.states.back().feet[i].position);
   }
-  int removed = 0;
-  const ContactPlan after = unmerging.MergeSteps(plain.plan, &removed);
-  EXPECT_EQ(removed, merged.stats.steps_merged);
+  const ContactPlanResult merged_after = unmerging.MergeSteps(plain.plan);
+  ASSERT_TRUE(merged_after.ok) << merged_after.reason;
+  const ContactPlan& after = merged_after.plan;
+  EXPECT_EQ(merged_after.stats.steps_merged, merged.stats.steps_merged);
   ASSERT_EQ(after.states.size(), merged.plan.states.size());
   for (std::size_t k = 0; k < after.states.size(); ++k) {
     EXPECT_EQ(after.states[k].base_position, merged.plan.states[k].base_position);

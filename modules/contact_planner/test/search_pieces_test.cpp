@@ -45,7 +45,7 @@ class SearchPieces : public ::testing::Test {
   /// The node standing at the path start.
   Node Start() {
     const StandingResult standing = StandingAt(ctx_, path_->At(0.0).p, 0.0);
-    EXPECT_TRUE(standing.state.has_value()) << standing.why;
+    EXPECT_TRUE(standing.state.has_value()) << standing.failure->Describe();
     Node node;
     node.state = *standing.state;
     node.t = 0.0;
@@ -67,14 +67,14 @@ class SearchPieces : public ::testing::Test {
 
 TEST_F(SearchPieces, TheKeepPhaseAdvancesUntilAFootCanNoLongerBeKept) {
   const Node start = Start();
-  const KeepResult keep = KeepPhase(ctx_, *path_, start);
+  const KeptFeetAdvance keep = AdvanceWithFeetKept(ctx_, *path_, start);
   EXPECT_FALSE(keep.reached_end);
-  EXPECT_GT(keep.t_good, start.t) << "the trunk advances some way on the standing feet";
-  EXPECT_LT(keep.t_good, path_->End());
-  EXPECT_TRUE(KeepAt(ctx_, *path_, start, keep.t_good).ok);
-  const KeepCheck beyond = KeepAt(ctx_, *path_, start, keep.t_good + 2.0 * config_.step_time_resolution_s);
-  EXPECT_FALSE(beyond.ok);
-  EXPECT_FALSE(beyond.why.empty());
+  EXPECT_GT(keep.t_last_keepable, start.t) << "the trunk advances some way on the standing feet";
+  EXPECT_LT(keep.t_last_keepable, path_->End());
+  EXPECT_TRUE(KeepAt(ctx_, *path_, start, keep.t_last_keepable).ok());
+  const KeepCheck beyond = KeepAt(ctx_, *path_, start, keep.t_last_keepable + 2.0 * config_.step_time_resolution_s);
+  ASSERT_FALSE(beyond.ok());
+  EXPECT_FALSE(beyond.failure->Describe().empty());
   // Every leg ranked once, the failing ones first.
   ASSERT_EQ(keep.ranking.size(), static_cast<std::size_t>(kNumLegs));
   EXPECT_TRUE(keep.ranking.front().failing);
@@ -86,13 +86,14 @@ TEST_F(SearchPieces, TheKeepPhaseAdvancesUntilAFootCanNoLongerBeKept) {
 
 TEST_F(SearchPieces, AStepAttemptFindsAFootholdTheControllerCanWalkTo) {
   const Node start = Start();
-  const KeepResult keep = KeepPhase(ctx_, *path_, start);
+  const KeptFeetAdvance keep = AdvanceWithFeetKept(ctx_, *path_, start);
   const Leg leg = keep.ranking.front().leg;
-  const StepAttempt attempt = TryStep(ctx_, *path_, start, Node::Option{leg, keep.t_good, 0, false, 0}, CrawlProfile{});
-  ASSERT_EQ(attempt.outcome, StepOutcome::kFound) << attempt.why;
+  const StepAttempt attempt =
+      TryStep(ctx_, *path_, start, Node::Option{leg, keep.t_last_keepable, 0, false, 0}, CrawlProfile{});
+  ASSERT_EQ(attempt.outcome(), StepOutcome::kFound) << attempt.failure->Describe();
   const WholeBodyState& after = attempt.child.state;
   EXPECT_EQ(after.moving_leg, Index(leg));
-  EXPECT_DOUBLE_EQ(attempt.child.t, keep.t_good);
+  EXPECT_DOUBLE_EQ(attempt.child.t, keep.t_last_keepable);
   const std::size_t i = static_cast<std::size_t>(Index(leg));
   EXPECT_GT(after.feet[i].position.x(), start.state.feet[i].position.x()) << "the foot steps ahead";
   for (std::size_t other = 0; other < after.feet.size(); ++other) {
@@ -110,8 +111,10 @@ TEST_F(SearchPieces, AStepAttemptFailsWithAReasonWhereNoStanceIsValid) {
   const Node start = Start();
   const StepAttempt attempt =
       TryStep(ctx_, *path_, start, Node::Option{Leg::kLF, 0.8 * path_->End(), 0, false, 0}, CrawlProfile{});
-  EXPECT_EQ(attempt.outcome, StepOutcome::kPoseInvalid);
-  EXPECT_NE(attempt.why.find("out of reach"), std::string::npos) << attempt.why;
+  EXPECT_EQ(attempt.outcome(), StepOutcome::kPoseInvalid);
+  ASSERT_TRUE(attempt.failure.has_value());
+  EXPECT_EQ(attempt.failure->kind, StepFailure::Kind::kStanceOutOfReach) << attempt.failure->Describe();
+  EXPECT_NE(attempt.failure->Describe().find("out of reach"), std::string::npos) << attempt.failure->Describe();
 }
 
 TEST_F(SearchPieces, MergingRemovesAStepAndKeepsEveryStepWalkable) {
@@ -124,7 +127,7 @@ TEST_F(SearchPieces, MergingRemovesAStepAndKeepsEveryStepWalkable) {
     // The body shift of the swing, as the search finds it.
     const PathPose pose = path_->At(0.3 * static_cast<double>(states.size()));
     const SwingShiftResult shifted = SwingShift(ctx_, pose, parent, leg, Eigen::Vector3d::Zero());
-    ASSERT_TRUE(shifted.shift.has_value()) << shifted.why;
+    ASSERT_TRUE(shifted.ok()) << shifted.failure->Describe();
     WholeBodyState next = states.back();
     next.moving_leg = Index(leg);
     next.feet[static_cast<std::size_t>(Index(leg))].position.x() += dx;
@@ -155,6 +158,34 @@ TEST_F(SearchPieces, MergingRemovesAStepAndKeepsEveryStepWalkable) {
     const StanceVerdict v = stance_.CheckStep(merged[k - 1], merged[k]);
     EXPECT_TRUE(v.ok()) << "state " << k << ": " << v.Describe();
   }
+}
+
+TEST(StepFailureTest, SaysWhatFailedWithItsNumbersAndHowTheStepEnded) {
+  StepFailure none(StepFailure::Kind::kNoFoothold);
+  none.count = 12;
+  none.last = CandidateFailure(CandidateFailure::Kind::kRobustness);
+  none.last->robustness_N = 2.104;
+  EXPECT_EQ(none.Describe(), "no valid foothold among 12 candidates (last rejected: robustness 2.10 N)");
+  EXPECT_EQ(none.Outcome(), StepOutcome::kNoCandidate);
+  EXPECT_EQ(StepFailure(StepFailure::Kind::kNoFoothold).Describe(),
+            "no valid foothold among 0 candidates (last rejected: no database sample near a contact surface)");
+
+  StepFailure capped(StepFailure::Kind::kStabilityCap);
+  capped.count = 3;
+  capped.last = CandidateFailure(CandidateFailure::Kind::kKinematics);
+  EXPECT_EQ(capped.Describe(), "no stable foothold among the 3 best candidates (last: kinematics)");
+  EXPECT_EQ(capped.Outcome(), StepOutcome::kCapped);
+
+  StepFailure off_centre(StepFailure::Kind::kCoMNotInside);
+  off_centre.margin_m = 0.03;
+  EXPECT_EQ(off_centre.Describe(), "CoM cannot be shifted 0.030 m inside the swing support triangle");
+  EXPECT_EQ(off_centre.Outcome(), StepOutcome::kPoseInvalid);
+
+  StanceVerdict torque;
+  torque.check = StanceCheck::kTorque;
+  torque.detail = "LF_KFE 45.0 Nm";
+  EXPECT_EQ(StepFailure(StepFailure::Kind::kLiftOffTorque, torque).Describe(),
+            "three-foot stance at lift-off: LF_KFE 45.0 Nm");
 }
 
 }  // namespace

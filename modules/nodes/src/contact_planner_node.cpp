@@ -111,17 +111,19 @@ void ContactPlannerNode::set_verbose(bool verbose) {
   status_.set_verbose(verbose);
 }
 
-std::optional<std::string> ContactPlannerNode::TakeInputs() {
-  if (auto e = root_path_.TakeDecodeError()) return e;
-  if (auto e = robot_state_.TakeDecodeError()) return e;
-  if (auto e = controller_.TakeDecodeError()) return e;
+std::optional<RejectedInput> ContactPlannerNode::TakeInputs() {
+  if (auto e = root_path_.TakeDecodeError()) return RejectedInput::Undecodable(std::move(*e));
+  if (auto e = robot_state_.TakeDecodeError()) return RejectedInput::Undecodable(std::move(*e));
+  if (auto e = controller_.TakeDecodeError()) return RejectedInput::Undecodable(std::move(*e));
   if (const auto& state = robot_state_.Latest()) {
-    if (std::string bad = clock_.World(state->utime, options_.robot_state_channel); !bad.empty()) return bad;
+    if (auto bad = clock_.World(state->utime, options_.robot_state_channel)) {
+      return RejectedInput::Time(std::move(*bad));
+    }
   }
   if (auto e = world_.Take(&clock_)) return e;
   if (world_.TakeChanged()) {
     world_set_ = false;
-    next_.reset();
+    plan_made_ahead_.reset();
     if (world_.Ready()) {
       const TriangleMesh& mesh = *world_.terrain();
       terrain_min_xy_ = terrain_max_xy_ = mesh.vertices.front().head<2>();
@@ -129,17 +131,17 @@ std::optional<std::string> ContactPlannerNode::TakeInputs() {
         terrain_min_xy_ = terrain_min_xy_.cwiseMin(v.head<2>());
         terrain_max_xy_ = terrain_max_xy_.cwiseMax(v.head<2>());
       }
-      if (world_.surfaces()->empty()) return std::string("affordances: the terrain has no contact surface");
+      if (world_.surfaces()->empty()) return RejectedInput::Content("affordances: the terrain has no contact surface");
       try {
         planner_.SetTerrain(mesh, *world_.surfaces());
         world_set_ = true;
       } catch (const std::exception& e) {
-        return std::string("terrain: ") + e.what();
+        return RejectedInput::Content(std::string("terrain: ") + e.what());
       }
     }
   }
   if (auto msg = root_path_.Take()) {
-    if (std::string bad = clock_.Input(msg->utime, options_.root_path_channel); !bad.empty()) return bad;
+    if (auto bad = clock_.Input(msg->utime, options_.root_path_channel)) return RejectedInput::Time(std::move(*bad));
     pending_ = *msg;
   }
   return std::nullopt;
@@ -161,7 +163,7 @@ void ContactPlannerNode::LogWaiting() {
 
 bool ContactPlannerNode::Step() {
   if (auto rejected = TakeInputs()) {
-    status_.Failed(Now(), Now(), 0.0, *rejected);
+    status_.Failed(Now(), Now(), 0.0, rejected->Describe());
     return true;
   }
   LogWaiting();
@@ -214,7 +216,7 @@ bool ContactPlannerNode::IsRepeat(const rbcp_msgs::root_path_t& msg, const std::
 void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   std::vector<RootPathSample> samples;
   if (auto problem = ToSamples(msg, &samples)) {
-    status_.Failed(Now(), msg.utime, 0.0, *problem);
+    status_.Failed(Now(), msg.utime, 0.0, problem->Describe());
     return;
   }
   if (IsRepeat(msg, samples)) return;  // the root planner repeats its path for late processes
@@ -230,7 +232,7 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   answered_since_.reset();  // a wait already answered on the old path gets a plan on the new one
   last_plan_.reset();
   answer_.reset();
-  next_.reset();
+  plan_made_ahead_.reset();
   if (verbose_) {
     std::fprintf(stderr, "[%s] following the root path of request %lld: %zu points, %.2f s\n", kProcessName,
                  static_cast<long long>(msg.request_id), path_.size(), path_.back().t - path_.front().t);
@@ -254,36 +256,105 @@ std::size_t ContactPlannerNode::PathProgress(const Eigen::Vector3d& base_W, doub
   return nearest;
 }
 
-std::optional<std::string> ContactPlannerNode::StanceDeviation(const WholeBodyState& measured,
-                                                               const WholeBodyState& expected) const {
+std::string StanceDeviation::Describe() const {
   std::ostringstream os;
   os.precision(3);
+  switch (kind) {
+    case Kind::kFoothold: os << LegName(leg) << " stands " << amount << " m from its planned foothold"; break;
+    case Kind::kBasePosition: os << "the base is " << amount << " m from its planned position"; break;
+    case Kind::kBaseOrientation: os << "the base is " << amount << " rad from its planned orientation"; break;
+  }
+  return os.str();
+}
+
+std::string PlanAheadMissed::Describe() const {
+  switch (kind) {
+    case Kind::kNone: return "no plan made ahead";
+    case Kind::kOtherPlan: return "the robot walks another plan than the one planned ahead";
+    case Kind::kStanceDeviates: return deviation ? deviation->Describe() : "the robot stands elsewhere";
+    case Kind::kFailed: return "the plan made ahead failed";
+  }
+  return "the plan made ahead is not taken";
+}
+
+std::optional<StanceDeviation> ContactPlannerNode::Deviation(const WholeBodyState& measured,
+                                                             const WholeBodyState& expected) const {
   for (std::size_t i = 0; i < measured.feet.size(); ++i) {
     const double d = (measured.feet[i].position - expected.feet[i].position).norm();
-    if (d > 0.0) {
-      os << LegName(kAllLegs[i]) << " stands " << d << " m from its planned foothold";
-      return os.str();
-    }
+    if (d > 0.0) return StanceDeviation{StanceDeviation::Kind::kFoothold, kAllLegs[i], d};
   }
   const double dp = (measured.base_position - expected.base_position).norm();
-  if (dp > options_.base_match_m) {
-    os << "the base is " << dp << " m from its planned position";
-    return os.str();
-  }
+  if (dp > options_.base_match_m) return StanceDeviation{StanceDeviation::Kind::kBasePosition, Leg::kLF, dp};
   const double drpy = OrientationDifference(measured, expected);
-  if (drpy > options_.base_match_rad) {
-    os << "the base is " << drpy << " rad from its planned orientation";
-    return os.str();
+  if (drpy > options_.base_match_rad) return StanceDeviation{StanceDeviation::Kind::kBaseOrientation, Leg::kLF, drpy};
+  return std::nullopt;
+}
+
+const WholeBodyState* ContactPlannerNode::ReachedPlanState(const rbcp_msgs::controller_status_t& controller) const {
+  if (!last_plan_ || controller.plan_seq != plan_seq_) return nullptr;
+  const long walked = static_cast<long>(controller.steps_done) - static_cast<long>(plan_start_steps_);
+  if (walked < 1 || walked >= static_cast<long>(last_plan_->states.size())) return nullptr;
+  return &last_plan_->states[static_cast<std::size_t>(walked)];
+}
+
+void ContactPlannerNode::SnapToLastPlan(const rbcp_msgs::controller_status_t& controller,
+                                        WholeBodyState* stance) const {
+  if (!last_plan_) return;
+  // A foot still on a foothold of the previous plan stands exactly there: the one of the state
+  // the robot should have reached, else the nearest.
+  const WholeBodyState* reached = ReachedPlanState(controller);
+  int on_plan = 0;
+  for (std::size_t i = 0; i < stance->feet.size(); ++i) {
+    const FootContact* match = nullptr;
+    double best_d = options_.foothold_match_m;
+    if (reached && (reached->feet[i].position - stance->feet[i].position).norm() <= best_d) {
+      match = &reached->feet[i];
+    }
+    for (const WholeBodyState& s : last_plan_->states) {
+      if (match) break;
+      const double d = (s.feet[i].position - stance->feet[i].position).norm();
+      if (d <= best_d) {
+        best_d = d;
+        match = &s.feet[i];
+      }
+    }
+    if (match) {
+      stance->feet[i] = *match;
+      ++on_plan;
+    }
   }
+  if (!reached) return;
+  // The crawl goes on from the last step the robot walked of that plan.
+  stance->moving_leg = reached->moving_leg;
+  // On the planned footholds, the base stands where the plan put it: the controller walks the
+  // plan's base poses, and what it measures off them is its tracking error.
+  if (on_plan == static_cast<int>(stance->feet.size()) &&
+      (stance->base_position - reached->base_position).norm() <= options_.base_match_m &&
+      OrientationDifference(*stance, *reached) <= options_.base_match_rad) {
+    stance->base_position = reached->base_position;
+    stance->base_rpy = reached->base_rpy;
+  }
+}
+
+std::optional<PlanAheadMissed> ContactPlannerNode::WhyNotPlannedAhead(const std::optional<PlanMadeAhead>& ahead,
+                                                                      const WholeBodyState& stance,
+                                                                      int64_t walked_plan_seq) const {
+  using Kind = PlanAheadMissed::Kind;
+  if (!ahead) return PlanAheadMissed{Kind::kNone, std::nullopt};
+  if (ahead->after_plan_seq != walked_plan_seq) return PlanAheadMissed{Kind::kOtherPlan, std::nullopt};
+  if (std::optional<StanceDeviation> deviation = Deviation(stance, ahead->expected)) {
+    return PlanAheadMissed{Kind::kStanceDeviates, deviation};
+  }
+  if (!ahead->result.ok) return PlanAheadMissed{Kind::kFailed, std::nullopt};
   return std::nullopt;
 }
 
 void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_msgs::controller_status_t& controller) {
   status_.Busy(Now(), msg.utime);
-  const auto fail = [&](const std::string& why, double ms = 0.0) {
+  const auto fail = [&](const std::string& why) {
     last_result_.reset();
-    next_.reset();
-    status_.Failed(Now(), msg.utime, ms, why);
+    plan_made_ahead_.reset();
+    status_.Failed(Now(), msg.utime, 0.0, why);
   };
   RobotState measured;
   try {
@@ -298,48 +369,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   std::optional<WholeBodyState> stance =
       planner_.MeasuredStance(measured.base_position_W, rpy, feet_W, options_.max_foot_offset_m, &why);
   if (!stance) return fail("measured stance: " + why);
-  if (last_plan_) {
-    // A foot still on a foothold of the previous plan stands exactly there: the one of the state
-    // the robot should have reached, else the nearest.
-    const long walked = static_cast<long>(controller.steps_done) - static_cast<long>(plan_start_steps_);
-    const WholeBodyState* reached =
-        controller.plan_seq == plan_seq_ && walked >= 1 && walked < static_cast<long>(last_plan_->states.size())
-            ? &last_plan_->states[static_cast<std::size_t>(walked)]
-            : nullptr;
-    int on_plan = 0;
-    for (std::size_t i = 0; i < stance->feet.size(); ++i) {
-      const FootContact* match = nullptr;
-      double best_d = options_.foothold_match_m;
-      if (reached && (reached->feet[i].position - stance->feet[i].position).norm() <= best_d) {
-        match = &reached->feet[i];
-      }
-      for (const WholeBodyState& s : last_plan_->states) {
-        if (match) break;
-        const double d = (s.feet[i].position - stance->feet[i].position).norm();
-        if (d <= best_d) {
-          best_d = d;
-          match = &s.feet[i];
-        }
-      }
-      if (match) {
-        stance->feet[i] = *match;
-        ++on_plan;
-      }
-    }
-    // The crawl goes on from the last step the robot walked of that plan.
-    if (reached) {
-      const WholeBodyState& planned = *reached;
-      stance->moving_leg = planned.moving_leg;
-      // On the planned footholds, the base stands where the plan put it: the controller walks the
-      // plan's base poses, and what it measures off them is its tracking error.
-      if (on_plan == static_cast<int>(stance->feet.size()) &&
-          (stance->base_position - planned.base_position).norm() <= options_.base_match_m &&
-          OrientationDifference(*stance, planned) <= options_.base_match_rad) {
-        stance->base_position = planned.base_position;
-        stance->base_rpy = planned.base_rpy;
-      }
-    }
-  }
+  SnapToLastPlan(controller, &*stance);
   double offset_xy = 0.0;
   const std::size_t nearest = PathProgress(measured.base_position_W, rpy.z(), &offset_xy);
   if (offset_xy > options_.max_path_offset_m) {
@@ -349,15 +379,12 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
        << " m)";
     return fail(os.str());
   }
-  const int k = options_.horizon_steps;
   // The plan made ahead, while the robot walked its step, from the stance that step leads to:
   // taken when the robot stands there (the same footholds, the base within base_match_m and
   // base_match_rad); otherwise a new plan from the measured stance.
-  std::optional<Speculation> ahead = std::exchange(next_, std::nullopt);
-  std::string deviation = "no plan made ahead";
-  if (ahead && ahead->after_plan_seq != controller.plan_seq) deviation = "the robot walks another plan than the one planned ahead";
-  else if (ahead) deviation = StanceDeviation(*stance, ahead->expected).value_or("");
-  if (deviation.empty() && ahead->result.ok) {
+  std::optional<PlanMadeAhead> ahead = std::exchange(plan_made_ahead_, std::nullopt);
+  const std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, *stance, controller.plan_seq);
+  if (!missed) {
     path_progress_ = ahead->progress;
     last_result_ = std::move(ahead->result);
     if (verbose_) {
@@ -367,10 +394,10 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   } else {
     path_progress_ = nearest;
     const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(nearest), path_.end());
+    const int k = options_.horizon_steps;
     if (verbose_) {
       std::fprintf(stderr, "[%s] planning %d steps from the measured stance at utime %lld (%s), base (%.3f, %.3f), %zu path points left\n",
-                   kProcessName, k, static_cast<long long>(msg.utime),
-                   deviation.empty() ? "the plan made ahead failed" : deviation.c_str(),
+                   kProcessName, k, static_cast<long long>(msg.utime), missed->Describe().c_str(),
                    measured.base_position_W.x(), measured.base_position_W.y(), remaining.size());
     }
     try {
@@ -379,11 +406,16 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
       return fail(std::string("internal error: ") + e.what());
     }
   }
+  PublishHorizon(msg, controller);
+}
+
+void ContactPlannerNode::PublishHorizon(const rbcp_msgs::robot_state_t& msg,
+                                        const rbcp_msgs::controller_status_t& controller) {
   ContactPlanResult& r = *last_result_;
+  const int k = options_.horizon_steps;
   const double ms = 1000.0 * r.planning_time_s;
   if (!r.ok) {
-    const std::string reason = ToString(r.status) + ": " + r.reason;
-    status_.Failed(Now(), msg.utime, ms, reason);
+    status_.Failed(Now(), msg.utime, ms, ToString(r.status) + ": " + r.reason);
     return;
   }
   // Publish the first K steps; the look-ahead beyond them only showed they lead on. The whole
@@ -429,7 +461,7 @@ bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status
 void ContactPlannerNode::PlanAhead() {
   if (!options_.plan_ahead || !last_plan_ || last_plan_->states.size() < 2) return;
   if (last_plan_->reaches_goal && last_plan_->states.size() == 2) return;  // the last step: nothing after it
-  Speculation next;
+  PlanMadeAhead next;
   next.after_plan_seq = plan_seq_;
   next.expected = last_plan_->states[1];
   double offset_xy = 0.0;
@@ -455,7 +487,7 @@ void ContactPlannerNode::PlanAhead() {
       std::fprintf(stderr, "[%s] planned ahead: %s (%d steps after the next one)\n", kProcessName, how.c_str(),
                    next.result.steps);
     }
-    next_ = std::move(next);
+    plan_made_ahead_ = std::move(next);
   };
   const auto search = [&](const WholeBodyState& from, int steps) -> std::optional<ContactPlanResult> {
     double offset = 0.0;
@@ -484,15 +516,15 @@ void ContactPlannerNode::PlanAhead() {
   }
   if (!fresh->ok) return;
   next.result = std::move(*fresh);
-  next_ = std::move(next);
+  plan_made_ahead_ = std::move(next);
 }
 
-std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_path_t& msg,
-                                                         std::vector<RootPathSample>* samples) const {
+std::optional<RejectedInput> ContactPlannerNode::ToSamples(const rbcp_msgs::root_path_t& msg,
+                                                           std::vector<RootPathSample>* samples) const {
   try {
     *samples = transport::FromRootPathMsg(msg, options_.max_path_duration_s);
   } catch (const InputError& e) {
-    return std::string(e.what());
+    return RejectedInput::Content(e.what());
   }
   for (std::size_t i = 0; i < samples->size(); ++i) {
     const RootPathSample& s = (*samples)[i];
@@ -503,7 +535,7 @@ std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_p
       std::ostringstream os;
       os << what << " at (" << xy.x() << ", " << xy.y() << ") is off the terrain (x in [" << terrain_min_xy_.x() << ", "
          << terrain_max_xy_.x() << "], y in [" << terrain_min_xy_.y() << ", " << terrain_max_xy_.y() << "])";
-      return os.str();
+      return RejectedInput::Content(os.str());
     }
   }
   // The robot stands at the path start: there must be terrain below it (elsewhere the trunk may
@@ -512,7 +544,7 @@ std::optional<std::string> ContactPlannerNode::ToSamples(const rbcp_msgs::root_p
   if (!TerrainHeightAt(*world_.terrain(), start)) {
     std::ostringstream os;
     os << "root path: the start (" << start.x() << ", " << start.y() << ") is not above the terrain";
-    return os.str();
+    return RejectedInput::Content(os.str());
   }
   return std::nullopt;
 }
@@ -521,7 +553,7 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
   std::vector<RootPathSample> samples;
   if (auto problem = ToSamples(msg, &samples)) {
     last_result_.reset();
-    status_.Failed(Now(), msg.utime, 0.0, *problem);
+    status_.Failed(Now(), msg.utime, 0.0, problem->Describe());
     return;
   }
   // The root planner repeats its path for late processes, and to answer a repeated request: the

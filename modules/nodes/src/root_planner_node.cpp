@@ -44,19 +44,21 @@ RootPlannerNode::RootPlannerNode(lcm::LCM& lcm, const RobotModel& robot, RootPla
 
 int64_t RootPlannerNode::Now() const { return clock_.Now(); }
 
-std::optional<std::string> RootPlannerNode::TakeInputs() {
-  if (auto e = request_.TakeDecodeError()) return e;
-  if (auto e = robot_state_.TakeDecodeError()) return e;
-  if (auto e = controller_.TakeDecodeError()) return e;
+std::optional<RejectedInput> RootPlannerNode::TakeInputs() {
+  if (auto e = request_.TakeDecodeError()) return RejectedInput::Undecodable(std::move(*e));
+  if (auto e = robot_state_.TakeDecodeError()) return RejectedInput::Undecodable(std::move(*e));
+  if (auto e = controller_.TakeDecodeError()) return RejectedInput::Undecodable(std::move(*e));
   contact_failure_.TakeDecodeError();  // STATUS is every process's: another's bad message is not ours to report
   if (const auto& state = robot_state_.Latest()) {
-    if (std::string bad = clock_.World(state->utime, options_.robot_state_channel); !bad.empty()) return bad;
+    if (auto bad = clock_.World(state->utime, options_.robot_state_channel)) {
+      return RejectedInput::Time(std::move(*bad));
+    }
   }
   if (auto e = world_.Take(&clock_)) return e;
   if (auto msg = request_.Take()) {
-    if (std::string bad = clock_.Input(msg->utime, options_.request_channel); !bad.empty()) return bad;
-    const std::string problem = transport::CheckPlanRequest(*msg, options_.max_time_budget_s);
-    if (!problem.empty()) return problem;
+    if (auto bad = clock_.Input(msg->utime, options_.request_channel)) return RejectedInput::Time(std::move(*bad));
+    std::string problem = transport::CheckPlanRequest(*msg, options_.max_time_budget_s);
+    if (!problem.empty()) return RejectedInput::Content(std::move(problem));
     // The operator repeats its request when an answer got lost, or for a restarted planner: a
     // repeat of the request already handled is answered again, and one still pending stays so.
     if (pending_ && transport::SameRequest(*pending_, *msg)) return std::nullopt;
@@ -77,7 +79,7 @@ std::optional<std::string> RootPlannerNode::TakeInputs() {
 
 bool RootPlannerNode::Step() {
   if (auto rejected = TakeInputs()) {
-    status_.Failed(Now(), Now(), 0.0, *rejected);
+    status_.Failed(Now(), Now(), 0.0, rejected->Describe());
     return true;
   }
   const bool world_changed = world_.TakeChanged();
@@ -87,11 +89,11 @@ bool RootPlannerNode::Step() {
   }
   if (!world_.Ready()) return ReportWaiting("waiting for " + world_.terrain_channel() + " and " + world_.affordances_channel());
   if (!pending_) {
-    const std::string why = ReplanReason(world_changed);
-    if (why.empty()) return false;
+    const std::optional<std::string> why = ReplanReason(world_changed);
+    if (!why) return false;
     rbcp_msgs::plan_request_t again = *active_;
     again.use_start = false;
-    PlanHandled(again, why);
+    PlanHandled(again, *why);
     return true;
   }
   if (!pending_->use_start && !robot_state_.Latest()) {
@@ -140,15 +142,15 @@ void RootPlannerNode::PlanHandled(const rbcp_msgs::plan_request_t& request, cons
   else handled_failure_.reset();
 }
 
-std::string RootPlannerNode::ReplanReason(bool world_changed) {
-  if (!active_ || !last_result_ || !last_result_->ok()) return "";
+std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {
+  if (!active_ || !last_result_ || !last_result_->ok()) return std::nullopt;
   if (world_changed) terrain_replan_due_ = true;  // a path planned on another terrain
-  if (!robot_state_.Latest() || !controller_.Latest()) return "";
+  if (!robot_state_.Latest() || !controller_.Latest()) return std::nullopt;
   const auto& state = *robot_state_.Latest();
   const auto& controller = *controller_.Latest();
   // Replans start where the robot stands at a step boundary: the world stands still there (the
   // robot waits for a plan), so the new path does not depend on when this process heard of it.
-  if (!controller.awaiting_plan || state.utime < controller.awaiting_since) return "";
+  if (!controller.awaiting_plan || state.utime < controller.awaiting_since) return std::nullopt;
   if (guide_stance_ != controller.steps_done) {  // the robot walked on since the last guide
     guide_stance_ = controller.steps_done;
     guides_this_stance_ = 0;
@@ -170,13 +172,13 @@ std::string RootPlannerNode::ReplanReason(bool world_changed) {
     checked_wait_ = controller.awaiting_since;
     return "the terrain changed";
   }
-  if (checked_wait_ == controller.awaiting_since) return "";
+  if (checked_wait_ == controller.awaiting_since) return std::nullopt;
   checked_wait_ = controller.awaiting_since;
   const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
-  if (!base.allFinite()) return "";
+  if (!base.allFinite()) return std::nullopt;
   double nearest = std::numeric_limits<double>::infinity();
   for (const auto& s : last_result_->samples) nearest = std::min(nearest, (s.p.head<2>() - base).norm());
-  if (nearest <= options_.replan_path_offset_m) return "";
+  if (nearest <= options_.replan_path_offset_m) return std::nullopt;
   return "the robot stands " + FixedNumber(nearest, 2) + " m from the path";
 }
 
@@ -218,7 +220,9 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     last_result_ = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw,
                                  GuideSeed(static_cast<unsigned>(request.seed), guide_), budget);
   } catch (const std::exception& e) {
-    // The inputs were validated; what the planner still rejects fails this request, not the process.
+    // A request the planner refuses is answered with a status (below). What it throws is a
+    // terrain or surfaces its reachability checker cannot be built on (InputError), or a bug
+    // (InvariantError): either fails this request, not the process.
     last_result_.reset();
     published_.reset();
     status_.Failed(Now(), request.utime, 0.0, std::string("cannot plan: ") + e.what());

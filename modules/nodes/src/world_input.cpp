@@ -11,11 +11,11 @@ namespace rbcp::nodes {
 WorldInput::WorldInput(lcm::LCM& lcm, const std::string& terrain_channel, const std::string& affordances_channel)
     : terrain_msg_(lcm, terrain_channel), affordances_msg_(lcm, affordances_channel) {}
 
-std::optional<std::string> WorldInput::Take(transport::SimClock* clock) {
-  if (auto e = terrain_msg_.TakeDecodeError()) return e;
-  if (auto e = affordances_msg_.TakeDecodeError()) return e;
+std::optional<RejectedInput> WorldInput::Take(transport::SimClock* clock) {
+  if (auto e = terrain_msg_.TakeDecodeError()) return RejectedInput::Undecodable(std::move(*e));
+  if (auto e = affordances_msg_.TakeDecodeError()) return RejectedInput::Undecodable(std::move(*e));
   if (auto msg = terrain_msg_.Take()) {
-    if (std::string bad = clock->World(msg->utime, terrain_channel()); !bad.empty()) return bad;
+    if (auto bad = clock->World(msg->utime, terrain_channel())) return RejectedInput::Time(std::move(*bad));
     // A new terrain makes the surfaces of every other terrain stale: they wait for their own.
     try {
       TriangleMesh mesh = transport::FromTerrainMsg(*msg);
@@ -30,11 +30,11 @@ std::optional<std::string> WorldInput::Take(transport::SimClock* clock) {
       terrain_.reset();
       changed_ = true;
       surfaces_.reset();
-      return std::string(e.what());
+      return RejectedInput::Content(e.what());
     }
   }
   if (auto msg = affordances_msg_.Take()) {
-    if (std::string bad = clock->Input(msg->utime, affordances_channel()); !bad.empty()) return bad;
+    if (auto bad = clock->Input(msg->utime, affordances_channel())) return RejectedInput::Time(std::move(*bad));
     // Surfaces of another terrain than the current one are stale (or early: the terrain they
     // come from is still on its way, and they come again after it).
     if (!terrain_ || msg->terrain_id != terrain_id_) return std::nullopt;
@@ -51,7 +51,7 @@ std::optional<std::string> WorldInput::Take(transport::SimClock* clock) {
     } catch (const InputError& e) {
       surfaces_.reset();
       changed_ = true;
-      return std::string(e.what());
+      return RejectedInput::Content(e.what());
     }
   }
   return std::nullopt;

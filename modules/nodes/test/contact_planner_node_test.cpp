@@ -134,6 +134,18 @@ class ContactPlannerNodeTest : public ::testing::Test {
   transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
 };
 
+TEST(StanceDeviationTest, SaysWhatDiffersFromThePlannedStanceAndByHowMuch) {
+  EXPECT_EQ((StanceDeviation{StanceDeviation::Kind::kFoothold, Leg::kRH, 0.012345}.Describe()),
+            "RH stands 0.0123 m from its planned foothold");
+  EXPECT_EQ((StanceDeviation{StanceDeviation::Kind::kBaseOrientation, Leg::kLF, 0.0625}.Describe()),
+            "the base is 0.0625 rad from its planned orientation");
+  EXPECT_EQ((PlanAheadMissed{PlanAheadMissed::Kind::kStanceDeviates,
+                             StanceDeviation{StanceDeviation::Kind::kBasePosition, Leg::kLF, 0.05}}
+                 .Describe()),
+            "the base is 0.05 m from its planned position");
+  EXPECT_EQ((PlanAheadMissed{PlanAheadMissed::Kind::kNone, std::nullopt}.Describe()), "no plan made ahead");
+}
+
 TEST_F(ContactPlannerNodeTest, WaitsForTheWorldThenPlansACheckedPlan) {
   const auto& path = FlatGroundRootPath();
   lcm_.publish(channels::kRootPath, &path);

@@ -202,6 +202,7 @@ RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidat
 std::string ToString(RootPlanStatus status) {
   switch (status) {
     case RootPlanStatus::kOk: return "ok";
+    case RootPlanStatus::kInvalidInput: return "invalid_input";
     case RootPlanStatus::kStartInvalid: return "start_invalid";
     case RootPlanStatus::kGoalInvalid: return "goal_invalid";
     case RootPlanStatus::kGoalUnreachable: return "goal_unreachable";
@@ -355,13 +356,6 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
                                  const RootPlanRequest& request) const {
   namespace ob = ompl::base;
   const Clock::time_point t0 = Clock::now();
-  if (!request.start.p.allFinite() || !request.start.v.allFinite() || !request.goal.allFinite() ||
-      !std::isfinite(request.start_yaw) || !std::isfinite(request.goal_yaw)) {
-    throw InputError("root plan request: expected finite start and goal, got a non-finite value");
-  }
-  if (!(request.time_budget_s > 0.0)) {
-    throw InputError("root plan request: expected a time budget > 0 s, got " + ConfigNumber(request.time_budget_s));
-  }
   RootPlanResult result;
   auto done = [&](RootPlanStatus status, std::string reason) {
     result.status = status;
@@ -369,6 +363,15 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
     result.planning_time_s = Seconds(t0);
     return result;
   };
+  if (!request.start.p.allFinite() || !request.start.v.allFinite() || !request.goal.allFinite() ||
+      !std::isfinite(request.start_yaw) || !std::isfinite(request.goal_yaw)) {
+    return done(RootPlanStatus::kInvalidInput,
+                "root plan request: expected finite start and goal, got a non-finite value");
+  }
+  if (!(request.time_budget_s > 0.0)) {
+    return done(RootPlanStatus::kInvalidInput,
+                "root plan request: expected a time budget > 0 s, got " + ConfigNumber(request.time_budget_s));
+  }
 
   const KinodynamicLimits& limits = config_.limits;
   PointState start = request.start;

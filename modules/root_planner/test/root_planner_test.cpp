@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "rbcp/affordance/affordance_extractor.h"
 #include "rbcp/core/angle.h"
@@ -290,6 +291,23 @@ TEST(RootPlannerTest, PlansFromAMovingStart) {
   EXPECT_NEAR(result.samples.front().yaw, 0.1, 1e-9);
   request.start.v.x() = 0.5;
   EXPECT_EQ(planner.Plan(ground.terrain, ground.surfaces, request).status, RootPlanStatus::kStartInvalid);
+}
+
+TEST(RootPlannerTest, ARequestWithBadContentIsAnsweredWithAStatus) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms ground = test::MakePlatforms({{-2.0, 3.0}});
+  RootPlanRequest request;
+  request.start.p = {0.0, 0.0, Robot().NominalBaseHeight()};
+  request.goal = {1.0, std::numeric_limits<double>::quiet_NaN(), Robot().NominalBaseHeight()};
+  RootPlanResult result = planner.Plan(ground.terrain, ground.surfaces, request);
+  EXPECT_EQ(result.status, RootPlanStatus::kInvalidInput);
+  EXPECT_EQ(result.reason, "root plan request: expected finite start and goal, got a non-finite value");
+  request.goal.y() = 0.0;
+  request.time_budget_s = 0.0;
+  result = planner.Plan(ground.terrain, ground.surfaces, request);
+  EXPECT_EQ(result.status, RootPlanStatus::kInvalidInput);
+  EXPECT_EQ(ToString(result.status) + ": " + result.reason,
+            "invalid_input: root plan request: expected a time budget > 0 s, got 0");
 }
 
 }  // namespace

@@ -211,11 +211,11 @@ class ContactPlanner {
   /// a leg that steps A -> B and later B -> C stands on A until it steps to C, or steps to C at
   /// once, wherever every state this changes stays valid under the planner's checks. The first
   /// state and each leg's last foothold are kept. Plan() and PlanHorizon() already merge when
-  /// merge.enabled; this is for a plan found with it off, or by other means. *removed (optional)
-  /// receives the number of steps removed. Throws InputError without SetTerrain(), for a state
-  /// with a non-finite number, or for a plan whose states are not one step apart (see
-  /// check_plan's "one_leg").
-  ContactPlan MergeSteps(const ContactPlan& plan, int* removed = nullptr);
+  /// merge.enabled; this is for a plan found with it off, or by other means. The result holds the
+  /// merged plan and, in stats.steps_merged, the number of steps removed; kInvalidInput with the
+  /// reason without SetTerrain(), for a state with a non-finite number, or for a plan whose states
+  /// are not one step apart (see check_plan's "one_leg").
+  ContactPlanResult MergeSteps(const ContactPlan& plan);
 
   const ContactPlannerConfig& Config() const;
   const EquilibriumConfig& EquilibriumParameters() const;

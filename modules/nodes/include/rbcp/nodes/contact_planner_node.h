@@ -34,6 +34,7 @@
 #include "rbcp/contact_planner/contact_planner.h"
 #include "rbcp/core/root_path_sample.h"
 #include "rbcp/limb_database/limb_database.h"
+#include "rbcp/nodes/rejected_input.h"
 #include "rbcp/nodes/world_input.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
@@ -100,6 +101,36 @@ struct ContactPlannerNodeOptions {
 bool KeepEarlierSearch(const ContactPlan& continuation, const ContactPlanResult& fresh, int k, int margin,
                        const std::function<std::size_t(const WholeBodyState&)>& progress);
 
+/// How a measured stance differs from the one a plan made ahead starts from: the first
+/// difference found (the footholds, then the base's position, then its orientation).
+struct StanceDeviation {
+  enum class Kind {
+    kFoothold,         ///< `leg` stands `amount` m from its planned foothold
+    kBasePosition,     ///< the base is `amount` m from its planned position (beyond base_match_m)
+    kBaseOrientation,  ///< the base's roll, pitch or yaw is `amount` rad off (beyond base_match_rad)
+  };
+  Kind kind = Kind::kFoothold;
+  Leg leg = Leg::kLF;   ///< kFoothold
+  double amount = 0.0;  ///< [m] or [rad]
+
+  /// E.g. "LF stands 0.0123 m from its planned foothold".
+  std::string Describe() const;
+};
+
+/// Why the answer to a wait is not the plan made ahead.
+struct PlanAheadMissed {
+  enum class Kind {
+    kNone,           ///< no plan was made ahead
+    kOtherPlan,      ///< the robot walks another plan than the one planned ahead from
+    kStanceDeviates, ///< the robot does not stand where the plan made ahead starts (deviation)
+    kFailed,         ///< the plan made ahead failed
+  };
+  Kind kind = Kind::kNone;
+  std::optional<StanceDeviation> deviation;  ///< kStanceDeviates
+
+  std::string Describe() const;
+};
+
 class ContactPlannerNode {
  public:
   static constexpr const char* kProcessName = "contact_planner";
@@ -123,8 +154,17 @@ class ContactPlannerNode {
   const std::optional<ContactPlanResult>& last_result() const { return last_result_; }
 
  private:
-  /// Takes new terrain / surfaces / path; returns a reason if an input was rejected.
-  std::optional<std::string> TakeInputs();
+  /// A plan made ahead, while the robot walks the first step of a plan, from the stance that
+  /// step leads to.
+  struct PlanMadeAhead {
+    int64_t after_plan_seq = 0;  ///< the plan whose first step leads to `expected`
+    WholeBodyState expected;
+    std::size_t progress = 0;    ///< path progress at `expected`
+    ContactPlanResult result;
+  };
+
+  /// Takes new terrain / surfaces / path; returns why an input was rejected, if one was.
+  std::optional<RejectedInput> TakeInputs();
   void Plan(const rbcp_msgs::root_path_t& msg);
   /// A path is waiting and was planned on the terrain the planner holds.
   bool PendingPathFitsTheWorld() const;
@@ -133,8 +173,23 @@ class ContactPlannerNode {
   /// Horizon mode: keeps a new path as the one to follow.
   void TakePath(const rbcp_msgs::root_path_t& msg);
   /// Horizon mode: plans from the measured stance of a waiting robot (or takes the plan made
-  /// ahead when the robot stands where it starts), then plans ahead.
+  /// ahead when the robot stands where it starts), publishes it, then plans ahead.
   void Replan(const rbcp_msgs::robot_state_t& state, const rbcp_msgs::controller_status_t& controller);
+  /// Horizon mode: the state of the last plan the robot should have reached after the steps it
+  /// walked of it (controller.steps_done), or nullptr when it walks another plan.
+  const WholeBodyState* ReachedPlanState(const rbcp_msgs::controller_status_t& controller) const;
+  /// Horizon mode: a measured foot within foothold_match_m of a foothold of the last plan stands
+  /// there (the one of the state the robot should have reached, else the nearest); on the
+  /// reached state's footholds, a base within base_match_m / base_match_rad of its pose stands
+  /// there too, and the crawl goes on from its moving leg.
+  void SnapToLastPlan(const rbcp_msgs::controller_status_t& controller, WholeBodyState* stance) const;
+  /// Horizon mode: why the plan made ahead, `ahead`, does not answer the wait of a robot in
+  /// `stance` walking plan `walked_plan_seq`; nullopt when it does.
+  std::optional<PlanAheadMissed> WhyNotPlannedAhead(const std::optional<PlanMadeAhead>& ahead,
+                                                    const WholeBodyState& stance, int64_t walked_plan_seq) const;
+  /// Horizon mode: publishes the first horizon_steps steps of *last_result_ (FAILED when it
+  /// failed) as the answer to the robot's wait, then plans ahead.
+  void PublishHorizon(const rbcp_msgs::robot_state_t& state, const rbcp_msgs::controller_status_t& controller);
   /// Sends the last CONTACT_PLAN again when resend_period_s has passed since it went out; true
   /// if it did.
   bool ResendAnswerIfDue();
@@ -146,11 +201,11 @@ class ContactPlannerNode {
   /// Path sample nearest to a base pose, not behind path_progress_; its horizontal distance in
   /// *offset_xy.
   std::size_t PathProgress(const Eigen::Vector3d& base_W, double yaw, double* offset_xy) const;
-  /// Why a measured stance is not the expected one (another foothold, the base beyond
-  /// base_match_m / base_match_rad), or nullopt when it is.
-  std::optional<std::string> StanceDeviation(const WholeBodyState& measured, const WholeBodyState& expected) const;
-  /// The path of a message, or the reason it is rejected.
-  std::optional<std::string> ToSamples(const rbcp_msgs::root_path_t& msg, std::vector<RootPathSample>* samples) const;
+  /// How a measured stance differs from the expected one (another foothold, the base beyond
+  /// base_match_m / base_match_rad), or nullopt when it is that stance.
+  std::optional<StanceDeviation> Deviation(const WholeBodyState& measured, const WholeBodyState& expected) const;
+  /// The path of a message into *samples, or why it is rejected.
+  std::optional<RejectedInput> ToSamples(const rbcp_msgs::root_path_t& msg, std::vector<RootPathSample>* samples) const;
   void LogWaiting();
   int64_t Now() const;
 
@@ -182,14 +237,7 @@ class ContactPlannerNode {
   std::optional<rbcp_msgs::contact_plan_t> answer_;
   std::chrono::steady_clock::time_point answer_wall_;
   std::optional<ContactPlan> last_plan_;
-  /// The plan made ahead from the stance the robot stands in after the first step of a plan.
-  struct Speculation {
-    int64_t after_plan_seq = 0;  ///< the plan whose first step leads to `expected`
-    WholeBodyState expected;
-    std::size_t progress = 0;    ///< path progress at `expected`
-    ContactPlanResult result;
-  };
-  std::optional<Speculation> next_;
+  std::optional<PlanMadeAhead> plan_made_ahead_;
   ContactPlan searched_;  ///< the whole last plan searched or continued (K steps and the look-ahead)
   int64_t plan_seq_ = 0;
   int32_t plan_start_steps_ = 0;  ///< ROBOT_STATE.steps_done when the last plan went out

@@ -75,7 +75,7 @@ class RootPlannerNode {
 
  private:
   /// Takes new terrain / surfaces / request; returns a reason if an input was rejected.
-  std::optional<std::string> TakeInputs();
+  std::optional<RejectedInput> TakeInputs();
   void Plan(const rbcp_msgs::plan_request_t& request, const std::string& why = "");
   /// Publishes ALIVE with `what` the pending request waits for, once per change; true if it did.
   bool ReportWaiting(const std::string& what);
@@ -83,8 +83,8 @@ class RootPlannerNode {
   void AnswerAgain();
   /// Plan() for the request last taken, keeping its failure for AnswerAgain().
   void PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why);
-  /// Why the current request needs a new path, or "" when it does not.
-  std::string ReplanReason(bool world_changed);
+  /// Why the current request needs a new path; nullopt when it does not.
+  std::optional<std::string> ReplanReason(bool world_changed);
   int64_t Now() const;
 
   lcm::LCM& lcm_;

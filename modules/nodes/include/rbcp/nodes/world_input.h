@@ -13,6 +13,7 @@
 
 #include "rbcp/core/affordance_surface.h"
 #include "rbcp/core/triangle_mesh.h"
+#include "rbcp/nodes/rejected_input.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/sim_clock.h"
 #include "rbcp_msgs/affordance_set_t.hpp"
@@ -31,7 +32,7 @@ class WorldInput {
   /// whose terrain_id they carry: a terrain of new content drops the current surfaces, and only
   /// surfaces of the current terrain are taken, so a terrain and the surfaces of another never
   /// pair, whatever the messages' times.
-  std::optional<std::string> Take(transport::SimClock* clock);
+  std::optional<RejectedInput> Take(transport::SimClock* clock);
 
   const std::optional<TriangleMesh>& terrain() const { return terrain_; }
   /// The current terrain's transport::TerrainId; 0 while there is none.

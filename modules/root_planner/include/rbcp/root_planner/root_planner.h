@@ -95,6 +95,7 @@ struct RootPlannerConfig {
 
 enum class RootPlanStatus {
   kOk,            ///< a path was found
+  kInvalidInput,  ///< the request holds a non-finite number or a time budget <= 0 (reason says which)
   kStartInvalid,  ///< the start state violates the reachability condition (reason says how)
   kGoalInvalid,   ///< the goal state violates it
   /// No chain of contact surfaces, each within max_surface_gap of the next, joins the surfaces
@@ -103,7 +104,7 @@ enum class RootPlanStatus {
   kTimeout,       ///< no path within the time budget
 };
 
-/// "ok", "start_invalid", "goal_invalid", "goal_unreachable", "timeout".
+/// "ok", "invalid_input", "start_invalid", "goal_invalid", "goal_unreachable", "timeout".
 std::string ToString(RootPlanStatus status);
 
 /// The seed of a request's k-th guide (root path): k = 0 is the request's own seed; the next
@@ -153,6 +154,8 @@ class RootPlanner {
   std::string MeasuredBaseProblem(const TriangleMesh& terrain, const Eigen::Vector3d& base_W) const;
 
   /// Plans from the request's start to its goal over `terrain` with the given contact surfaces.
+  /// A request with a non-finite number or a time budget <= 0 is answered with kInvalidInput.
+  /// Throws InputError for a terrain or surfaces the reachability checker cannot be built on.
   RootPlanResult Plan(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
                       const RootPlanRequest& request) const;
   /// Same, from rest at start_W to rest at goal_W.

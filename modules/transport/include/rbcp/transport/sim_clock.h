@@ -11,19 +11,35 @@
 
 namespace rbcp::transport {
 
+/// Why a message's utime was not taken as the simulated time.
+struct RejectedTime {
+  enum class Kind {
+    kNotASimTime,  ///< outside [0, SimClock::kMaxUtime]
+    kTooFarAhead,  ///< an input more than SimClock::kMaxAhead_us ahead of the world's time `now`
+  };
+  Kind kind = Kind::kNotASimTime;
+  std::string what;  ///< the message, e.g. its channel
+  int64_t utime = 0;  ///< [us] the rejected time
+  int64_t now = 0;    ///< [us] kTooFarAhead: the clock's time
+
+  /// "<what>: utime -1 us is not a simulated time (expected 0 to ...)", "<what>: utime 603.000 s
+  /// lies 601.000 s ahead of the simulated time 2.000 s (at most 600.000 s)".
+  std::string Describe() const;
+};
+
 class SimClock {
  public:
   static constexpr int64_t kMaxUtime = int64_t{10'000'000} * 1'000'000;  ///< [us] about 116 days
   static constexpr int64_t kMaxAhead_us = int64_t{600} * 1'000'000;      ///< [us] 10 minutes
 
-  /// A world message at `utime`: the clock follows it. Returns "" or why the time is rejected
-  /// (the clock then keeps its time); `what` names the message. The time of the last world
-  /// message offered, offered again (a node looks at its latest ROBOT_STATE every step), changes
-  /// nothing and is not rejected again.
-  std::string World(int64_t utime, const std::string& what);
-  /// Another input at `utime`: moves the clock forward to it. Returns "" or why it is rejected:
-  /// outside [0, kMaxUtime], or more than kMaxAhead_us ahead of a world already heard.
-  std::string Input(int64_t utime, const std::string& what);
+  /// A world message at `utime`: the clock follows it. Returns why the time is rejected (the
+  /// clock then keeps its time), nullopt when taken; `what` names the message. The time of the
+  /// last world message offered, offered again (a node looks at its latest ROBOT_STATE every
+  /// step), changes nothing and is not rejected again.
+  std::optional<RejectedTime> World(int64_t utime, const std::string& what);
+  /// Another input at `utime`: moves the clock forward to it. Returns why it is rejected (outside
+  /// [0, kMaxUtime], or more than kMaxAhead_us ahead of a world already heard), nullopt when taken.
+  std::optional<RejectedTime> Input(int64_t utime, const std::string& what);
   /// The latest time heard [us], 0 before any.
   int64_t Now() const { return now_; }
 
