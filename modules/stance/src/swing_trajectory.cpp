@@ -91,8 +91,10 @@ struct SwingTrajectory::Checks {
 /// The terrain under a candidate path's samples 1 .. kSamples - 1 (index 0 unused).
 struct SwingTrajectory::PathTerrain {
   std::array<double, kSamples> offset;  ///< SphereGapOffset under the sample (+inf: none)
-  std::array<bool, kSamples> near_end{};  ///< the sample is within reach of the new foothold
-  std::array<bool, kSamples> away{};      ///< the sample is near neither foothold
+  /// The sample is within foot_radius_m + 2 cm (horizontally) of the new foothold.
+  std::array<bool, kSamples> near_end{};
+  /// The sample is farther than that from both footholds.
+  std::array<bool, kSamples> away{};
 };
 
 Eigen::Vector3d SwingTrajectory::At(double s, Eigen::Vector3d* ds) const {
