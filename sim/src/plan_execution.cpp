@@ -300,24 +300,35 @@ void PlanExecution::Decide(std::optional<ExecutionFailure> failure) {
 }
 
 void PlanExecution::Judge(const RobotState& state, const JointVector& commanded) {
-  const double t = state.t;
   const ControllerStatus& status = controller_->Status();
-  const double limit = config_.physics.torque_limit_Nm;
-  outcome_.max_torque_ratio = std::max(outcome_.max_torque_ratio, state.tau.cwiseAbs().maxCoeff() / limit);
+  outcome_.max_torque_ratio =
+      std::max(outcome_.max_torque_ratio, state.tau.cwiseAbs().maxCoeff() / config_.physics.torque_limit_Nm);
   if (status.phase == ControllerPhase::kSwing) {
     outcome_.min_support_margin_m = std::min(outcome_.min_support_margin_m, status.support_margin_m);
   }
-
-  // Body contacts: the trunk or a thigh on the terrain is a fall; others are collisions.
+  // The failures in the world, each judged only while the ones before have not happened.
   const std::vector<TerrainContact> contacts = world_->TerrainContacts();
+  std::optional<ExecutionFailure> failure = BodyContactFailure(contacts);
+  if (!failure && has_plan_) failure = TiltFailure(state, status);
+  if (!failure) failure = SlipFailure(state, status, contacts);
+  if (!failure) failure = SaturationFailure(state.t, commanded);
+  if (failure) {
+    Decide(std::move(failure));
+    return;
+  }
+  JudgeEnd(state, status);
+}
+
+std::optional<ExecutionFailure> PlanExecution::BodyContactFailure(const std::vector<TerrainContact>& contacts) {
+  // The trunk or a thigh on the terrain is a fall; the other links' contacts are collisions,
+  // counted once from the tick they start.
   std::map<std::string, bool> touching;
   for (const TerrainContact& c : contacts) {
     if (c.is_foot) continue;
     if (c.link == "base" || EndsWith(c.link, "_THIGH")) {
-      Decide(Failure("fall", c.leg ? std::string(LegName(*c.leg)) : "",
-                     c.link + " touches the terrain at (" + FixedNumber(c.position_W.x()) + ", " + FixedNumber(c.position_W.y()) +
-                         ", " + FixedNumber(c.position_W.z()) + ")"));
-      return;
+      return Failure("fall", c.leg ? std::string(LegName(*c.leg)) : "",
+                     c.link + " touches the terrain at (" + FixedNumber(c.position_W.x()) + ", " +
+                         FixedNumber(c.position_W.y()) + ", " + FixedNumber(c.position_W.z()) + ")");
     }
     touching[c.link] = true;
   }
@@ -328,29 +339,33 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
     }
   }
   touching_ = std::move(touching);
+  return std::nullopt;
+}
 
-  // Tilt against the plan's states on either side of the step being walked.
-  if (has_plan_) {
-    const Eigen::Vector3d rpy = RpyFromRotation(state.base_orientation_W.toRotationMatrix());
-    double tilt = std::numeric_limits<double>::infinity();
-    for (int k : {status.step - 1, status.step}) {
-      if (k < 0 || k >= static_cast<int>(plan_.states.size())) continue;
-      const Eigen::Vector3d& planned = plan_.states[static_cast<std::size_t>(k)].base_rpy;
-      tilt = std::min(tilt, std::max(AngleDiff(rpy.x(), planned.x()), AngleDiff(rpy.y(), planned.y())));
-    }
-    if (std::isfinite(tilt) && tilt > config_.outcome.max_tilt_rad) {
-      Decide(Failure("fall", "", "roll or pitch " + FixedNumber(tilt) + " rad from the plan's"));
-      return;
-    }
+std::optional<ExecutionFailure> PlanExecution::TiltFailure(const RobotState& state,
+                                                           const ControllerStatus& status) const {
+  // Against the plan's states on either side of the step being walked: the tilt from the closer.
+  const Eigen::Vector3d rpy = RpyFromRotation(state.base_orientation_W.toRotationMatrix());
+  double tilt = std::numeric_limits<double>::infinity();
+  for (int k : {status.step - 1, status.step}) {
+    if (k < 0 || k >= static_cast<int>(plan_.states.size())) continue;
+    const Eigen::Vector3d& planned = plan_.states[static_cast<std::size_t>(k)].base_rpy;
+    tilt = std::min(tilt, std::max(AngleDiff(rpy.x(), planned.x()), AngleDiff(rpy.y(), planned.y())));
   }
+  if (!std::isfinite(tilt) || tilt <= config_.outcome.max_tilt_rad) return std::nullopt;
+  return Failure("fall", "", "roll or pitch " + FixedNumber(tilt) + " rad from the plan's");
+}
 
-  // Foot slip: a stance foot in contact does not slide from where it touched down. A foot is a
-  // sphere fixed to the shank, so as the trunk moves over it the sphere rolls and its centre
-  // moves r * (rotation) without any sliding (0.95 rad of shank rotation, 3 cm, over a long
-  // stance); what is measured is the sliding of the contact point: each tick the centre's
-  // displacement less the rolling displacement (rotation vector x r n, n the terrain normal),
-  // along the terrain. The leg the current step moves is not a stance foot until its step is
-  // done (its swing may brush the terrain).
+std::optional<ExecutionFailure> PlanExecution::SlipFailure(const RobotState& state, const ControllerStatus& status,
+                                                           const std::vector<TerrainContact>& contacts) {
+  // A stance foot in contact does not slide from where it touched down. A foot is a sphere fixed
+  // to the shank, so as the trunk moves over it the sphere rolls and its centre moves
+  // r * (rotation) without any sliding (0.95 rad of shank rotation, 3 cm, over a long stance);
+  // what is measured is the sliding of the contact point: each tick the centre's displacement less
+  // the rolling displacement (rotation vector x r n, n the terrain normal), along the terrain. The
+  // leg the current step moves is not a stance foot until its step is done (its swing may brush
+  // the terrain).
+  const double t = state.t;
   const auto frames = world_->FootFramesW();
   std::array<Eigen::Vector3d, kNumLegs> normals;
   normals.fill(Eigen::Vector3d::UnitZ());
@@ -377,9 +392,8 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
         const double slip = slide_W_[i].norm();
         outcome_.max_slip_m = std::max(outcome_.max_slip_m, slip);
         if (slip > config_.outcome.max_slip_m) {
-          Decide(Failure("foot_slip", std::string(LegName(leg)),
-                         std::string(LegName(leg)) + " slid " + FixedNumber(slip) + " m from where it touched down"));
-          return;
+          return Failure("foot_slip", std::string(LegName(leg)),
+                         std::string(LegName(leg)) + " slid " + FixedNumber(slip) + " m from where it touched down");
         }
       }
       foot_frame_W_[i] = frames[i];
@@ -387,23 +401,29 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
       foot_frame_W_[i].reset();
     }
   }
+  return std::nullopt;
+}
 
-  // Torque saturation that lasts.
+std::optional<ExecutionFailure> PlanExecution::SaturationFailure(double t, const JointVector& commanded) {
+  // Each joint's time at the limit runs from the first tick of its command there.
+  const double limit = config_.physics.torque_limit_Nm;
   for (int j = 0; j < kNumJoints; ++j) {
     const std::size_t k = static_cast<std::size_t>(j);
     if (std::abs(commanded[j]) >= limit - 1e-9) {
       if (saturated_since_[k] < 0.0) saturated_since_[k] = t;
       if (t - saturated_since_[k] > config_.outcome.max_saturation_s) {
-        Decide(Failure("torque_saturation", JointName(j),
+        return Failure("torque_saturation", JointName(j),
                        JointName(j) + " held at the " + FixedNumber(limit, 0) + " N m limit for " +
-                           FixedNumber(t - saturated_since_[k], 2) + " s"));
-        return;
+                           FixedNumber(t - saturated_since_[k], 2) + " s");
       }
     } else {
       saturated_since_[k] = -1.0;
     }
   }
+  return std::nullopt;
+}
 
+void PlanExecution::JudgeEnd(const RobotState& state, const ControllerStatus& status) {
   if (status.phase == ControllerPhase::kFailed) {
     const bool no_ground = status.failure_leg && !state.foot_contact[static_cast<std::size_t>(Index(*status.failure_leg))] &&
                            status.failure.find("no ground") != std::string::npos;
@@ -423,7 +443,7 @@ void PlanExecution::Judge(const RobotState& state, const JointVector& commanded)
     }
     return;
   }
-  if (t > timeout_s_) {
+  if (state.t > timeout_s_) {
     Decide(Failure("timeout", "", "the run outlasted " + FixedNumber(timeout_s_, 1) + " s"));
   }
 }

@@ -48,22 +48,9 @@ std::unique_ptr<btCollisionShape> MakePrimitive(const BodyShape& s) {
   return shape;
 }
 
-}  // namespace
-
-void InstallSelfCollisionCallbacks() {
-  gCompoundCompoundChildShapePairCallback = &ChildPairCollides;
-  gCompoundChildShapePairCallback = &ChildPairCollides;
-}
-
-MultiBodyRobot MultiBodyRobot::Build(const RobotDescription& d, double friction, double max_coordinate_velocity) {
-  MultiBodyRobot r;
+/// The joints of bodies 1.. on the multibody's links, in the inertial frames (urdf_multibody.h).
+void SetupJoints(const RobotDescription& d, btMultiBody& mb) {
   const int num_bodies = static_cast<int>(d.bodies.size());
-  const RobotBody& base = d.bodies[0];
-  RBCP_CHECK(base.joint == RobotBody::Joint::kFloating, "body 0 is the floating base");
-  r.multibody = std::make_unique<btMultiBody>(num_bodies - 1, base.mass, ToBt(base.principal_inertia),
-                                              /*fixedBase=*/false, /*canSleep=*/false);
-  btMultiBody& mb = *r.multibody;
-
   for (int b = 1; b < num_bodies; ++b) {
     const RobotBody& body = d.bodies[static_cast<std::size_t>(b)];
     RBCP_CHECK(body.parent >= 0 && body.parent < b, "every body's parent comes before it");
@@ -85,6 +72,64 @@ MultiBodyRobot MultiBodyRobot::Build(const RobotDescription& d, double friction,
                     pivot_to_com);
     }
   }
+}
+
+/// Body b's collider: a compound of its primitives (each tagged with its index into r.shapes),
+/// installed on the multibody's base or link.
+void AddCollider(const RobotDescription& d, int b, double friction, MultiBodyRobot& r) {
+  btMultiBody& mb = *r.multibody;
+  const RobotBody& body = d.bodies[static_cast<std::size_t>(b)];
+  auto compound = std::make_unique<RobotCompoundShape>(static_cast<int>(body.shapes.size()));
+  const Eigen::Isometry3d com_from_body = body.inertial_frame.inverse();
+  for (const BodyShape& s : body.shapes) {
+    const int id = static_cast<int>(r.shapes.size());
+    std::unique_ptr<btCollisionShape> primitive = MakePrimitive(s);
+    r.tags[static_cast<std::size_t>(id)] = ShapeTag{r.filter.get(), id};
+    primitive->setUserPointer(&r.tags[static_cast<std::size_t>(id)]);
+    r.body_shapes[static_cast<std::size_t>(b)].push_back(id);
+    r.shapes.push_back(MultiBodyRobot::Shape{b, compound->getNumChildShapes(), s.link, s.name});
+    compound->addChildShape(ToBt(com_from_body * s.pose_body), primitive.get());
+    r.primitives.push_back(std::move(primitive));
+  }
+  auto collider = std::make_unique<btMultiBodyLinkCollider>(&mb, b - 1);
+  collider->setCollisionShape(compound.get());
+  // Combined friction is the product of the two colliders' coefficients; terrain uses 1.
+  collider->setFriction(friction);
+  collider->setRestitution(0.0);
+  collider->setRollingFriction(0.0);
+  collider->setSpinningFriction(0.0);
+  collider->setUserIndex(b);
+  collider->setUserIndex2(kRobotColliderTag);
+  if (body.is_foot) {
+    // Keeps a foot's contact point (and its friction) in place while the friction cone holds,
+    // instead of replacing it by each new closest point: less drift of a standing foot.
+    collider->setCollisionFlags(collider->getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
+  }
+  if (b == 0) {
+    mb.setBaseCollider(collider.get());
+  } else {
+    mb.getLink(b - 1).m_collider = collider.get();
+  }
+  r.colliders[static_cast<std::size_t>(b)] = std::move(collider);
+  r.compounds[static_cast<std::size_t>(b)] = std::move(compound);
+}
+
+}  // namespace
+
+void InstallSelfCollisionCallbacks() {
+  gCompoundCompoundChildShapePairCallback = &ChildPairCollides;
+  gCompoundChildShapePairCallback = &ChildPairCollides;
+}
+
+MultiBodyRobot MultiBodyRobot::Build(const RobotDescription& d, double friction, double max_coordinate_velocity) {
+  MultiBodyRobot r;
+  const int num_bodies = static_cast<int>(d.bodies.size());
+  const RobotBody& base = d.bodies[0];
+  RBCP_CHECK(base.joint == RobotBody::Joint::kFloating, "body 0 is the floating base");
+  r.multibody = std::make_unique<btMultiBody>(num_bodies - 1, base.mass, ToBt(base.principal_inertia),
+                                              /*fixedBase=*/false, /*canSleep=*/false);
+  btMultiBody& mb = *r.multibody;
+  SetupJoints(d, mb);
   mb.finalizeMultiDof();
   // No artificial damping: the URDF's joint damping and friction are zero and Bullet's default link
   // damping (0.04) would act as an unmodelled drag on every link.
@@ -105,43 +150,10 @@ MultiBodyRobot MultiBodyRobot::Build(const RobotDescription& d, double friction,
   r.colliders.resize(static_cast<std::size_t>(num_bodies));
   r.compounds.resize(static_cast<std::size_t>(num_bodies));
   for (int b = 0; b < num_bodies; ++b) {
-    const RobotBody& body = d.bodies[static_cast<std::size_t>(b)];
-    if (body.shapes.empty()) continue;
-    auto compound = std::make_unique<RobotCompoundShape>(static_cast<int>(body.shapes.size()));
-    const Eigen::Isometry3d com_from_body = body.inertial_frame.inverse();
-    for (const BodyShape& s : body.shapes) {
-      const int id = static_cast<int>(r.shapes.size());
-      std::unique_ptr<btCollisionShape> primitive = MakePrimitive(s);
-      r.tags[static_cast<std::size_t>(id)] = ShapeTag{r.filter.get(), id};
-      primitive->setUserPointer(&r.tags[static_cast<std::size_t>(id)]);
-      r.body_shapes[static_cast<std::size_t>(b)].push_back(id);
-      r.shapes.push_back(Shape{b, compound->getNumChildShapes(), s.link, s.name});
-      compound->addChildShape(ToBt(com_from_body * s.pose_body), primitive.get());
-      r.primitives.push_back(std::move(primitive));
-    }
-    auto collider = std::make_unique<btMultiBodyLinkCollider>(&mb, b - 1);
-    collider->setCollisionShape(compound.get());
-    // Combined friction is the product of the two colliders' coefficients; terrain uses 1.
-    collider->setFriction(friction);
-    collider->setRestitution(0.0);
-    collider->setRollingFriction(0.0);
-    collider->setSpinningFriction(0.0);
-    collider->setUserIndex(b);
-    collider->setUserIndex2(kRobotColliderTag);
-    if (body.is_foot) {
-      // Keeps a foot's contact point (and its friction) in place while the friction cone holds,
-      // instead of replacing it by each new closest point: less drift of a standing foot.
-      collider->setCollisionFlags(collider->getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
-    }
-    if (b == 0) {
-      mb.setBaseCollider(collider.get());
-    } else {
-      mb.getLink(b - 1).m_collider = collider.get();
-    }
-    r.colliders[static_cast<std::size_t>(b)] = std::move(collider);
-    r.compounds[static_cast<std::size_t>(b)] = std::move(compound);
+    if (!d.bodies[static_cast<std::size_t>(b)].shapes.empty()) AddCollider(d, b, friction, r);
   }
 
+  // Joint limits of the revolute joints that have them.
   for (int b = 1; b < num_bodies; ++b) {
     const RobotBody& body = d.bodies[static_cast<std::size_t>(b)];
     if (body.joint != RobotBody::Joint::kRevolute) continue;

@@ -68,6 +68,31 @@ struct RegionPlane {
   Eigen::Vector3d Lift(const Point& q) const { return offset * normal + q.x() * e1 + q.y() * e2; }
 };
 
+/// Writes the surfaces into the caller's vector in order, reusing the storage of the entries it
+/// already holds (the caller trims it to `count` at the end).
+struct SurfaceWriter {
+  std::vector<AffordanceSurface>& surfaces;
+  std::size_t count = 0;
+
+  /// The next surface: a ring of the region's plane lifted back to 3D, with its area [m^2].
+  void Write(const RegionPlane& plane, const Ring& ring, double ring_area) {
+    if (surfaces.size() <= count) surfaces.emplace_back();
+    AffordanceSurface& s = surfaces[count++];
+    s.vertices.clear();
+    s.vertices.reserve(ring.size());
+    for (const Point& q : ring) s.vertices.push_back(plane.Lift(q));
+    s.normal = plane.normal;
+    s.area = ring_area;
+  }
+};
+
+/// How the boundary loops of a region divide: counter-clockwise outer rings, clockwise holes.
+struct LoopCounts {
+  int outer = 0;
+  int holes = 0;
+  const Ring* last_outer = nullptr;  ///< the only outer ring when outer == 1
+};
+
 }  // namespace
 
 struct AffordanceExtractor::Workspace {
@@ -137,6 +162,15 @@ struct AffordanceExtractor::Workspace {
   RegionPlane FitPlane(std::size_t seed) const;
   /// Fills loops[0 .. num_loops) with the region's cleaned boundary loops in the plane.
   void ChainBoundary(int region, const RegionPlane& plane);
+  LoopCounts CountLoops() const;
+  /// Writes the surfaces of the region whose boundary loops ChainBoundary found: its polygons
+  /// eroded by the edge margin and split into convex pieces.
+  void WriteRegionSurfaces(const RegionPlane& plane, const AffordanceConfig& config, AffordanceStats& stats,
+                           SurfaceWriter& out);
+  /// Fills `polygons` with the outer loops, each with the holes it encloses.
+  void AssignHoles();
+  /// Writes the convex pieces of `eroded_polygons` larger than min_area [m^2]; false when none is.
+  bool WriteConvexPieces(const RegionPlane& plane, double min_area, AffordanceStats& stats, SurfaceWriter& out);
 };
 
 bool AffordanceExtractor::Workspace::CollectCandidates(const TriangleMesh& mesh, double cos_inclination,
@@ -396,6 +430,96 @@ void AffordanceExtractor::Workspace::ChainBoundary(int region, const RegionPlane
   }
 }
 
+void AffordanceExtractor::Workspace::WriteRegionSurfaces(const RegionPlane& plane, const AffordanceConfig& config,
+                                                         AffordanceStats& stats, SurfaceWriter& out) {
+  const LoopCounts counts = CountLoops();
+  if (counts.outer == 0) {
+    ++stats.vanished_regions;
+    return;
+  }
+  // Convex without holes: exact half-plane intersection, no allocation.
+  if (counts.outer == 1 && counts.holes == 0 && polygon2d::IsConvex(*counts.last_outer)) {
+    ++stats.convex_regions;
+    polygon2d::ErodeConvex(*counts.last_outer, config.edge_margin, eroded, scratch);
+    const double eroded_area = eroded.empty() ? 0.0 : polygon2d::SignedArea(eroded);
+    if (eroded_area > config.min_area) {
+      out.Write(plane, eroded, eroded_area);
+    } else {
+      ++stats.vanished_regions;
+    }
+    return;
+  }
+  // General: holes to their outer rings; offset with tangent round joins; split into convex pieces.
+  AssignHoles();
+  if (config.edge_margin > 0.0) {
+    if (!polygon2d::Erode(polygons, config.edge_margin, kErosionArcSegmentsPerCircle, eroded_polygons)) {
+      ++stats.geometry_failures;
+      return;
+    }
+  } else {
+    eroded_polygons.swap(polygons);
+  }
+  if (!WriteConvexPieces(plane, config.min_area, stats, out)) ++stats.vanished_regions;
+}
+
+LoopCounts AffordanceExtractor::Workspace::CountLoops() const {
+  LoopCounts counts;
+  for (std::size_t i = 0; i < num_loops; ++i) {
+    if (loops[i].empty()) continue;
+    if (polygon2d::SignedArea(loops[i]) > 0.0) {
+      ++counts.outer;
+      counts.last_outer = &loops[i];
+    } else {
+      ++counts.holes;
+    }
+  }
+  return counts;
+}
+
+void AffordanceExtractor::Workspace::AssignHoles() {
+  // Each hole goes to the smallest outer ring around it (a hole's edge midpoint lies inside its
+  // outer ring).
+  polygons.clear();
+  for (std::size_t i = 0; i < num_loops; ++i) {
+    if (!loops[i].empty() && polygon2d::SignedArea(loops[i]) > 0.0) polygons.push_back({loops[i], {}});
+  }
+  for (std::size_t i = 0; i < num_loops; ++i) {
+    const Ring& hole = loops[i];
+    if (hole.empty() || polygon2d::SignedArea(hole) > 0.0) continue;
+    std::size_t owner = 0;
+    const Point probe = 0.5 * (hole[0] + hole[1]);
+    double owner_area = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < polygons.size() && polygons.size() > 1; ++j) {
+      const double a = polygon2d::SignedArea(polygons[j].outer);
+      if (a < owner_area && polygon2d::Contains(polygons[j].outer, probe)) {
+        owner = j;
+        owner_area = a;
+      }
+    }
+    polygons[owner].holes.push_back(hole);
+  }
+}
+
+bool AffordanceExtractor::Workspace::WriteConvexPieces(const RegionPlane& plane, double min_area, AffordanceStats& stats,
+                                                       SurfaceWriter& out) {
+  bool any = false;
+  for (const PolygonWithHoles& polygon : eroded_polygons) {
+    if (!(polygon2d::Area(polygon) > min_area)) continue;
+    if (polygon.holes.empty() && polygon2d::IsConvex(polygon.outer)) {
+      out.Write(plane, polygon.outer, polygon2d::SignedArea(polygon.outer));
+      any = true;
+      continue;
+    }
+    if (!polygon2d::ConvexPartition(polygon, pieces)) {
+      ++stats.geometry_failures;
+      continue;
+    }
+    for (const Ring& piece : pieces) out.Write(plane, piece, polygon2d::SignedArea(piece));
+    any = any || !pieces.empty();
+  }
+  return any;
+}
+
 AffordanceExtractor::AffordanceExtractor(AffordanceConfig config)
     : config_(config), ws_(std::make_unique<Workspace>()) {
   const std::string problem = config_.Problem();
@@ -419,8 +543,6 @@ void AffordanceExtractor::Extract(const TriangleMesh& terrain, std::vector<Affor
   stats_.triangles = static_cast<int>(terrain.triangles.size());
   const double cos_inclination = std::cos(config_.max_inclination_deg * kDegToRad);
   const double cos_neighbour = std::cos(config_.neighbour_angle_deg * kDegToRad);
-  const double margin = config_.edge_margin;
-  const double min_area = config_.min_area;
 
   // 1. Validate, and keep the triangles facing up within the inclination limit.
   double poison = 0.0;  // becomes NaN if any coordinate is NaN or infinite
@@ -438,111 +560,26 @@ void AffordanceExtractor::Extract(const TriangleMesh& terrain, std::vector<Affor
   stats_.welded_vertices = static_cast<int>(ws.welded.size());
   ws.BuildTwins();
 
-  // 4. Grow regions from seeds in triangle order and turn each into surfaces at once.
+  // 4. Grow regions from seeds in triangle order and turn each into surfaces at once: 5. its
+  // boundary loops in the plane, 6. eroded and split into convex pieces.
   ws.region_of.assign(nc, -1);
   ws.out_head.assign(ws.welded.size(), -1);
   ws.out_next.resize(3 * nc);
   ws.used.resize(3 * nc);
-  std::size_t num_surfaces = 0;
+  SurfaceWriter out{surfaces};
   for (std::size_t seed = 0; seed < nc; ++seed) {
     if (ws.region_of[seed] >= 0) continue;
     const int region = stats_.planar_regions++;
     ws.GrowRegion(seed, region, cos_neighbour);
     const RegionPlane plane = ws.FitPlane(seed);
-    if (!(plane.area > min_area) || plane.normal.z() < cos_inclination) continue;
+    if (!(plane.area > config_.min_area) || plane.normal.z() < cos_inclination) continue;
     ++stats_.kept_regions;
-
-    // 5. Boundary loops in the plane: counter-clockwise outer rings, clockwise holes.
     ws.ChainBoundary(region, plane);
-    int outer_count = 0;
-    int hole_count = 0;
-    const Ring* outer = nullptr;
-    for (std::size_t i = 0; i < ws.num_loops; ++i) {
-      if (ws.loops[i].empty()) continue;
-      if (polygon2d::SignedArea(ws.loops[i]) > 0.0) {
-        ++outer_count;
-        outer = &ws.loops[i];
-      } else {
-        ++hole_count;
-      }
-    }
-    if (outer_count == 0) {
-      ++stats_.vanished_regions;
-      continue;
-    }
-
-    const auto emit = [&](const Ring& ring, double ring_area) {
-      if (surfaces.size() <= num_surfaces) surfaces.emplace_back();
-      AffordanceSurface& s = surfaces[num_surfaces++];
-      s.vertices.clear();
-      s.vertices.reserve(ring.size());
-      for (const Point& q : ring) s.vertices.push_back(plane.Lift(q));
-      s.normal = plane.normal;
-      s.area = ring_area;
-    };
-
-    // 6. Erode. Convex without holes: exact half-plane intersection, no allocation.
-    if (outer_count == 1 && hole_count == 0 && polygon2d::IsConvex(*outer)) {
-      ++stats_.convex_regions;
-      polygon2d::ErodeConvex(*outer, margin, ws.eroded, ws.scratch);
-      const double eroded_area = ws.eroded.empty() ? 0.0 : polygon2d::SignedArea(ws.eroded);
-      if (eroded_area > min_area) {
-        emit(ws.eroded, eroded_area);
-      } else {
-        ++stats_.vanished_regions;
-      }
-      continue;
-    }
-
-    // General: each hole goes to the smallest outer ring around it (a hole's edge midpoint lies
-    // inside its outer ring); offset with tangent round joins; split into convex pieces.
-    ws.polygons.clear();
-    for (std::size_t i = 0; i < ws.num_loops; ++i) {
-      if (!ws.loops[i].empty() && polygon2d::SignedArea(ws.loops[i]) > 0.0) ws.polygons.push_back({ws.loops[i], {}});
-    }
-    for (std::size_t i = 0; i < ws.num_loops; ++i) {
-      const Ring& hole = ws.loops[i];
-      if (hole.empty() || polygon2d::SignedArea(hole) > 0.0) continue;
-      std::size_t owner = 0;
-      const Point probe = 0.5 * (hole[0] + hole[1]);
-      double owner_area = std::numeric_limits<double>::infinity();
-      for (std::size_t j = 0; j < ws.polygons.size() && ws.polygons.size() > 1; ++j) {
-        const double a = polygon2d::SignedArea(ws.polygons[j].outer);
-        if (a < owner_area && polygon2d::Contains(ws.polygons[j].outer, probe)) {
-          owner = j;
-          owner_area = a;
-        }
-      }
-      ws.polygons[owner].holes.push_back(hole);
-    }
-    if (margin > 0.0) {
-      if (!polygon2d::Erode(ws.polygons, margin, kErosionArcSegmentsPerCircle, ws.eroded_polygons)) {
-        ++stats_.geometry_failures;
-        continue;
-      }
-    } else {
-      ws.eroded_polygons.swap(ws.polygons);
-    }
-    bool any = false;
-    for (const PolygonWithHoles& polygon : ws.eroded_polygons) {
-      if (!(polygon2d::Area(polygon) > min_area)) continue;
-      if (polygon.holes.empty() && polygon2d::IsConvex(polygon.outer)) {
-        emit(polygon.outer, polygon2d::SignedArea(polygon.outer));
-        any = true;
-        continue;
-      }
-      if (!polygon2d::ConvexPartition(polygon, ws.pieces)) {
-        ++stats_.geometry_failures;
-        continue;
-      }
-      for (const Ring& piece : ws.pieces) emit(piece, polygon2d::SignedArea(piece));
-      any = any || !ws.pieces.empty();
-    }
-    if (!any) ++stats_.vanished_regions;
+    ws.WriteRegionSurfaces(plane, config_, stats_, out);
   }
 
-  surfaces.resize(num_surfaces);
-  stats_.surfaces = static_cast<int>(num_surfaces);
+  surfaces.resize(out.count);
+  stats_.surfaces = static_cast<int>(out.count);
 }
 
 }  // namespace rbcp

@@ -377,12 +377,15 @@ int Find(std::vector<int>& parent, int i) {
   return i;
 }
 
-/// Hertel-Mehlhorn: drop every diagonal whose removal leaves a convex piece, longest first.
-void MergeConvex(const std::vector<Point>& points, const std::vector<std::array<int, 3>>& triangles,
-                 std::vector<Ring>& pieces) {
+/// An edge two triangles share: the half-edge u -> v of triangle tri_uv and v -> u of tri_vu.
+struct Diagonal {
+  int u, v, tri_uv, tri_vu;
+  double length2;  ///< squared length
+};
+
+/// The edges shared by exactly two triangles, in opposite directions: longest first.
+std::vector<Diagonal> Diagonals(const std::vector<Point>& points, const std::vector<std::array<int, 3>>& triangles) {
   const int nt = static_cast<int>(triangles.size());
-  std::vector<std::vector<int>> piece(static_cast<std::size_t>(nt));
-  std::vector<int> parent(static_cast<std::size_t>(nt));
   struct HalfEdge {
     std::uint64_t key;
     int u, v, tri;
@@ -391,8 +394,6 @@ void MergeConvex(const std::vector<Point>& points, const std::vector<std::array<
   half_edges.reserve(static_cast<std::size_t>(3 * nt));
   for (int t = 0; t < nt; ++t) {
     const auto& tri = triangles[static_cast<std::size_t>(t)];
-    piece[static_cast<std::size_t>(t)].assign(tri.begin(), tri.end());
-    parent[static_cast<std::size_t>(t)] = t;
     for (int k = 0; k < 3; ++k) {
       const int u = tri[static_cast<std::size_t>(k)];
       const int v = tri[static_cast<std::size_t>((k + 1) % 3)];
@@ -401,10 +402,6 @@ void MergeConvex(const std::vector<Point>& points, const std::vector<std::array<
   }
   std::sort(half_edges.begin(), half_edges.end(),
             [](const HalfEdge& a, const HalfEdge& b) { return a.key != b.key ? a.key < b.key : a.tri < b.tri; });
-  struct Diagonal {
-    int u, v, tri_uv, tri_vu;
-    double length2;
-  };
   std::vector<Diagonal> diagonals;
   for (std::size_t i = 0; i < half_edges.size();) {
     std::size_t j = i + 1;
@@ -418,38 +415,62 @@ void MergeConvex(const std::vector<Point>& points, const std::vector<std::array<
   }
   std::stable_sort(diagonals.begin(), diagonals.end(),
                    [](const Diagonal& a, const Diagonal& b) { return a.length2 > b.length2; });
+  return diagonals;
+}
 
+/// Whether the corner prev -> at -> next turns left (within the linear tolerance).
+bool ConvexAt(const std::vector<Point>& points, int prev, int at, int next) {
   const auto pt = [&](int id) -> const Point& { return points[static_cast<std::size_t>(id)]; };
-  const auto convex_at = [&](int prev, int at, int next) {
-    return Cross(pt(prev), pt(at), pt(next)) >= -kLinearTolerance * (pt(next) - pt(prev)).norm();
-  };
+  return Cross(pt(prev), pt(at), pt(next)) >= -kLinearTolerance * (pt(next) - pt(prev)).norm();
+}
+
+/// The pieces pa (which runs u -> v along the diagonal) and pb (v -> u) joined across diagonal d
+/// into `merged`; false when they do not border on it or the joined piece is not convex at u or v.
+bool MergeAcross(const std::vector<Point>& points, const Diagonal& d, const std::vector<int>& pa,
+                 const std::vector<int>& pb, std::vector<int>& merged) {
+  const int na = static_cast<int>(pa.size());
+  const int nb = static_cast<int>(pb.size());
+  int ia = -1;
+  int ib = -1;
+  for (int i = 0; i < na; ++i) {
+    if (pa[static_cast<std::size_t>(i)] == d.u && pa[static_cast<std::size_t>((i + 1) % na)] == d.v) ia = i;
+  }
+  for (int i = 0; i < nb; ++i) {
+    if (pb[static_cast<std::size_t>(i)] == d.v && pb[static_cast<std::size_t>((i + 1) % nb)] == d.u) ib = i;
+  }
+  if (ia < 0 || ib < 0) return false;
+  const auto at_a = [&](int i) { return pa[static_cast<std::size_t>(((i % na) + na) % na)]; };
+  const auto at_b = [&](int i) { return pb[static_cast<std::size_t>(((i % nb) + nb) % nb)]; };
+  // A: u -> v -> ... ; B: v -> u -> ... . Merged: u, B after u .. before v, v, A after v .. before u.
+  if (!ConvexAt(points, at_a(ia - 1), d.u, at_b(ib + 2)) || !ConvexAt(points, at_b(ib - 1), d.v, at_a(ia + 2))) {
+    return false;
+  }
+  merged.clear();
+  merged.push_back(d.u);
+  for (int i = 2; i < nb; ++i) merged.push_back(at_b(ib + i));
+  merged.push_back(d.v);
+  for (int i = 2; i < na; ++i) merged.push_back(at_a(ia + i));
+  return true;
+}
+
+/// Hertel-Mehlhorn: drop every diagonal whose removal leaves a convex piece, longest first.
+void MergeConvex(const std::vector<Point>& points, const std::vector<std::array<int, 3>>& triangles,
+                 std::vector<Ring>& pieces) {
+  // Each triangle starts as its own piece; `parent` finds the piece a triangle was merged into.
+  const int nt = static_cast<int>(triangles.size());
+  std::vector<std::vector<int>> piece(static_cast<std::size_t>(nt));
+  std::vector<int> parent(static_cast<std::size_t>(nt));
+  for (int t = 0; t < nt; ++t) {
+    const auto& tri = triangles[static_cast<std::size_t>(t)];
+    piece[static_cast<std::size_t>(t)].assign(tri.begin(), tri.end());
+    parent[static_cast<std::size_t>(t)] = t;
+  }
   std::vector<int> merged;
-  for (const Diagonal& d : diagonals) {
+  for (const Diagonal& d : Diagonals(points, triangles)) {
     const int a = Find(parent, d.tri_uv);
     const int b = Find(parent, d.tri_vu);
     if (a == b) continue;
-    const std::vector<int>& pa = piece[static_cast<std::size_t>(a)];
-    const std::vector<int>& pb = piece[static_cast<std::size_t>(b)];
-    const int na = static_cast<int>(pa.size());
-    const int nb = static_cast<int>(pb.size());
-    int ia = -1;
-    int ib = -1;
-    for (int i = 0; i < na; ++i) {
-      if (pa[static_cast<std::size_t>(i)] == d.u && pa[static_cast<std::size_t>((i + 1) % na)] == d.v) ia = i;
-    }
-    for (int i = 0; i < nb; ++i) {
-      if (pb[static_cast<std::size_t>(i)] == d.v && pb[static_cast<std::size_t>((i + 1) % nb)] == d.u) ib = i;
-    }
-    if (ia < 0 || ib < 0) continue;
-    const auto at_a = [&](int i) { return pa[static_cast<std::size_t>(((i % na) + na) % na)]; };
-    const auto at_b = [&](int i) { return pb[static_cast<std::size_t>(((i % nb) + nb) % nb)]; };
-    // A: u -> v -> ... ; B: v -> u -> ... . Merged: u, B after u .. before v, v, A after v .. before u.
-    if (!convex_at(at_a(ia - 1), d.u, at_b(ib + 2)) || !convex_at(at_b(ib - 1), d.v, at_a(ia + 2))) continue;
-    merged.clear();
-    merged.push_back(d.u);
-    for (int i = 2; i < nb; ++i) merged.push_back(at_b(ib + i));
-    merged.push_back(d.v);
-    for (int i = 2; i < na; ++i) merged.push_back(at_a(ia + i));
+    if (!MergeAcross(points, d, piece[static_cast<std::size_t>(a)], piece[static_cast<std::size_t>(b)], merged)) continue;
     piece[static_cast<std::size_t>(a)].swap(merged);
     piece[static_cast<std::size_t>(b)].clear();
     parent[static_cast<std::size_t>(b)] = a;
@@ -459,7 +480,7 @@ void MergeConvex(const std::vector<Point>& points, const std::vector<std::array<
     if (ids.empty()) continue;
     Ring ring;
     ring.reserve(ids.size());
-    for (int id : ids) ring.push_back(pt(id));
+    for (int id : ids) ring.push_back(points[static_cast<std::size_t>(id)]);
     RemoveCollinear(ring);
     if (ring.size() >= 3 && SignedArea(ring) > 0.0) pieces.push_back(std::move(ring));
   }

@@ -243,105 +243,118 @@ void PlanController::Fail(const Measured& m, Leg leg, const std::string& why) {
   Enter(ControllerPhase::kFailed, m.t);
 }
 
+void PlanController::BeginPlan(const Measured& m) {
+  plan_started_ = false;
+  status_ = ControllerStatus{};
+  status_.plan_start_s = m.t;
+  load_.fill(1.0);
+  for (Leg leg : kAllLegs) normal_W_[static_cast<std::size_t>(Index(leg))] = plan_.states.front().feet[static_cast<std::size_t>(Index(leg))].normal.normalized();
+  const WholeBodyState& first = plan_.states.front();
+  MoveBaseTo(first.base_position, QuaternionFromRpy(first.base_rpy), m.t, config_.base.settle_s);
+  Enter(ControllerPhase::kSettle, m.t);
+}
+
 void PlanController::Advance(const Measured& m) {
-  const double t = m.t;
-  if (plan_started_) {
-    plan_started_ = false;
-    status_ = ControllerStatus{};
-    status_.plan_start_s = t;
-    load_.fill(1.0);
-    for (Leg leg : kAllLegs) normal_W_[static_cast<std::size_t>(Index(leg))] = plan_.states.front().feet[static_cast<std::size_t>(Index(leg))].normal.normalized();
-    const WholeBodyState& first = plan_.states.front();
-    MoveBaseTo(first.base_position, QuaternionFromRpy(first.base_rpy), t, config_.base.settle_s);
-    Enter(ControllerPhase::kSettle, t);
-  }
+  if (plan_started_) BeginPlan(m);
   // Phases may end within one tick; a few transitions at most follow each other.
   for (int guard = 0; guard < 4; ++guard) {
-    const double elapsed = t - status_.phase_start_s;
     const ControllerPhase before = status_.phase;
-    const std::size_t sl = status_.swing_leg ? static_cast<std::size_t>(Index(*status_.swing_leg)) : 0;
-    switch (status_.phase) {
-      case ControllerPhase::kHold:
-      case ControllerPhase::kDone:
-      case ControllerPhase::kFailed:
-        break;
-      case ControllerPhase::kSettle:
-        if (segment_.Done(t)) {
-          if (plan_.states.size() > 1) {
-            BeginStep(1, m);
-          } else {
-            Enter(ControllerPhase::kFinalShift, t);
-          }
-        }
-        break;
-      case ControllerPhase::kShift:
-        if (segment_.Done(t)) Enter(ControllerPhase::kUnload, t);
-        break;
-      case ControllerPhase::kUnload:
-        load_[sl] = std::clamp(1.0 - elapsed / config_.stance.unload_s, 0.0, 1.0);
-        if (elapsed >= config_.stance.unload_s) {
-          load_[sl] = 0.0;
-          status_.stance[sl] = false;
-          swing_ = PlanSwing(status_.step, m.feet_W[sl]);
-          swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
-          Enter(ControllerPhase::kSwing, t);
-        }
-        break;
-      case ControllerPhase::kSwing: {
-        const double phase = swing_.Phase(elapsed);
-        if (OnFoothold(m, sl) && phase >= config_.swing.touchdown_phase) {
-          if (phase < 1.0) status_.early_touchdowns += 1;
-          status_.stance[sl] = true;
-          load_[sl] = 0.0;
-          normal_W_[sl] = plan_.states[static_cast<std::size_t>(status_.step)].feet[sl].normal.normalized();
-          Enter(ControllerPhase::kLoad, t);
-        } else if (elapsed >= swing_.Duration()) {
-          status_.late_touchdowns += 1;
-          search_start_W_ = swing_.Position(swing_.Duration());
-          Enter(ControllerPhase::kSearch, t);
-        }
-        break;
-      }
-      case ControllerPhase::kSearch:
-        if (OnFoothold(m, sl)) {
-          status_.stance[sl] = true;
-          load_[sl] = 0.0;
-          normal_W_[sl] = plan_.states[static_cast<std::size_t>(status_.step)].feet[sl].normal.normalized();
-          Enter(ControllerPhase::kLoad, t);
-        } else if (elapsed * config_.swing.search_speed_mps >= config_.swing.search_depth_m) {
-          Fail(m, static_cast<Leg>(sl),
-               std::string(LegName(static_cast<Leg>(sl))) + " found no ground within " +
-                   FixedNumber(config_.swing.search_depth_m + stance_.Config().swing.touchdown_depth_m) + " m below its foothold (step " +
-                   std::to_string(status_.step) + ")");
-        }
-        break;
-      case ControllerPhase::kLoad:
-        load_[sl] = std::clamp(elapsed / config_.stance.load_s, 0.0, 1.0);
-        if (elapsed >= config_.stance.load_s) {
-          load_[sl] = 1.0;
-          FinishStep(m);
-        }
-        break;
-      case ControllerPhase::kAwait:
-        if (pending_) {
-          plan_ = std::move(*pending_);
-          pending_.reset();
-          continue_requested_ = false;
-          status_.plan_start_s = t;
-          status_.step = 0;
-          NextStepOrFinish(m);
-        } else if (continue_requested_) {
-          continue_requested_ = false;
-          NextStepOrFinish(m);
-        }
-        break;
-      case ControllerPhase::kFinalShift:
-        if (segment_.Done(t) && elapsed >= segment_.duration + config_.base.final_hold_s) {
-          Enter(ControllerPhase::kDone, t);
-        }
-        break;
-    }
+    AdvancePhase(m);
     if (status_.phase == before) break;
+  }
+}
+
+void PlanController::AdvancePhase(const Measured& m) {
+  const double t = m.t;
+  const double elapsed = t - status_.phase_start_s;
+  const std::size_t sl = status_.swing_leg ? static_cast<std::size_t>(Index(*status_.swing_leg)) : 0;
+  switch (status_.phase) {
+    case ControllerPhase::kHold:
+    case ControllerPhase::kDone:
+    case ControllerPhase::kFailed:
+      break;
+    case ControllerPhase::kSettle:
+      if (segment_.Done(t)) {
+        if (plan_.states.size() > 1) {
+          BeginStep(1, m);
+        } else {
+          Enter(ControllerPhase::kFinalShift, t);
+        }
+      }
+      break;
+    case ControllerPhase::kShift:
+      if (segment_.Done(t)) Enter(ControllerPhase::kUnload, t);
+      break;
+    case ControllerPhase::kUnload: AdvanceUnload(m, sl, elapsed); break;
+    case ControllerPhase::kSwing: AdvanceSwing(m, sl, elapsed); break;
+    case ControllerPhase::kSearch: AdvanceSearch(m, sl, elapsed); break;
+    case ControllerPhase::kLoad:
+      load_[sl] = std::clamp(elapsed / config_.stance.load_s, 0.0, 1.0);
+      if (elapsed >= config_.stance.load_s) {
+        load_[sl] = 1.0;
+        FinishStep(m);
+      }
+      break;
+    case ControllerPhase::kAwait: AdvanceAwait(m); break;
+    case ControllerPhase::kFinalShift:
+      if (segment_.Done(t) && elapsed >= segment_.duration + config_.base.final_hold_s) {
+        Enter(ControllerPhase::kDone, t);
+      }
+      break;
+  }
+}
+
+void PlanController::AdvanceUnload(const Measured& m, std::size_t sl, double elapsed) {
+  load_[sl] = std::clamp(1.0 - elapsed / config_.stance.unload_s, 0.0, 1.0);
+  if (elapsed < config_.stance.unload_s) return;
+  load_[sl] = 0.0;
+  status_.stance[sl] = false;
+  swing_ = PlanSwing(status_.step, m.feet_W[sl]);
+  swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
+  Enter(ControllerPhase::kSwing, m.t);
+}
+
+void PlanController::AdvanceSwing(const Measured& m, std::size_t sl, double elapsed) {
+  const double phase = swing_.Phase(elapsed);
+  if (OnFoothold(m, sl) && phase >= config_.swing.touchdown_phase) {
+    if (phase < 1.0) status_.early_touchdowns += 1;
+    TouchDown(sl, m.t);
+  } else if (elapsed >= swing_.Duration()) {
+    status_.late_touchdowns += 1;
+    search_start_W_ = swing_.Position(swing_.Duration());
+    Enter(ControllerPhase::kSearch, m.t);
+  }
+}
+
+void PlanController::AdvanceSearch(const Measured& m, std::size_t sl, double elapsed) {
+  if (OnFoothold(m, sl)) {
+    TouchDown(sl, m.t);
+  } else if (elapsed * config_.swing.search_speed_mps >= config_.swing.search_depth_m) {
+    Fail(m, static_cast<Leg>(sl),
+         std::string(LegName(static_cast<Leg>(sl))) + " found no ground within " +
+             FixedNumber(config_.swing.search_depth_m + stance_.Config().swing.touchdown_depth_m) +
+             " m below its foothold (step " + std::to_string(status_.step) + ")");
+  }
+}
+
+void PlanController::TouchDown(std::size_t sl, double t) {
+  status_.stance[sl] = true;
+  load_[sl] = 0.0;
+  normal_W_[sl] = plan_.states[static_cast<std::size_t>(status_.step)].feet[sl].normal.normalized();
+  Enter(ControllerPhase::kLoad, t);
+}
+
+void PlanController::AdvanceAwait(const Measured& m) {
+  if (pending_) {
+    plan_ = std::move(*pending_);
+    pending_.reset();
+    continue_requested_ = false;
+    status_.plan_start_s = m.t;
+    status_.step = 0;
+    NextStepOrFinish(m);
+  } else if (continue_requested_) {
+    continue_requested_ = false;
+    NextStepOrFinish(m);
   }
 }
 
@@ -376,13 +389,11 @@ JointVector PlanController::Update(const RobotState& state) {
   return Torques(m);
 }
 
-JointVector PlanController::Torques(const Measured& m) {
+Wrench PlanController::BaseWrench(const Measured& m) const {
+  // Virtual model: the wrench on the trunk about the CoM that holds the base on its reference.
   const double mass = robot_.TotalMass();
   const Eigen::Matrix3d& R = m.R;
   const BaseReference& ref = reference_;
-  const Eigen::Matrix3d Rd = ref.orientation_W.toRotationMatrix();
-
-  // Virtual model: the wrench on the trunk about the CoM that holds the base on its reference.
   const Eigen::Vector3d e_p = ref.position_W - m.p;
   const Eigen::Vector3d e_v = ref.linear_velocity_W - m.v;
   const Eigen::Vector3d e_R = RotationVector(ref.orientation_W * Eigen::Quaterniond(R).conjugate());
@@ -393,7 +404,12 @@ JointVector PlanController::Torques(const Measured& m) {
                      R * (b.kp_linear.cwiseProduct(R.transpose() * e_p) + b.kd_linear.cwiseProduct(R.transpose() * e_v));
   wrench.tail<3>() =
       R * (b.kp_angular.cwiseProduct(R.transpose() * e_R) + b.kd_angular.cwiseProduct(R.transpose() * e_w));
+  return wrench;
+}
 
+ForceDistribution PlanController::StanceForces(const Measured& m, const Wrench& wrench) {
+  // The stance feet bear the wrench by their load; those at least half loaded make the support
+  // polygon whose margin the status reports.
   std::vector<StanceFoot> feet;
   std::vector<Eigen::Vector3d> support;
   for (Leg leg : kAllLegs) {
@@ -414,47 +430,67 @@ JointVector PlanController::Torques(const Measured& m) {
   ForceDistributionParams params;
   params.friction = stance_.Rules().friction;
   params.min_normal_force_N = stance_.Config().min_normal_force_N;
-  const ForceDistribution forces = DistributeWrench(feet, m.com_W, wrench, params);
+  return DistributeWrench(feet, m.com_W, wrench, params);
+}
 
-  const Eigen::Vector3d gravity_B = R.transpose() * Eigen::Vector3d(0, 0, -kGravity);
+void PlanController::AddStanceTorques(const Measured& m, Leg leg, const Eigen::Matrix3d& J,
+                                      const Eigen::Vector3d& force_W, Eigen::Vector3d& t) const {
+  const std::size_t i = static_cast<std::size_t>(Index(leg));
+  const Eigen::Vector3d q = LegJoints(m.q, leg);
+  const Eigen::Vector3d qd = LegJoints(m.qd, leg);
+  const Eigen::Matrix3d& R = m.R;
+  const Eigen::Matrix3d Rd = reference_.orientation_W.toRotationMatrix();
+  t -= J.transpose() * (R.transpose() * force_W);
+  // Joint servo: the joints that keep the measured foot where it is with the base on its reference.
+  const IkResult ik = robot_.SolveLegIk(leg, Rd.transpose() * (m.feet_W[i] - reference_.position_W));
+  if (ik.status != IkResult::Status::kOutOfReach) {
+    t += config_.stance.kp.cwiseProduct(ik.q - q);
+  }
+  t -= config_.stance.kd.cwiseProduct(qd);
+}
+
+void PlanController::AddSwingTorques(const Measured& m, Leg leg, const Eigen::Matrix3d& J, Eigen::Vector3d& t) {
+  // Swing or search: follow the path under joint PD.
+  const std::size_t i = static_cast<std::size_t>(Index(leg));
+  const Eigen::Vector3d q = LegJoints(m.q, leg);
+  const Eigen::Vector3d qd = LegJoints(m.qd, leg);
+  const Eigen::Matrix3d& R = m.R;
+  const double elapsed = m.t - status_.phase_start_s;
+  if (status_.phase == ControllerPhase::kSwing) {
+    swing_target_W_ = swing_.Position(elapsed);
+    swing_velocity_W_ = swing_.Velocity(elapsed);
+  } else if (status_.phase == ControllerPhase::kSearch) {
+    const Eigen::Vector3d n = plan_.states[static_cast<std::size_t>(status_.step)].feet[i].normal.normalized();
+    const double depth = std::min(elapsed * config_.swing.search_speed_mps, config_.swing.search_depth_m);
+    swing_target_W_ = search_start_W_ - depth * n;
+    swing_velocity_W_ = -config_.swing.search_speed_mps * n;
+  } else {
+    swing_velocity_W_.setZero();
+  }
+  const IkResult ik = robot_.SolveLegIk(leg, R.transpose() * (swing_target_W_ - m.p));
+  if (ik.status != IkResult::Status::kOutOfReach) swing_q_des_ = ik.q;
+  const Eigen::Vector3d v_rel_B = R.transpose() * (swing_velocity_W_ - m.v - m.w_W.cross(swing_target_W_ - m.p));
+  Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
+  if (std::abs(J.determinant()) > 1e-4) qd_des = J.partialPivLu().solve(v_rel_B);
+  t += config_.swing.kp.cwiseProduct(swing_q_des_ - q) + config_.swing.kd.cwiseProduct(qd_des - qd);
+}
+
+JointVector PlanController::Torques(const Measured& m) {
+  const ForceDistribution forces = StanceForces(m, BaseWrench(m));
+  const Eigen::Vector3d gravity_B = m.R.transpose() * Eigen::Vector3d(0, 0, -kGravity);
   JointVector tau = JointVector::Zero();
   for (Leg leg : kAllLegs) {
+    // Gravity compensation of the leg, then its stance or swing servo.
     const std::size_t i = static_cast<std::size_t>(Index(leg));
     const Eigen::Vector3d q = LegJoints(m.q, leg);
-    const Eigen::Vector3d qd = LegJoints(m.qd, leg);
     Eigen::Vector3d foot_B;
     Eigen::Matrix3d J;
     robot_.FootPositionAndJacobian(leg, q, &foot_B, &J);
     Eigen::Vector3d t = robot_.LegGravityTorques(leg, q, gravity_B);
     if (status_.stance[i]) {
-      t -= J.transpose() * (R.transpose() * forces.forces_W[i]);
-      // Joint servo: the joints that keep the measured foot where it is with the base on its reference.
-      const IkResult ik = robot_.SolveLegIk(leg, Rd.transpose() * (m.feet_W[i] - ref.position_W));
-      if (ik.status != IkResult::Status::kOutOfReach) {
-        t += config_.stance.kp.cwiseProduct(ik.q - q);
-      }
-      t -= config_.stance.kd.cwiseProduct(qd);
+      AddStanceTorques(m, leg, J, forces.forces_W[i], t);
     } else {
-      // Swing or search: follow the path under joint PD.
-      const double elapsed = m.t - status_.phase_start_s;
-      if (status_.phase == ControllerPhase::kSwing) {
-        swing_target_W_ = swing_.Position(elapsed);
-        swing_velocity_W_ = swing_.Velocity(elapsed);
-      } else if (status_.phase == ControllerPhase::kSearch) {
-        const Eigen::Vector3d n = plan_.states[static_cast<std::size_t>(status_.step)].feet[i].normal.normalized();
-        const double depth = std::min(elapsed * config_.swing.search_speed_mps, config_.swing.search_depth_m);
-        swing_target_W_ = search_start_W_ - depth * n;
-        swing_velocity_W_ = -config_.swing.search_speed_mps * n;
-      } else {
-        swing_velocity_W_.setZero();
-      }
-      const IkResult ik = robot_.SolveLegIk(leg, R.transpose() * (swing_target_W_ - m.p));
-      if (ik.status != IkResult::Status::kOutOfReach) swing_q_des_ = ik.q;
-      const Eigen::Vector3d v_rel_B =
-          R.transpose() * (swing_velocity_W_ - m.v - m.w_W.cross(swing_target_W_ - m.p));
-      Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
-      if (std::abs(J.determinant()) > 1e-4) qd_des = J.partialPivLu().solve(v_rel_B);
-      t += config_.swing.kp.cwiseProduct(swing_q_des_ - q) + config_.swing.kd.cwiseProduct(qd_des - qd);
+      AddSwingTorques(m, leg, J, t);
     }
     SetLegJoints(tau, leg, t);
   }

@@ -428,6 +428,79 @@ RootPath KinodynamicBiRrt::Chain(int start_node, const std::optional<RootSegment
   return path;
 }
 
+ob::PlannerStatus KinodynamicBiRrt::AddSolution(RootPath path) {
+  stats_.start_tree_states = static_cast<int>(start_tree_.size());
+  stats_.goal_tree_states = static_cast<int>(goal_tree_.size());
+  pdef_->addSolutionPath(std::make_shared<RootTrajectoryPath>(si_, std::move(path), validator_), false, 0.0, getName());
+  return ob::PlannerStatus(ob::PlannerStatus::EXACT_SOLUTION);
+}
+
+std::optional<RootPath> KinodynamicBiRrt::ConnectDirectly(double rest_start, double rest_goal) {
+  auto direct = validator_->Steer(start_tree_[0].point, rest_start, goal_tree_[0].point, rest_goal);
+  if (!direct) return std::nullopt;
+  const double prefix = validator_->ValidPrefix(*direct);
+  if (prefix >= direct->Duration() - kTimeTolerance) return Chain(0, direct, 0);
+  if (prefix > 0.0) {
+    const RootPathSample s = direct->Sample(prefix, validator_->Settings().yaw);
+    // Along the start tree the rest yaw stays the start's: re-steer the prefix part with it.
+    RootSegment part = direct->Part(0.0, prefix);
+    part.rest_yaw_begin = part.rest_yaw_end = rest_start;
+    if (std::abs(WrapAngle(rest_goal - rest_start)) < 1e-9) {
+      AddNode(start_tree_, PointState{s.p, s.v}, rest_start, 0, part);
+    }
+  }
+  return std::nullopt;
+}
+
+KinodynamicBiRrt::Extension KinodynamicBiRrt::ExtendStartTree(const PointState& target, double rest_start) {
+  Extension extension;
+  const int near = Nearest(start_tree_, target, true);
+  auto piece = validator_->Steer(start_tree_[static_cast<std::size_t>(near)].point, rest_start, target, rest_start);
+  if (!piece) return extension;
+  const double prefix = validator_->ValidPrefix(*piece);
+  if (prefix > 0.0) {
+    const RootPathSample s = piece->Sample(prefix, validator_->Settings().yaw);
+    extension.node = AddNode(start_tree_, PointState{s.p, s.v}, rest_start, near, piece->Part(0.0, prefix));
+    extension.reached = prefix >= piece->Duration() - kTimeTolerance;
+  }
+  return extension;
+}
+
+KinodynamicBiRrt::Extension KinodynamicBiRrt::ExtendGoalTree(const PointState& target, double rest_goal) {
+  Extension extension;
+  const int near = Nearest(goal_tree_, target, false);
+  auto piece = validator_->Steer(target, rest_goal, goal_tree_[static_cast<std::size_t>(near)].point, rest_goal);
+  if (!piece) return extension;
+  const double suffix = validator_->ValidSuffix(*piece);
+  if (suffix < piece->Duration() - kTimeTolerance) {
+    const RootPathSample s = piece->Sample(suffix, validator_->Settings().yaw);
+    extension.node = AddNode(goal_tree_, PointState{s.p, s.v}, rest_goal, near, piece->Part(suffix, piece->Duration()));
+    extension.reached = suffix <= kTimeTolerance;
+  }
+  return extension;
+}
+
+std::optional<RootPath> KinodynamicBiRrt::Join(const Extension& from_start, const Extension& from_goal,
+                                               double rest_start, double rest_goal) const {
+  std::optional<RootPath> joined;
+  auto try_join = [&](int s, int g) {
+    const Node& a = start_tree_[static_cast<std::size_t>(s)];
+    const Node& b = goal_tree_[static_cast<std::size_t>(g)];
+    auto bridge = validator_->Steer(a.point, rest_start, b.point, rest_goal);
+    if (bridge && bridge->Duration() > 0.0 && validator_->IsValid(*bridge)) joined = Chain(s, bridge, g);
+  };
+  if (from_start.node >= 0) {
+    try_join(from_start.node, Nearest(goal_tree_, start_tree_[static_cast<std::size_t>(from_start.node)].point, false));
+  }
+  if (!joined && from_goal.node >= 0) {
+    const int s = Nearest(start_tree_, goal_tree_[static_cast<std::size_t>(from_goal.node)].point, true);
+    // The pair (new start, new goal) when both reached the sample is the same state: the
+    // previous join attempt already covered its neighbourhood.
+    if (!(s == from_start.node && from_start.reached && from_goal.reached)) try_join(s, from_goal.node);
+  }
+  return joined;
+}
+
 ob::PlannerStatus KinodynamicBiRrt::solve(const ob::PlannerTerminationCondition& ptc) {
   checkValidity();
   clear();
@@ -439,91 +512,25 @@ ob::PlannerStatus KinodynamicBiRrt::solve(const ob::PlannerTerminationCondition&
   const double rest_goal = RootStateSpace::RestYaw(goal_state);
   AddNode(start_tree_, RootStateSpace::Point(start_state), rest_start, -1, RootSegment{});
   AddNode(goal_tree_, RootStateSpace::Point(goal_state), rest_goal, -1, RootSegment{});
-
-  auto finish = [&](RootPath path) {
-    stats_.start_tree_states = static_cast<int>(start_tree_.size());
-    stats_.goal_tree_states = static_cast<int>(goal_tree_.size());
-    pdef_->addSolutionPath(std::make_shared<RootTrajectoryPath>(si_, std::move(path), validator_), false, 0.0,
-                           getName());
-    return ob::PlannerStatus(ob::PlannerStatus::EXACT_SOLUTION);
-  };
-
-  // The direct connection first; its valid prefix seeds the start tree.
-  if (auto direct = validator_->Steer(start_tree_[0].point, rest_start, goal_tree_[0].point, rest_goal)) {
-    const double prefix = validator_->ValidPrefix(*direct);
-    if (prefix >= direct->Duration() - kTimeTolerance) return finish(Chain(0, direct, 0));
-    if (prefix > 0.0) {
-      const RootPathSample s = direct->Sample(prefix, validator_->Settings().yaw);
-      // Along the start tree the rest yaw stays the start's: re-steer the prefix part with it.
-      RootSegment part = direct->Part(0.0, prefix);
-      part.rest_yaw_begin = part.rest_yaw_end = rest_start;
-      if (std::abs(WrapAngle(rest_goal - rest_start)) < 1e-9) {
-        AddNode(start_tree_, PointState{s.p, s.v}, rest_start, 0, part);
-      }
-    }
-  }
+  if (std::optional<RootPath> direct = ConnectDirectly(rest_start, rest_goal)) return AddSolution(std::move(*direct));
 
   SurfaceStateSampler sampler(si_->getStateSpace().get(), surfaces_, validity_, checker_, sampler_settings_, seed_);
   ob::State* target_state = si_->allocState();
-  const YawModel& yaw = validator_->Settings().yaw;
   ob::PlannerStatus status = ob::PlannerStatus::TIMEOUT;
   while (stats_.iterations < max_iterations_ && !ptc()) {
     ++stats_.iterations;
     sampler.sampleUniform(target_state);
     const PointState target = RootStateSpace::Point(target_state);
-
-    int new_start = -1;
-    bool start_reached = false;
-    const int near_start = Nearest(start_tree_, target, true);
-    if (auto piece = validator_->Steer(start_tree_[static_cast<std::size_t>(near_start)].point, rest_start, target,
-                                       rest_start)) {
-      const double prefix = validator_->ValidPrefix(*piece);
-      if (prefix > 0.0) {
-        const RootPathSample s = piece->Sample(prefix, yaw);
-        new_start = AddNode(start_tree_, PointState{s.p, s.v}, rest_start, near_start, piece->Part(0.0, prefix));
-        start_reached = prefix >= piece->Duration() - kTimeTolerance;
-      }
-    }
-
-    int new_goal = -1;
-    bool goal_reached = false;
-    const int near_goal = Nearest(goal_tree_, target, false);
-    if (auto piece = validator_->Steer(target, rest_goal, goal_tree_[static_cast<std::size_t>(near_goal)].point,
-                                       rest_goal)) {
-      const double suffix = validator_->ValidSuffix(*piece);
-      if (suffix < piece->Duration() - kTimeTolerance) {
-        const RootPathSample s = piece->Sample(suffix, yaw);
-        new_goal = AddNode(goal_tree_, PointState{s.p, s.v}, rest_goal, near_goal,
-                           piece->Part(suffix, piece->Duration()));
-        goal_reached = suffix <= kTimeTolerance;
-      }
-    }
-
-    if (new_start >= 0 && new_goal >= 0 && start_reached && goal_reached &&
+    const Extension from_start = ExtendStartTree(target, rest_start);
+    const Extension from_goal = ExtendGoalTree(target, rest_goal);
+    // Both trees reached the sample: it joins them when its rest yaws agree there.
+    if (from_start.node >= 0 && from_goal.node >= 0 && from_start.reached && from_goal.reached &&
         Compatible(target, rest_start, rest_goal)) {
-      status = finish(Chain(new_start, std::nullopt, new_goal));
+      status = AddSolution(Chain(from_start.node, std::nullopt, from_goal.node));
       break;
     }
-    // Try to join the trees with one more piece: from the new start-tree state to the nearest
-    // goal-tree state, and from the nearest start-tree state to the new goal-tree state.
-    std::optional<RootPath> joined;
-    auto try_join = [&](int s, int g) {
-      const Node& a = start_tree_[static_cast<std::size_t>(s)];
-      const Node& b = goal_tree_[static_cast<std::size_t>(g)];
-      auto bridge = validator_->Steer(a.point, rest_start, b.point, rest_goal);
-      if (bridge && bridge->Duration() > 0.0 && validator_->IsValid(*bridge)) joined = Chain(s, bridge, g);
-    };
-    if (new_start >= 0) {
-      try_join(new_start, Nearest(goal_tree_, start_tree_[static_cast<std::size_t>(new_start)].point, false));
-    }
-    if (!joined && new_goal >= 0) {
-      const int s = Nearest(start_tree_, goal_tree_[static_cast<std::size_t>(new_goal)].point, true);
-      // The pair (new start, new goal) when both reached the sample is the same state: the
-      // previous join attempt already covered its neighbourhood.
-      if (!(s == new_start && start_reached && goal_reached)) try_join(s, new_goal);
-    }
-    if (joined) {
-      status = finish(std::move(*joined));
+    if (std::optional<RootPath> joined = Join(from_start, from_goal, rest_start, rest_goal)) {
+      status = AddSolution(std::move(*joined));
       break;
     }
   }

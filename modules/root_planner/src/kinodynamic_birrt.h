@@ -199,6 +199,26 @@ class KinodynamicBiRrt : public ob::Planner {
   };
   using Tree = std::vector<Node>;
 
+  /// One tree's growth towards a sample: the new node (-1 when the tree did not grow) and whether
+  /// it is the sample itself (the whole steered piece was valid).
+  struct Extension {
+    int node = -1;
+    bool reached = false;
+  };
+
+  /// The piece from the start straight to the goal: the path when it is valid whole; otherwise
+  /// its valid prefix joins the start tree (when both ends have the same rest yaw) and nullopt.
+  std::optional<RootPath> ConnectDirectly(double rest_start, double rest_goal);
+  /// Steers from the start tree's state nearest to `target` towards it and keeps the valid prefix.
+  Extension ExtendStartTree(const PointState& target, double rest_start);
+  /// Steers from `target` to the goal tree's state nearest to it and keeps the valid suffix.
+  Extension ExtendGoalTree(const PointState& target, double rest_goal);
+  /// The trees joined by one more valid piece: from the new start-tree state to the nearest
+  /// goal-tree state, else from the nearest start-tree state to the new goal-tree state.
+  std::optional<RootPath> Join(const Extension& from_start, const Extension& from_goal, double rest_start,
+                               double rest_goal) const;
+  /// Records the tree sizes and hands `path` to the problem definition as the exact solution.
+  ob::PlannerStatus AddSolution(RootPath path);
   int Nearest(const Tree& tree, const PointState& target, bool towards_target) const;
   int AddNode(Tree& tree, const PointState& point, double rest_yaw, int parent, const RootSegment& edge);
   RootPath Chain(int start_node, const std::optional<RootSegment>& bridge, int goal_node) const;

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -105,21 +107,97 @@ constexpr double kStraightTolerance = 0.005;  // [m] knots this close to the lin
 constexpr double kMaxStraightenGrowth = 1.1;  // straightening makes a path at most 10 % longer
 constexpr double kTurnOnTheSpotRate = 0.25;   // [rad/s] heading rate of a path that only turns
 
+// The knots of straightening: the path's samples every `spacing` [s] from its start, and its end.
+std::vector<RootPathSample> Knots(const RootPath& path, double spacing) {
+  const double T = path.Duration();
+  std::vector<RootPathSample> knots;
+  for (double t = 0.0; t < T - 0.5 * spacing; t += spacing) knots.push_back(path.Sample(t));
+  knots.push_back(path.Sample(T));
+  return knots;
+}
+
+// The parts of the path between consecutive knots: pieces[k] runs from knots[k] to knots[k + 1].
+std::vector<RootPath> PiecesBetween(const RootPath& path, const std::vector<RootPathSample>& knots) {
+  std::vector<RootPath> pieces;
+  for (std::size_t k = 0; k + 1 < knots.size(); ++k) pieces.push_back(path.Part(knots[k].t, knots[k + 1].t));
+  return pieces;
+}
+
+// Where the knots i..j of a run go on the straight line between its ends.
+struct RunLine {
+  Eigen::Vector2d dir;                   // unit horizontal direction from knot i to knot j
+  std::vector<Eigen::Vector2d> on_line;  // each knot's point on the line, i..j
+  double deviation = 0.0;                // [m] the largest horizontal distance of a knot from its point
+};
+
+// The line of the run of knots i..j, each knot's point on it at the knot's fraction of the run's
+// horizontal length; nullopt when the run's ends lie (horizontally) at the same place.
+std::optional<RunLine> LineOfRun(const std::vector<RootPathSample>& knots, long i, long j) {
+  const Eigen::Vector2d A = knots[static_cast<std::size_t>(i)].p.head<2>();
+  const Eigen::Vector2d B = knots[static_cast<std::size_t>(j)].p.head<2>();
+  if ((B - A).norm() < 1e-6) return std::nullopt;
+  RunLine line;
+  line.dir = (B - A).normalized();
+  std::vector<double> arc{0.0};
+  for (long k = i + 1; k <= j; ++k) {
+    arc.push_back(arc.back() + (knots[static_cast<std::size_t>(k)].p - knots[static_cast<std::size_t>(k - 1)].p).head<2>().norm());
+  }
+  for (long k = i; k <= j; ++k) {
+    const std::size_t m = static_cast<std::size_t>(k - i);
+    line.on_line.push_back(A + (arc[m] / arc.back()) * (B - A));
+    line.deviation = std::max(line.deviation, (knots[static_cast<std::size_t>(k)].p.head<2>() - line.on_line.back()).norm());
+  }
+  return line;
+}
+
+// The knots i..j with the inner ones moved horizontally the fraction `blend` of the way to their
+// points on the line; their horizontal velocities turn as far towards the line's direction, their
+// speed kept (within the per-axis bound v_max).
+std::vector<RootPathSample> MovedTowardLine(const std::vector<RootPathSample>& knots, long i, long j,
+                                            const RunLine& line, double blend, double v_max) {
+  std::vector<RootPathSample> moved(knots.begin() + i, knots.begin() + j + 1);
+  for (std::size_t m = 1; m + 1 < moved.size(); ++m) {
+    moved[m].p.head<2>() += blend * (line.on_line[m] - moved[m].p.head<2>());
+    const Eigen::Vector2d v = moved[m].v.head<2>();
+    const Eigen::Vector2d heading = v.norm() > 1e-9 ? v.normalized() : line.dir;
+    const Eigen::Vector2d turned = (1.0 - blend) * heading + blend * line.dir;
+    if (turned.norm() > 1e-9) {
+      moved[m].v.head<2>() = (v.norm() * turned.normalized()).cwiseMax(-v_max).cwiseMin(v_max);
+    }
+  }
+  return moved;
+}
+
+// The pieces steered between consecutive moved knots and their total duration.
+struct SteeredRun {
+  std::vector<RootSegment> pieces;
+  double duration = 0.0;  // [s]
+};
+
+// Steers between consecutive knots; nullopt as soon as one piece cannot be steered.
+std::optional<SteeredRun> SteerRun(const detail::KinodynamicMotionValidator& validator,
+                                   const std::vector<RootPathSample>& knots) {
+  SteeredRun run;
+  for (std::size_t m = 0; m + 1 < knots.size(); ++m) {
+    auto piece = validator.Steer(PointState{knots[m].p, knots[m].v}, knots[m].rest_yaw,
+                                 PointState{knots[m + 1].p, knots[m + 1].v}, knots[m + 1].rest_yaw);
+    if (!piece) return std::nullopt;
+    run.duration += piece->Duration();
+    run.pieces.push_back(*piece);
+  }
+  return run;
+}
+
 RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidator& validator, int iterations,
                     double knot_spacing, double max_duration, std::uint64_t seed,
                     const ompl::base::PlannerTerminationCondition& ptc) {
   const double h = validator.Settings().time_step;
   const double T = path.Duration();
   const double spacing = h * std::max(1.0, std::round(knot_spacing / h));
-  std::vector<RootPathSample> knots;
-  for (double t = 0.0; t < T - 0.5 * spacing; t += spacing) knots.push_back(path.Sample(t));
-  knots.push_back(path.Sample(T));
+  std::vector<RootPathSample> knots = Knots(path, spacing);
   const long n = static_cast<long>(knots.size()) - 1;
   if (iterations <= 0 || n < 2) return path;
-  std::vector<RootPath> pieces;
-  for (long k = 0; k < n; ++k) {
-    pieces.push_back(path.Part(knots[static_cast<std::size_t>(k)].t, knots[static_cast<std::size_t>(k + 1)].t));
-  }
+  std::vector<RootPath> pieces = PiecesBetween(path, knots);
   const double v_max = validator.Settings().limits.horizontal.v_max;
   // Each run may take one time step per piece longer; the whole path at most max_duration.
   double total = T;
@@ -132,59 +210,25 @@ RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidat
       i = std::uniform_int_distribution<long>(0, n - 2)(rng);
       j = std::uniform_int_distribution<long>(i + 2, n)(rng);
     }
-    const Eigen::Vector2d A = knots[static_cast<std::size_t>(i)].p.head<2>();
-    const Eigen::Vector2d B = knots[static_cast<std::size_t>(j)].p.head<2>();
-    if ((B - A).norm() < 1e-6) continue;
-    const Eigen::Vector2d dir = (B - A).normalized();
-    // Each knot's point on the line, at its fraction of the run's horizontal length.
-    std::vector<double> arc{0.0};
-    for (long k = i + 1; k <= j; ++k) {
-      arc.push_back(arc.back() + (knots[static_cast<std::size_t>(k)].p - knots[static_cast<std::size_t>(k - 1)].p).head<2>().norm());
-    }
-    std::vector<Eigen::Vector2d> on_line;
-    double deviation = 0.0;
-    for (long k = i; k <= j; ++k) {
-      const std::size_t m = static_cast<std::size_t>(k - i);
-      on_line.push_back(A + (arc[m] / arc.back()) * (B - A));
-      deviation = std::max(deviation, (knots[static_cast<std::size_t>(k)].p.head<2>() - on_line.back()).norm());
-    }
-    if (deviation < kStraightTolerance) continue;  // already straight
+    const std::optional<RunLine> line = LineOfRun(knots, i, j);
+    if (!line || line->deviation < kStraightTolerance) continue;  // a loop, or already straight
     double old_duration = 0.0;
     for (long k = i; k < j; ++k) old_duration += pieces[static_cast<std::size_t>(k)].Duration();
     for (const double blend : {1.0, 0.5}) {
-      std::vector<RootPathSample> moved(knots.begin() + i, knots.begin() + j + 1);
-      for (std::size_t m = 1; m + 1 < moved.size(); ++m) {
-        moved[m].p.head<2>() += blend * (on_line[m] - moved[m].p.head<2>());
-        const Eigen::Vector2d v = moved[m].v.head<2>();
-        const Eigen::Vector2d heading = v.norm() > 1e-9 ? v.normalized() : dir;
-        const Eigen::Vector2d turned = (1.0 - blend) * heading + blend * dir;
-        if (turned.norm() > 1e-9) {
-          moved[m].v.head<2>() = (v.norm() * turned.normalized()).cwiseMax(-v_max).cwiseMin(v_max);
-        }
-      }
-      std::vector<RootSegment> steered;
-      double duration = 0.0;
-      bool ok = true;
-      for (std::size_t m = 0; ok && m + 1 < moved.size(); ++m) {
-        auto piece = validator.Steer(PointState{moved[m].p, moved[m].v}, moved[m].rest_yaw,
-                                     PointState{moved[m + 1].p, moved[m + 1].v}, moved[m + 1].rest_yaw);
-        ok = piece.has_value();
-        if (ok) {
-          duration += piece->Duration();
-          steered.push_back(*piece);
-        }
-      }
+      const std::vector<RootPathSample> moved = MovedTowardLine(knots, i, j, *line, blend, v_max);
+      const std::optional<SteeredRun> steered = SteerRun(validator, moved);
       // Steered durations are rounded up to the time grid: up to one step per piece longer.
       const double allowed = old_duration + h * static_cast<double>(j - i) + 1e-9;
-      if (!ok || duration > allowed || total - old_duration + duration > max_total) continue;
-      if (!std::all_of(steered.begin(), steered.end(), [&](const RootSegment& s) { return validator.IsValid(s); })) {
+      if (!steered || steered->duration > allowed || total - old_duration + steered->duration > max_total) continue;
+      if (!std::all_of(steered->pieces.begin(), steered->pieces.end(),
+                       [&](const RootSegment& s) { return validator.IsValid(s); })) {
         continue;
       }
-      total += duration - old_duration;
-      for (std::size_t m = 0; m < steered.size(); ++m) {
+      total += steered->duration - old_duration;
+      for (std::size_t m = 0; m < steered->pieces.size(); ++m) {
         knots[static_cast<std::size_t>(i) + m] = moved[m];
         RootPath piece(path.Yaw());
-        piece.Append(steered[m]);
+        piece.Append(steered->pieces[m]);
         pieces[static_cast<std::size_t>(i) + m] = std::move(piece);
       }
       break;
@@ -195,6 +239,207 @@ RootPath Straighten(const RootPath& path, const detail::KinodynamicMotionValidat
     for (const auto& segment : piece.Segments()) straight.Append(segment);
   }
   return straight;
+}
+
+// Why a query ends before (or without) a path: its status and the reason given with it.
+struct PlanFailure {
+  RootPlanStatus status;
+  std::string reason;
+};
+
+// The ends of a query as the search sees them: the goal at rest (at the start's height when the
+// vertical axis is fixed) and the rest yaws of both ends.
+struct PlanEnds {
+  PointState start;
+  PointState goal;
+  double rest_start = 0.0;  // [rad] the rest yaw that gives the start's yaw at its velocity
+  double rest_goal = 0.0;   // [rad]
+
+  // The goal is the start and the base is at rest there: the path only turns on the spot.
+  bool AtStart() const { return (goal.p - start.p).norm() < 1e-6 && start.v.norm() < 1e-9; }
+};
+
+PlanEnds EndsOf(const RootPlannerConfig& config, const RootPlanRequest& request) {
+  PlanEnds ends;
+  ends.start = request.start;
+  ends.goal = PointState{request.goal, Eigen::Vector3d::Zero()};
+  if (config.limits.VerticalFixed()) ends.goal.p.z() = ends.start.p.z();
+  ends.rest_start = RestYawFor(config.yaw, ends.start.v, request.start_yaw);
+  ends.rest_goal = WrapAngle(request.goal_yaw);
+  return ends;
+}
+
+// A start velocity beyond the limits (any vertical velocity when the vertical axis is fixed).
+std::optional<PlanFailure> StartVelocityProblem(const KinodynamicLimits& limits, const PointState& start) {
+  for (int i = 0; i < 3; ++i) {
+    const double v_max = limits.VerticalFixed() && i == 2 ? 0.0 : limits.Axis(i).v_max;
+    if (std::abs(start.v[i]) > v_max + 1e-9) {
+      return PlanFailure{RootPlanStatus::kStartInvalid, "start velocity " + ConfigNumber(start.v[i]) + " m/s along axis " +
+                                                            std::to_string(i) + " exceeds the bound " + ConfigNumber(v_max) +
+                                                            " m/s"};
+    }
+  }
+  return std::nullopt;
+}
+
+// Checks before any search: the start and the goal satisfy the reachability condition, and a
+// chain of contact surfaces joins the surfaces in reach at the start to those at the goal.
+std::optional<PlanFailure> EndsProblem(const RootPlannerConfig& config, const std::vector<AffordanceSurface>& surfaces,
+                                       const PlanEnds& ends, ReachabilityChecker& checker) {
+  const ReachabilityReport start_report =
+      checker.Check(ends.start.p, config.yaw.Yaw(ends.start.v.head<2>(), ends.rest_start));
+  if (!start_report.Valid()) return PlanFailure{RootPlanStatus::kStartInvalid, "start: " + start_report.Reason()};
+  const ReachabilityReport goal_report = checker.Check(ends.goal.p, ends.rest_goal);
+  if (!goal_report.Valid()) return PlanFailure{RootPlanStatus::kGoalInvalid, "goal: " + goal_report.Reason()};
+  const std::vector<int> from(start_report.leg_surface.begin(), start_report.leg_surface.end());
+  const std::vector<int> to(goal_report.leg_surface.begin(), goal_report.leg_surface.end());
+  const SurfaceGraph graph(surfaces, config.max_surface_gap);
+  if (graph.Joined(from, to)) return std::nullopt;
+  return PlanFailure{RootPlanStatus::kGoalUnreachable,
+                     "no chain of contact surfaces, each within " + ConfigNumber(config.max_surface_gap) +
+                         " m of the next, joins the start's surfaces to the goal's (" +
+                         std::to_string(graph.ComponentCount()) + " separate groups of surfaces)"};
+}
+
+// A goal at the start: the base stays where it is while its heading turns from the start's rest
+// yaw to the goal's at kTurnOnTheSpotRate, the duration on the time grid.
+RootPath TurnOnTheSpot(const RootPlannerConfig& config, const PlanEnds& ends) {
+  const double turn = std::abs(WrapAngle(ends.rest_goal - ends.rest_start));
+  const double duration = config.time_step * std::max(1.0, std::ceil(turn / kTurnOnTheSpotRate / config.time_step));
+  std::array<AxisProfile, 3> axes;
+  for (int i = 0; i < 3; ++i) axes[static_cast<std::size_t>(i)] = AxisProfile::Rest(ends.start.p[i], duration);
+  RootPath path(config.yaw);
+  path.Append(RootSegment::Whole(DoubleIntegratorTrajectory(axes, duration), ends.rest_start, ends.rest_goal));
+  return path;
+}
+
+// The first heading of a turn on the spot (at every validation sample) that violates the
+// reachability condition.
+std::optional<PlanFailure> TurnProblem(const RootPlannerConfig& config, const RootPath& turn,
+                                       ReachabilityChecker& checker) {
+  for (const RootPathSample& s : turn.SampleEvery(config.time_step / config.validation_substeps)) {
+    const ReachabilityReport report = checker.Check(s.p, s.yaw);
+    if (!report.Valid()) {
+      return PlanFailure{RootPlanStatus::kGoalInvalid,
+                         "turning on the spot, at heading " + ConfigNumber(s.yaw) + " rad: " + report.Reason()};
+    }
+  }
+  return std::nullopt;
+}
+
+// The OMPL objects of one search, made in this order (the state space, its information with the
+// validity checker and motion validator, the problem, the planner), which they depend on.
+struct SearchProblem {
+  std::shared_ptr<ompl::base::SpaceInformation> si;
+  std::shared_ptr<detail::ReachabilityValidityChecker> validity;
+  std::shared_ptr<detail::KinodynamicMotionValidator> validator;
+  std::shared_ptr<ompl::base::ProblemDefinition> pdef;
+  std::shared_ptr<detail::KinodynamicBiRrt> planner;
+};
+
+// The state space's position bounds: they cover the surfaces (raised to standing height plus the
+// sampler's height offsets), the start and the goal, with a margin.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> PositionBounds(const RootPlannerConfig& config, double standing_height,
+                                                           const std::vector<AffordanceSurface>& surfaces,
+                                                           const PlanEnds& ends) {
+  Eigen::Vector3d lo = ends.start.p.cwiseMin(ends.goal.p);
+  Eigen::Vector3d hi = ends.start.p.cwiseMax(ends.goal.p);
+  for (const auto& s : surfaces) {
+    for (const auto& v : s.vertices) {
+      const Eigen::Vector3d raised = v + Eigen::Vector3d(0.0, 0.0, standing_height);
+      lo = lo.cwiseMin(raised + Eigen::Vector3d(0.0, 0.0, config.height_offset_min));
+      hi = hi.cwiseMax(raised + Eigen::Vector3d(0.0, 0.0, config.height_offset_max));
+    }
+  }
+  lo -= Eigen::Vector3d::Constant(config.bounds_margin);
+  hi += Eigen::Vector3d::Constant(config.bounds_margin);
+  return {lo, hi};
+}
+
+// The sampler's settings: the config's, with the start's rest yaw and (vertical axis fixed) height.
+detail::SamplerSettings SamplerSettingsOf(const RootPlannerConfig& config, double standing_height, const PlanEnds& ends) {
+  detail::SamplerSettings sampler;
+  sampler.standing_height = standing_height;
+  sampler.area_weighted_probability = config.area_weighted_probability;
+  sampler.height_offset_min = config.height_offset_min;
+  sampler.height_offset_max = config.height_offset_max;
+  sampler.zero_velocity_probability = config.zero_velocity_probability;
+  sampler.attempts = config.sample_attempts;
+  sampler.repair_moves = config.repair_moves;
+  sampler.repair_step = config.repair_step;
+  sampler.rest_yaw = ends.rest_start;
+  sampler.vertical_fixed = config.limits.VerticalFixed();
+  sampler.fixed_height = ends.start.p.z();
+  return sampler;
+}
+
+// The search from the start to the goal (reached exactly, at rest) over the reachable states.
+// `checker` and `surfaces` must outlive the problem.
+SearchProblem MakeSearchProblem(const RootPlannerConfig& config, double standing_height,
+                                const std::vector<AffordanceSurface>& surfaces, ReachabilityChecker& checker,
+                                const PlanEnds& ends, unsigned seed) {
+  namespace ob = ompl::base;
+  SearchProblem problem;
+  const auto [lo, hi] = PositionBounds(config, standing_height, surfaces, ends);
+  auto space = std::make_shared<detail::RootStateSpace>(config.limits);
+  space->SetPositionBounds(lo, hi);
+  problem.si = std::make_shared<ob::SpaceInformation>(space);
+  problem.validity = std::make_shared<detail::ReachabilityValidityChecker>(problem.si, &checker, config.yaw);
+  problem.si->setStateValidityChecker(problem.validity);
+  detail::SteeringSettings steering{config.limits, config.yaw, config.time_step, config.validation_substeps,
+                                    config.max_piece_duration, config.max_yaw_rate};
+  problem.validator = std::make_shared<detail::KinodynamicMotionValidator>(problem.si, problem.validity.get(), steering);
+  problem.si->setMotionValidator(problem.validator);
+  problem.si->setup();
+
+  problem.pdef = std::make_shared<ob::ProblemDefinition>(problem.si);
+  ob::ScopedState<> start_state(problem.si);
+  detail::RootStateSpace::Set(start_state.get(), ends.start, ends.rest_start);
+  ob::ScopedState<> goal_state(problem.si);
+  detail::RootStateSpace::Set(goal_state.get(), ends.goal, ends.rest_goal);
+  problem.pdef->addStartState(start_state);
+  auto goal_region = std::make_shared<ob::GoalState>(problem.si);
+  goal_region->setState(goal_state);
+  goal_region->setThreshold(1e-6);
+  problem.pdef->setGoal(goal_region);
+
+  problem.planner = std::make_shared<detail::KinodynamicBiRrt>(problem.si, problem.validator.get(),
+                                                               SamplerSettingsOf(config, standing_height, ends),
+                                                               &surfaces, problem.validity.get(), &checker, seed);
+  problem.planner->setProblemDefinition(problem.pdef);
+  problem.planner->setup();
+  problem.planner->SetMaxIterations(config.max_iterations);
+  return problem;
+}
+
+// Runs the search and records its time and counters in `result`; a timeout when it finds no path
+// (within max_iterations or the time budget).
+std::optional<PlanFailure> Search(const SearchProblem& problem, const RootPlannerConfig& config,
+                                  const RootPlanRequest& request, const ompl::base::PlannerTerminationCondition& ptc,
+                                  RootPlanResult& result) {
+  const Clock::time_point search_start = Clock::now();
+  const ompl::base::PlannerStatus status = problem.planner->solve(ptc);
+  result.search_time_s = Seconds(search_start);
+  result.iterations = problem.planner->Stats().iterations;
+  result.tree_states = problem.planner->Stats().start_tree_states + problem.planner->Stats().goal_tree_states;
+  if (status == ompl::base::PlannerStatus::EXACT_SOLUTION && problem.pdef->hasExactSolution()) return std::nullopt;
+  const std::string within = result.iterations >= config.max_iterations
+                                 ? std::to_string(config.max_iterations) + " iterations"
+                                 : "the time budget of " + ConfigNumber(request.time_budget_s) + " s";
+  return PlanFailure{RootPlanStatus::kTimeout, "no path found within " + within + " (" +
+                                                   std::to_string(result.iterations) + " iterations, " +
+                                                   std::to_string(result.tree_states) + " tree states)"};
+}
+
+// The found path smoothed: random shortcuts, then horizontal straightening, which may lengthen the
+// shortcut path by kMaxStraightenGrowth but never beyond the found path. Both draw from seeds made
+// from the request's.
+RootPath Smooth(const RootPath& found, const detail::KinodynamicMotionValidator& validator,
+                const RootPlannerConfig& config, unsigned seed, const ompl::base::PlannerTerminationCondition& ptc) {
+  const std::uint64_t smoothing_seed = static_cast<std::uint64_t>(seed) * 0x9E3779B97F4A7C15ULL;
+  const RootPath shortcut = Shortcut(found, validator, config.shortcut_iterations, smoothing_seed + 1, ptc);
+  return Straighten(shortcut, validator, config.straighten_iterations, config.straighten_knot_spacing,
+                    std::min(kMaxStraightenGrowth * shortcut.Duration(), found.Duration()), smoothing_seed + 2, ptc);
 }
 
 }  // namespace
@@ -373,135 +618,34 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
                 "root plan request: expected a time budget > 0 s, got " + ConfigNumber(request.time_budget_s));
   }
 
-  const KinodynamicLimits& limits = config_.limits;
-  PointState start = request.start;
-  PointState goal{request.goal, Eigen::Vector3d::Zero()};
-  if (limits.VerticalFixed()) goal.p.z() = start.p.z();
-  for (int i = 0; i < 3; ++i) {
-    const double v_max = limits.VerticalFixed() && i == 2 ? 0.0 : limits.Axis(i).v_max;
-    if (std::abs(start.v[i]) > v_max + 1e-9) {
-      return done(RootPlanStatus::kStartInvalid, "start velocity " + ConfigNumber(start.v[i]) + " m/s along axis " +
-                                                     std::to_string(i) + " exceeds the bound " + ConfigNumber(v_max) + " m/s");
-    }
-  }
+  // Checks of the ends, cheapest first.
+  const PlanEnds ends = EndsOf(config_, request);
+  if (auto failure = StartVelocityProblem(config_.limits, ends.start)) return done(failure->status, failure->reason);
   if (surfaces.empty()) return done(RootPlanStatus::kStartInvalid, "no contact surfaces");
-
   ReachabilityChecker checker = MakeChecker(terrain, surfaces);
-  const double rest_start = RestYawFor(config_.yaw, start.v, request.start_yaw);
-  const double rest_goal = WrapAngle(request.goal_yaw);
-  const ReachabilityReport start_report = checker.Check(start.p, config_.yaw.Yaw(start.v.head<2>(), rest_start));
-  if (!start_report.Valid()) return done(RootPlanStatus::kStartInvalid, "start: " + start_report.Reason());
-  const ReachabilityReport goal_report = checker.Check(goal.p, rest_goal);
-  if (!goal_report.Valid()) return done(RootPlanStatus::kGoalInvalid, "goal: " + goal_report.Reason());
-  {
-    const std::vector<int> from(start_report.leg_surface.begin(), start_report.leg_surface.end());
-    const std::vector<int> to(goal_report.leg_surface.begin(), goal_report.leg_surface.end());
-    const SurfaceGraph graph(surfaces, config_.max_surface_gap);
-    if (!graph.Joined(from, to)) {
-      return done(RootPlanStatus::kGoalUnreachable,
-                  "no chain of contact surfaces, each within " + ConfigNumber(config_.max_surface_gap) +
-                      " m of the next, joins the start's surfaces to the goal's (" +
-                      std::to_string(graph.ComponentCount()) + " separate groups of surfaces)");
-    }
-  }
+  if (auto failure = EndsProblem(config_, surfaces, ends, checker)) return done(failure->status, failure->reason);
 
-  // A goal at the start: the base stays where it is and its heading turns to the goal's.
-  if ((goal.p - start.p).norm() < 1e-6 && start.v.norm() < 1e-9) {
-    const double turn = std::abs(WrapAngle(rest_goal - rest_start));
-    const double duration =
-        config_.time_step * std::max(1.0, std::ceil(turn / kTurnOnTheSpotRate / config_.time_step));
-    std::array<AxisProfile, 3> axes;
-    for (int i = 0; i < 3; ++i) axes[static_cast<std::size_t>(i)] = AxisProfile::Rest(start.p[i], duration);
-    RootPath path(config_.yaw);
-    path.Append(RootSegment::Whole(DoubleIntegratorTrajectory(axes, duration), rest_start, rest_goal));
-    for (const RootPathSample& s : path.SampleEvery(config_.time_step / config_.validation_substeps)) {
-      const ReachabilityReport report = checker.Check(s.p, s.yaw);
-      if (!report.Valid()) {
-        return done(RootPlanStatus::kGoalInvalid,
-                    "turning on the spot, at heading " + ConfigNumber(s.yaw) + " rad: " + report.Reason());
-      }
-    }
-    result.path = path;
-    result.samples = path.SampleEvery(config_.time_step);
+  if (ends.AtStart()) {
+    const RootPath turn = TurnOnTheSpot(config_, ends);
+    if (auto failure = TurnProblem(config_, turn, checker)) return done(failure->status, failure->reason);
+    result.path = turn;
+    result.samples = turn.SampleEvery(config_.time_step);
     result.validity_checks = checker.Queries();
     return done(RootPlanStatus::kOk, "");
   }
 
-  // OMPL problem: the state space bounds cover the surfaces (raised to standing height), the
-  // start and the goal, with a margin.
-  Eigen::Vector3d lo = start.p.cwiseMin(goal.p);
-  Eigen::Vector3d hi = start.p.cwiseMax(goal.p);
-  for (const auto& s : surfaces) {
-    for (const auto& v : s.vertices) {
-      const Eigen::Vector3d raised = v + Eigen::Vector3d(0.0, 0.0, nominal_base_height_);
-      lo = lo.cwiseMin(raised + Eigen::Vector3d(0.0, 0.0, config_.height_offset_min));
-      hi = hi.cwiseMax(raised + Eigen::Vector3d(0.0, 0.0, config_.height_offset_max));
-    }
-  }
-  lo -= Eigen::Vector3d::Constant(config_.bounds_margin);
-  hi += Eigen::Vector3d::Constant(config_.bounds_margin);
-  auto space = std::make_shared<detail::RootStateSpace>(limits);
-  space->SetPositionBounds(lo, hi);
-  auto si = std::make_shared<ob::SpaceInformation>(space);
-  auto validity = std::make_shared<detail::ReachabilityValidityChecker>(si, &checker, config_.yaw);
-  si->setStateValidityChecker(validity);
-  detail::SteeringSettings steering{limits, config_.yaw, config_.time_step, config_.validation_substeps,
-                                    config_.max_piece_duration, config_.max_yaw_rate};
-  auto validator = std::make_shared<detail::KinodynamicMotionValidator>(si, validity.get(), steering);
-  si->setMotionValidator(validator);
-  si->setup();
-
-  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  ob::ScopedState<> start_state(si);
-  detail::RootStateSpace::Set(start_state.get(), start, rest_start);
-  ob::ScopedState<> goal_state(si);
-  detail::RootStateSpace::Set(goal_state.get(), goal, rest_goal);
-  pdef->addStartState(start_state);
-  auto goal_region = std::make_shared<ob::GoalState>(si);
-  goal_region->setState(goal_state);
-  goal_region->setThreshold(1e-6);
-  pdef->setGoal(goal_region);
-
-  detail::SamplerSettings sampler;
-  sampler.standing_height = nominal_base_height_;
-  sampler.area_weighted_probability = config_.area_weighted_probability;
-  sampler.height_offset_min = config_.height_offset_min;
-  sampler.height_offset_max = config_.height_offset_max;
-  sampler.zero_velocity_probability = config_.zero_velocity_probability;
-  sampler.attempts = config_.sample_attempts;
-  sampler.repair_moves = config_.repair_moves;
-  sampler.repair_step = config_.repair_step;
-  sampler.rest_yaw = rest_start;
-  sampler.vertical_fixed = limits.VerticalFixed();
-  sampler.fixed_height = start.p.z();
-  auto planner = std::make_shared<detail::KinodynamicBiRrt>(si, validator.get(), sampler, &surfaces, validity.get(),
-                                                            &checker, request.seed);
-  planner->setProblemDefinition(pdef);
-  planner->setup();
-  planner->SetMaxIterations(config_.max_iterations);
-
+  // The search, in what is left of the time budget.
+  const SearchProblem problem = MakeSearchProblem(config_, nominal_base_height_, surfaces, checker, ends, request.seed);
   const double remaining = request.time_budget_s - Seconds(t0);
   const ob::PlannerTerminationCondition ptc = ob::timedPlannerTerminationCondition(std::max(0.0, remaining));
-  const Clock::time_point search_start = Clock::now();
-  const ob::PlannerStatus status = planner->solve(ptc);
-  result.search_time_s = Seconds(search_start);
-  result.iterations = planner->Stats().iterations;
-  result.tree_states = planner->Stats().start_tree_states + planner->Stats().goal_tree_states;
-  if (status != ob::PlannerStatus::EXACT_SOLUTION || !pdef->hasExactSolution()) {
+  if (auto failure = Search(problem, config_, request, ptc, result)) {
     result.validity_checks = checker.Queries();
-    const std::string within = result.iterations >= config_.max_iterations
-                                   ? std::to_string(config_.max_iterations) + " iterations"
-                                   : "the time budget of " + ConfigNumber(request.time_budget_s) + " s";
-    return done(RootPlanStatus::kTimeout, "no path found within " + within + " (" + std::to_string(result.iterations) +
-                                              " iterations, " + std::to_string(result.tree_states) + " tree states)");
+    return done(failure->status, failure->reason);
   }
-  const auto* found = pdef->getSolutionPath()->as<detail::RootTrajectoryPath>();
-  result.duration_before_shortcut_s = found->Path().Duration();
-  const std::uint64_t smoothing_seed = static_cast<std::uint64_t>(request.seed) * 0x9E3779B97F4A7C15ULL;
-  result.path = Shortcut(found->Path(), *validator, config_.shortcut_iterations, smoothing_seed + 1, ptc);
-  result.path = Straighten(result.path, *validator, config_.straighten_iterations, config_.straighten_knot_spacing,
-                           std::min(kMaxStraightenGrowth * result.path.Duration(), result.duration_before_shortcut_s),
-                           smoothing_seed + 2, ptc);
+
+  const RootPath& found = problem.pdef->getSolutionPath()->as<detail::RootTrajectoryPath>()->Path();
+  result.duration_before_shortcut_s = found.Duration();
+  result.path = Smooth(found, *problem.validator, config_, request.seed, ptc);
   result.validity_checks = checker.Queries();
   if (ptc()) {
     // Cut short, the smoothing would give a path that depends on the machine's load.

@@ -183,20 +183,67 @@ constexpr unsigned kMaxFaceVertices = 1000;
 /// Bytes of a PLY header at most.
 constexpr std::uint64_t kMaxPlyHeaderBytes = 65536;
 
-/// Throws InputError when the PLY header is not lines of the format ending with a line "end_header"
-/// (the importer reads a header without one for ever, and grows its memory for ever on some
-/// malformed lines), or when the element counts it declares need more bytes than the file holds
-/// (the importer would allocate them first): every element instance takes at least its
-/// properties' sizes (binary; an empty list its count) or two characters a property (ASCII).
-void CheckPlyHeader(const std::string& path, const std::string& bytes) {
-  const std::uint64_t file_size = bytes.size();
-  std::istringstream in(bytes);
-  std::string line, format;
-  std::uint64_t header_bytes = 0;
+/// A PLY header as read: its format ("ascii", "binary_little_endian" or "binary_big_endian"), its
+/// elements in order, and its length in bytes (the line end_header included).
+struct PlyHeader {
+  std::string format;
   std::vector<PlyElement> elements;
-  bool ended = false;
-  for (int number = 1; header_bytes < kMaxPlyHeaderBytes && std::getline(in, line); ++number) {
-    header_bytes += line.size() + 1;
+  std::uint64_t bytes = 0;
+};
+
+/// Adds header line `number` (after its first) to `header`. Throws InputError unless it is a
+/// complete line of the PLY format: assimp's reader skips what it does not know, and some such
+/// headers sent it growing its memory for ever.
+void ReadPlyHeaderLine(const std::string& path, int number, const std::string& line, PlyHeader& header) {
+  const auto malformed = [&](const std::string& expected) {
+    throw InputError(path + ": the PLY header's line " + std::to_string(number) + " '" + line + "': expected " +
+                     expected);
+  };
+  std::istringstream words(line);
+  std::vector<std::string> w;
+  for (std::string word; words >> word;) w.push_back(word);
+  const std::string keyword = w.empty() ? "" : w[0];
+  if (number == 1) {
+    if (line != "ply") malformed("'ply'");
+  } else if (keyword == "comment" || keyword == "obj_info") {
+    // free text
+  } else if (keyword == "format") {
+    if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian")) {
+      malformed("'format ascii|binary_little_endian|binary_big_endian VERSION'");
+    }
+    header.format = w[1];
+  } else if (keyword == "element") {
+    // assimp reads a name that starts with a digit as the count.
+    if (w.size() != 3 || !PlyName(w[1]) || w[2].find_first_not_of("0123456789") != std::string::npos ||
+        w[2].size() > 18) {
+      malformed("'element NAME COUNT' (a name of letters, digits, _ - ., not starting with a digit)");
+    }
+    header.elements.push_back({w[1], std::stoull(w[2]), 0, {}});
+  } else if (keyword == "property") {
+    const bool list = w.size() == 5 && w[1] == "list" && PlyIntegerType(w[2]) && PlyTypeBytes(w[3]) > 0 &&
+                      PlyName(w[4]);
+    if (header.elements.empty() || header.format.empty() ||
+        !(list || (w.size() == 3 && PlyTypeBytes(w[1]) > 0 && PlyName(w[2])))) {
+      malformed("'property TYPE NAME' or 'property list INTEGER_TYPE TYPE NAME' of an element, after the format");
+    }
+    PlyElement& element = header.elements.back();
+    element.properties.push_back(list ? PlyProperty{true, w[2], PlyTypeBytes(w[3])}
+                                      : PlyProperty{false, w[1], PlyTypeBytes(w[1])});
+    element.min_bytes += header.format == "ascii" ? 2 : PlyTypeBytes(list ? w[2] : w[1]);
+  } else {
+    malformed("a line of the PLY header (format, element, property, comment, end_header)");
+  }
+}
+
+/// The header at the start of `bytes`. Throws InputError unless it is printable lines of the
+/// format ending with a line "end_header" within kMaxPlyHeaderBytes (the importer reads a header
+/// without one for ever).
+PlyHeader ReadPlyHeader(const std::string& path, const std::string& bytes) {
+  std::istringstream in(bytes);
+  PlyHeader header;
+  std::string line;
+  for (int number = 1; header.bytes < kMaxPlyHeaderBytes && std::getline(in, line); ++number) {
+    header.bytes += line.size() + 1;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     for (const unsigned char c : line) {
       if ((c < 0x20 && c != '\t') || c > 0x7e) {
@@ -204,61 +251,21 @@ void CheckPlyHeader(const std::string& path, const std::string& bytes) {
                          std::to_string(c) + ", expected printable text");
       }
     }
-    if (line == "end_header") {
-      ended = true;
-      break;
-    }
-    // Only the lines of the PLY format, each complete: assimp's reader skips what it does not know,
-    // and some such headers sent it growing its memory for ever.
-    const auto malformed = [&](const std::string& expected) {
-      throw InputError(path + ": the PLY header's line " + std::to_string(number) + " '" + line + "': expected " +
-                       expected);
-    };
-    std::istringstream words(line);
-    std::vector<std::string> w;
-    for (std::string word; words >> word;) w.push_back(word);
-    const std::string keyword = w.empty() ? "" : w[0];
-    if (number == 1) {
-      if (line != "ply") malformed("'ply'");
-    } else if (keyword == "comment" || keyword == "obj_info") {
-      // free text
-    } else if (keyword == "format") {
-      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian")) {
-        malformed("'format ascii|binary_little_endian|binary_big_endian VERSION'");
-      }
-      format = w[1];
-    } else if (keyword == "element") {
-      // assimp reads a name that starts with a digit as the count.
-      if (w.size() != 3 || !PlyName(w[1]) || w[2].find_first_not_of("0123456789") != std::string::npos ||
-          w[2].size() > 18) {
-        malformed("'element NAME COUNT' (a name of letters, digits, _ - ., not starting with a digit)");
-      }
-      elements.push_back({w[1], std::stoull(w[2]), 0, {}});
-    } else if (keyword == "property") {
-      const bool list = w.size() == 5 && w[1] == "list" && PlyIntegerType(w[2]) && PlyTypeBytes(w[3]) > 0 &&
-                        PlyName(w[4]);
-      if (elements.empty() || format.empty() ||
-          !(list || (w.size() == 3 && PlyTypeBytes(w[1]) > 0 && PlyName(w[2])))) {
-        malformed("'property TYPE NAME' or 'property list INTEGER_TYPE TYPE NAME' of an element, after the format");
-      }
-      elements.back().properties.push_back(list ? PlyProperty{true, w[2], PlyTypeBytes(w[3])}
-                                                : PlyProperty{false, w[1], PlyTypeBytes(w[1])});
-      if (format == "ascii") {
-        elements.back().min_bytes += 2;
-      } else {
-        elements.back().min_bytes += PlyTypeBytes(list ? w[2] : w[1]);
-      }
-    } else {
-      malformed("a line of the PLY header (format, element, property, comment, end_header)");
-    }
+    if (line == "end_header") return header;
+    ReadPlyHeaderLine(path, number, line, header);
   }
-  if (!ended) {
-    throw InputError(path + ": the PLY header has no line 'end_header' in its first " +
-                     std::to_string(kMaxPlyHeaderBytes) + " bytes");
-  }
-  const std::uint64_t body = file_size > header_bytes ? file_size - header_bytes : 0;
+  throw InputError(path + ": the PLY header has no line 'end_header' in its first " +
+                   std::to_string(kMaxPlyHeaderBytes) + " bytes");
+}
+
+/// Throws InputError when the element counts the header declares need more bytes than the file
+/// holds after it (the importer would allocate them first): every element instance takes at
+/// least its properties' sizes (binary; an empty list its count) or two characters a property
+/// (ASCII).
+void CheckPlyElementCounts(const std::string& path, std::uint64_t file_size, const PlyHeader& header) {
+  const std::uint64_t body = file_size > header.bytes ? file_size - header.bytes : 0;
   std::uint64_t needed = 0;
-  for (const PlyElement& e : elements) {
+  for (const PlyElement& e : header.elements) {
     if (e.properties.empty()) {
       if (e.count == 0) continue;
       throw InputError(path + ": the PLY header declares " + std::to_string(e.count) + " " + e.name +
@@ -270,10 +277,17 @@ void CheckPlyHeader(const std::string& path, const std::string& bytes) {
     }
     needed += e.count * e.min_bytes;
   }
-  if (format == "ascii") {
-    CheckPlyAsciiBody(path, bytes, header_bytes, elements);
+}
+
+/// Throws InputError when the PLY file is not a header of the format (ReadPlyHeader) whose
+/// element counts the file can hold (CheckPlyElementCounts), followed by a body that holds them.
+void CheckPlyFile(const std::string& path, const std::string& bytes) {
+  const PlyHeader header = ReadPlyHeader(path, bytes);
+  CheckPlyElementCounts(path, bytes.size(), header);
+  if (header.format == "ascii") {
+    CheckPlyAsciiBody(path, bytes, header.bytes, header.elements);
   } else {
-    CheckPlyBinaryBody(path, bytes, header_bytes, elements, format == "binary_big_endian");
+    CheckPlyBinaryBody(path, bytes, header.bytes, header.elements, header.format == "binary_big_endian");
   }
 }
 
@@ -336,7 +350,7 @@ TriangleMesh LoadMeshFile(const std::string& path, double scale) {
 TriangleMesh ParseMeshFile(const std::string& bytes, const std::string& path, double scale) {
   CheckScale(path, scale);
   const std::string ext = MeshFormat(path);
-  if (ext == ".ply") CheckPlyHeader(path, bytes);
+  if (ext == ".ply") CheckPlyFile(path, bytes);
   if (ext == ".stl") CheckStlCount(path, bytes);
 
   Assimp::Importer importer;

@@ -55,7 +55,47 @@ double SphereGapOffset(const TerrainHeightMap& terrain, const Eigen::Vector2d& x
   return offset;
 }
 
+/// The bows Plan tries: none, then (with a leg check) towards the body, then back against the
+/// swing direction (a knee that points ahead, into the riser of a higher foothold, stays behind it
+/// while the foot rises), each in kBowStep steps.
+std::vector<Eigen::Vector2d> Bows(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
+                                  const Eigen::Vector2d& inward_W, bool leg_checked) {
+  std::vector<Eigen::Vector2d> bows = {Eigen::Vector2d::Zero()};
+  if (!leg_checked) return bows;
+  const Eigen::Vector2d ahead = (target_W - start_W).head<2>();
+  for (const Eigen::Vector2d& direction : {Eigen::Vector2d(inward_W), Eigen::Vector2d(-ahead)}) {
+    if (direction.norm() < 1e-9) continue;
+    for (int k = 1; k < kBows; ++k) bows.push_back(kBowStep * k * direction.normalized());
+  }
+  return bows;
+}
+
+/// Fewer leg collisions first, then fewer samples that miss the preferred check.
+bool FewerLegFailures(const SwingTrajectory& a, const SwingTrajectory& b) {
+  return std::make_pair(a.LegCollisions(), a.PreferredMisses()) < std::make_pair(b.LegCollisions(), b.PreferredMisses());
+}
+
 }  // namespace
+
+/// What Plan checks a candidate path against.
+struct SwingTrajectory::Checks {
+  const TerrainHeightMap* terrain;  ///< nullptr: no terrain check
+  Eigen::Vector3d target_W;         ///< the foothold [m, world]
+  double foot_radius_m;
+  double terrain_clearance_m;
+  const LegCheck& leg_clear;
+  const LegCheck& leg_preferred;
+  bool first_clear;  ///< SwingSearch::kFirstClear
+};
+
+/// The terrain under a candidate path's samples 1 .. kSamples - 1 (index 0 unused).
+struct SwingTrajectory::PathTerrain {
+  std::array<double, kSamples> offset;  ///< SphereGapOffset under the sample (+inf: none)
+  /// The sample is within foot_radius_m + 2 cm (horizontally) of the new foothold.
+  std::array<bool, kSamples> near_end{};
+  /// The sample is farther than that from both footholds.
+  std::array<bool, kSamples> away{};
+};
 
 Eigen::Vector3d SwingTrajectory::At(double s, Eigen::Vector3d* ds) const {
   double h_rate = 0.0;
@@ -82,6 +122,78 @@ Eigen::Vector3d SwingTrajectory::At(double s, Eigen::Vector3d* ds) const {
   return p;
 }
 
+SwingTrajectory::PathTerrain SwingTrajectory::TerrainUnder(const Checks& checks) const {
+  // The samples' xy do not depend on the apex: the terrain is queried once per bow.
+  PathTerrain under;
+  for (int k = 1; k < kSamples; ++k) {
+    const std::size_t i = static_cast<std::size_t>(k);
+    const Eigen::Vector2d xy = At(static_cast<double>(k) / kSamples).head<2>();
+    // Away from its footholds the foot keeps the clearance; next to them it only must not sink
+    // into the terrain (it rises from and descends to a surface there; the last part of the path
+    // dips below the new foothold on purpose).
+    const double near = checks.foot_radius_m + 0.02;
+    under.near_end[i] = (xy - checks.target_W.head<2>()).norm() <= near;
+    under.away[i] = (xy - start_.head<2>()).norm() > near && !under.near_end[i];
+    under.offset[i] = checks.terrain != nullptr ? SphereGapOffset(*checks.terrain, xy, checks.foot_radius_m)
+                                                : std::numeric_limits<double>::infinity();
+  }
+  return under;
+}
+
+bool SwingTrajectory::CheckTerrain(const PathTerrain& under, const Checks& checks) {
+  double middle = std::numeric_limits<double>::infinity();
+  bool enters = false;
+  for (int k = 1; k < kSamples; ++k) {
+    const std::size_t i = static_cast<std::size_t>(k);
+    const double u = static_cast<double>(k) / kSamples;
+    if (u > kEndSkip) break;
+    if (!std::isfinite(under.offset[i])) continue;
+    const Eigen::Vector3d p = At(u);
+    const double gap = (under.near_end[i] ? std::max(p.z(), checks.target_W.z()) : p.z()) + under.offset[i];
+    if (under.away[i]) middle = std::min(middle, gap);
+    if (gap < (under.away[i] ? 0.005 : -0.003)) enters = true;
+  }
+  clearance_m_ = middle;
+  terrain_clear_ = !enters && middle >= checks.terrain_clearance_m;
+  return terrain_clear_;
+}
+
+void SwingTrajectory::CheckLeg(const Checks& checks) {
+  leg_collisions_ = 0;
+  preferred_misses_ = 0;
+  for (const Eigen::Vector3d& p : checks.leg_clear ? LegCheckPoints() : std::vector<Eigen::Vector3d>{}) {
+    if (!checks.leg_clear(p)) {
+      leg_collisions_ += 1;
+    } else if (checks.leg_preferred && !checks.leg_preferred(p)) {
+      preferred_misses_ += 1;
+    } else {
+      continue;
+    }
+    if (checks.first_clear) break;
+  }
+}
+
+bool SwingTrajectory::RaiseApex(double base_apex, const Checks& checks, std::optional<SwingTrajectory>& best) {
+  const PathTerrain under = TerrainUnder(checks);
+  int worse = 0;  // rises in a row that did not reduce the leg's collisions
+  for (double rise = 0.0; rise <= kMaxRise + 1e-9 && worse < kPatience; rise += kRiseStep) {
+    apex_z_ = base_apex + rise;
+    const bool terrain_ok = CheckTerrain(under, checks);
+    if (checks.first_clear && !terrain_ok) continue;  // a higher apex may clear it
+    CheckLeg(checks);
+    if (terrain_ok && leg_collisions_ == 0 && preferred_misses_ == 0) {
+      best = *this;
+      return true;
+    }
+    if (terrain_ok && best && !FewerLegFailures(*this, *best)) ++worse;
+    if (terrain_ok && (!best || FewerLegFailures(*this, *best))) {
+      best = *this;
+      worse = 0;
+    }
+  }
+  return false;
+}
+
 SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
                                       const TerrainHeightMap* terrain, double foot_radius_m, const SwingPathConfig& config,
                                       const LegCheck& leg_clear, const Eigen::Vector2d& inward_W,
@@ -94,85 +206,15 @@ SwingTrajectory SwingTrajectory::Plan(const Eigen::Vector3d& start_W, const Eige
   s.apex_z_ = base_apex;
   s.clearance_m_ = std::numeric_limits<double>::infinity();
   const bool check_terrain = terrain != nullptr && !terrain->Empty();
-  const bool first_clear = search == SwingSearch::kFirstClear;
   if (check_terrain || leg_clear) {
+    const Checks checks{check_terrain ? terrain : nullptr, target_W, foot_radius_m, config.terrain_clearance_m,
+                        leg_clear, leg_preferred, search == SwingSearch::kFirstClear};
+    // Each bow raises the apex from the lowest; the first path that passes every check ends the search.
     std::optional<SwingTrajectory> best;
-    // Bows tried: none, then towards the body, then back against the swing direction (a knee
-    // that points ahead, into the riser of a higher foothold, stays behind it while the foot rises).
-    std::vector<Eigen::Vector2d> bows = {Eigen::Vector2d::Zero()};
-    if (leg_clear) {
-      const Eigen::Vector2d ahead = (target_W - start_W).head<2>();
-      for (const Eigen::Vector2d& direction : {Eigen::Vector2d(inward_W), Eigen::Vector2d(-ahead)}) {
-        if (direction.norm() < 1e-9) continue;
-        for (int k = 1; k < kBows; ++k) bows.push_back(kBowStep * k * direction.normalized());
-      }
-    }
-    bool found = false;
-    for (std::size_t bow = 0; bow < bows.size() && !found; ++bow) {
-      SwingTrajectory c = s;
-      c.bow_ = bows[bow];
-      // The samples' xy do not depend on the apex: query the terrain once per bow.
-      std::array<double, kSamples> offset;
-      std::array<bool, kSamples> near_end{}, away{};
-      for (int k = 1; k < kSamples; ++k) {
-        const std::size_t i = static_cast<std::size_t>(k);
-        const Eigen::Vector2d xy = c.At(static_cast<double>(k) / kSamples).head<2>();
-        // Away from its footholds the foot keeps the clearance; next to them it only must not
-        // sink into the terrain (it rises from and descends to a surface there; the last part of
-        // the path dips below the new foothold on purpose).
-        const double near = foot_radius_m + 0.02;
-        near_end[i] = (xy - target_W.head<2>()).norm() <= near;
-        away[i] = (xy - c.start_.head<2>()).norm() > near && !near_end[i];
-        offset[i] = check_terrain ? SphereGapOffset(*terrain, xy, foot_radius_m) : std::numeric_limits<double>::infinity();
-      }
-      int worse = 0;  // rises in a row that did not reduce the leg's collisions
-      for (double rise = 0.0; rise <= kMaxRise + 1e-9 && worse < kPatience; rise += kRiseStep) {
-        c.apex_z_ = base_apex + rise;
-        c.leg_collisions_ = 0;
-        c.preferred_misses_ = 0;
-        // The foot over the terrain.
-        double middle = std::numeric_limits<double>::infinity();
-        bool enters = false;
-        for (int k = 1; k < kSamples; ++k) {
-          const std::size_t i = static_cast<std::size_t>(k);
-          const double u = static_cast<double>(k) / kSamples;
-          if (u > kEndSkip) break;
-          if (!std::isfinite(offset[i])) continue;
-          const Eigen::Vector3d p = c.At(u);
-          const double gap = (near_end[i] ? std::max(p.z(), target_W.z()) : p.z()) + offset[i];
-          if (away[i]) middle = std::min(middle, gap);
-          if (gap < (away[i] ? 0.005 : -0.003)) enters = true;
-        }
-        c.clearance_m_ = middle;
-        const bool terrain_ok = !enters && middle >= config.terrain_clearance_m;
-        c.terrain_clear_ = terrain_ok;
-        if (first_clear && !terrain_ok) continue;  // a higher apex may clear it
-        // The leg, once the foot is off the ground (LegCheckPoints).
-        for (const Eigen::Vector3d& p : leg_clear ? c.LegCheckPoints() : std::vector<Eigen::Vector3d>{}) {
-          if (!leg_clear(p)) {
-            c.leg_collisions_ += 1;
-          } else if (leg_preferred && !leg_preferred(p)) {
-            c.preferred_misses_ += 1;
-          } else {
-            continue;
-          }
-          if (first_clear) break;
-        }
-        if (terrain_ok && c.leg_collisions_ == 0 && c.preferred_misses_ == 0) {
-          best = c;
-          found = true;
-          break;
-        }
-        // Fewer leg collisions first, then fewer samples that miss the preferred check.
-        const auto fewer = [](const SwingTrajectory& a, const SwingTrajectory& b) {
-          return std::make_pair(a.leg_collisions_, a.preferred_misses_) < std::make_pair(b.leg_collisions_, b.preferred_misses_);
-        };
-        if (terrain_ok && best && !fewer(c, *best)) ++worse;
-        if (terrain_ok && (!best || fewer(c, *best))) {
-          best = c;
-          worse = 0;
-        }
-      }
+    for (const Eigen::Vector2d& bow : Bows(start_W, target_W, inward_W, static_cast<bool>(leg_clear))) {
+      SwingTrajectory candidate = s;
+      candidate.bow_ = bow;
+      if (candidate.RaiseApex(base_apex, checks, best)) break;
     }
     if (best) {
       s = *best;

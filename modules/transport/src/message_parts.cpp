@@ -41,6 +41,40 @@ constexpr std::size_t kTrimAfterBytes = std::size_t{4} << 20;
 /// Bytes of every part but the last, for a message of `total` bytes in `count` parts.
 int64_t Stride(int64_t total, int64_t count) { return (total + count - 1) / count; }
 
+/// Bytes of part `index` of a message of `total` bytes in parts of `stride` bytes.
+int64_t PartBytes(int64_t total, int64_t stride, int64_t index) {
+  const int64_t begin = index * stride;
+  return std::min(total, begin + stride) - begin;
+}
+
+/// Why a part's own fields (the whole message's size and part count, its index and length) cannot
+/// describe a part of a message of at most max_message_bytes, or nullopt when they can.
+std::optional<std::string> LayoutProblem(const rbcp_msgs::message_part_t& part, std::size_t max_message_bytes) {
+  const int64_t total = part.total_size;
+  const int64_t count = part.part_count;
+  if (total < 1 || static_cast<uint64_t>(total) > max_message_bytes) {
+    return "the whole message would be " + std::to_string(total) + " bytes, expected 1 to " +
+           std::to_string(max_message_bytes) + " (" + Megabytes(max_message_bytes) + ")";
+  }
+  if (count < 1 || count > total) {
+    return "part_count " + std::to_string(count) + ", expected 1 to the message's " + std::to_string(total) + " bytes";
+  }
+  const int64_t stride = Stride(total, count);
+  if ((count - 1) * stride >= total) {
+    return std::to_string(count) + " parts of " + std::to_string(stride) + " bytes do not make " + std::to_string(total) +
+           " bytes";
+  }
+  if (part.index < 0 || part.index >= count) {
+    return "index " + std::to_string(part.index) + ", expected 0 to " + std::to_string(count - 1);
+  }
+  const int64_t expected = PartBytes(total, stride, part.index);
+  if (part.num_bytes != expected) {
+    return "part " + std::to_string(part.index) + " holds " + std::to_string(part.num_bytes) + " bytes, expected " +
+           std::to_string(expected);
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::string PartChannel(const std::string& channel) { return channel + kPartSuffix; }
@@ -156,6 +190,53 @@ void PartAssembler::Expire(Clock::time_point now) {
   }
 }
 
+PartAssembler::Sender& PartAssembler::SenderOf(int64_t id, Clock::time_point now) {
+  auto it = senders_.find(id);
+  if (it == senders_.end()) {
+    if (senders_.size() >= kMaxSenders) {  // the sender heard least recently makes room
+      auto oldest = std::min_element(senders_.begin(), senders_.end(), [](const auto& a, const auto& b) {
+        return a.second.last_heard < b.second.last_heard;
+      });
+      Drop(oldest->second);
+      senders_.erase(oldest);
+    }
+    it = senders_.emplace(id, Sender{}).first;
+  }
+  it->second.last_heard = now;
+  return it->second;
+}
+
+bool PartAssembler::OfLastMessages(const Sender& sender, int64_t sequence) {
+  // The distance is taken in unsigned arithmetic: any two int64 sequences have one.
+  return sender.any && sequence <= sender.last_sequence &&
+         static_cast<uint64_t>(sender.last_sequence) - static_cast<uint64_t>(sequence) <
+             static_cast<uint64_t>(kSequenceWindow);
+}
+
+void PartAssembler::StartMessage(Sender& sender, const rbcp_msgs::message_part_t& part) {
+  Drop(sender);
+  sender.current = Assembly{};
+  sender.current->sequence = part.sequence;
+  sender.current->checksum = part.checksum;
+  sender.current->total = part.total_size;
+  sender.current->part_count = part.part_count;
+  sender.any = true;
+  sender.last_sequence = part.sequence;
+}
+
+std::vector<uint8_t> PartAssembler::TakeWhole(Sender& sender) {
+  const Assembly& a = *sender.current;
+  const int64_t stride = Stride(a.total, a.part_count);
+  std::vector<uint8_t> whole(static_cast<std::size_t>(a.total));
+  for (const auto& [index, piece] : a.parts) {
+    if (!piece.empty()) std::memcpy(whole.data() + static_cast<int64_t>(index) * stride, piece.data(), piece.size());
+  }
+  buffered_ -= a.bytes;
+  g_buffered_part_bytes -= a.bytes;
+  sender.current.reset();
+  return whole;
+}
+
 std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::size_t size, std::string& problem) {
   problem.clear();
   const std::string where = "a part of " + channel_ + " on " + PartChannel(channel_) + " (" + std::to_string(size) + " bytes)";
@@ -165,70 +246,25 @@ std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::si
     problem = "cannot decode " + where + ": " + undecodable;
     return std::nullopt;
   }
-  const int64_t total = part.total_size;
-  const int64_t count = part.part_count;
   const auto fail = [&](const std::string& why) -> std::optional<std::vector<uint8_t>> {
     problem = "rejected " + where + ": " + why;
     return std::nullopt;
   };
-  if (total < 1 || static_cast<uint64_t>(total) > max_message_bytes_) {
-    return fail("the whole message would be " + std::to_string(total) + " bytes, expected 1 to " +
-                std::to_string(max_message_bytes_) + " (" + Megabytes(max_message_bytes_) + ")");
-  }
-  if (count < 1 || count > total) {
-    return fail("part_count " + std::to_string(count) + ", expected 1 to the message's " + std::to_string(total) + " bytes");
-  }
-  const int64_t stride = Stride(total, count);
-  if ((count - 1) * stride >= total) {
-    return fail(std::to_string(count) + " parts of " + std::to_string(stride) + " bytes do not make " +
-                std::to_string(total) + " bytes");
-  }
-  if (part.index < 0 || part.index >= count) {
-    return fail("index " + std::to_string(part.index) + ", expected 0 to " + std::to_string(count - 1));
-  }
-  const int64_t begin = part.index * stride;
-  const int64_t expected = std::min(total, begin + stride) - begin;
-  if (part.num_bytes != expected) {
-    return fail("part " + std::to_string(part.index) + " holds " + std::to_string(part.num_bytes) + " bytes, expected " +
-                std::to_string(expected));
-  }
+  if (const std::optional<std::string> layout = LayoutProblem(part, max_message_bytes_)) return fail(*layout);
 
+  // The part's sender and message: a part of a newer message starts it, one of the last few is late.
   const Clock::time_point now = Clock::now();
   Expire(now);
-  auto it = senders_.find(part.sender);
-  if (it == senders_.end()) {
-    if (senders_.size() >= kMaxSenders) {  // the sender heard least recently makes room
-      auto oldest = std::min_element(senders_.begin(), senders_.end(), [](const auto& a, const auto& b) {
-        return a.second.last_heard < b.second.last_heard;
-      });
-      Drop(oldest->second);
-      senders_.erase(oldest);
-    }
-    it = senders_.emplace(part.sender, Sender{}).first;
-  }
-  Sender& sender = it->second;
-  sender.last_heard = now;
-  const bool same_message = sender.current && sender.current->sequence == part.sequence;
-  if (!same_message) {
-    // A part of one of the sender's last messages (late, or of the one just finished or dropped).
-    // The distance is taken in unsigned arithmetic: any two int64 sequences have one.
-    if (sender.any && part.sequence <= sender.last_sequence &&
-        static_cast<uint64_t>(sender.last_sequence) - static_cast<uint64_t>(part.sequence) <
-            static_cast<uint64_t>(kSequenceWindow)) {
+  Sender& sender = SenderOf(part.sender, now);
+  if (!(sender.current && sender.current->sequence == part.sequence)) {
+    if (OfLastMessages(sender, part.sequence)) {
       ++ignored_;
       return std::nullopt;
     }
-    Drop(sender);
-    sender.current = Assembly{};
-    sender.current->sequence = part.sequence;
-    sender.current->checksum = part.checksum;
-    sender.current->total = total;
-    sender.current->part_count = part.part_count;
-    sender.any = true;
-    sender.last_sequence = part.sequence;
+    StartMessage(sender, part);
   }
   Assembly& a = *sender.current;
-  if (a.total != total || a.part_count != part.part_count || a.checksum != part.checksum) {
+  if (a.total != part.total_size || a.part_count != part.part_count || a.checksum != part.checksum) {
     Drop(sender);
     return fail("it disagrees with the earlier parts of message " + std::to_string(part.sequence) +
                 " (size, part count or checksum): the message is dropped");
@@ -237,7 +273,9 @@ std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::si
     ++ignored_;  // a repeat
     return std::nullopt;
   }
-  const auto bytes = static_cast<std::size_t>(expected);
+
+  // Kept within the process's bound; the whole message once every part is in.
+  const auto bytes = static_cast<std::size_t>(part.num_bytes);
   if (g_buffered_part_bytes.load() + bytes > kMaxBufferedPartBytes) {
     Drop(sender);
     return fail("the incomplete messages in parts of this process would hold more than " +
@@ -248,19 +286,11 @@ std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::si
   g_buffered_part_bytes += bytes;
   a.parts.emplace(part.index, std::move(part.bytes));
   if (static_cast<int64_t>(a.parts.size()) < a.part_count) return std::nullopt;
-
-  std::vector<uint8_t> whole(static_cast<std::size_t>(a.total));
-  for (const auto& [index, piece] : a.parts) {
-    if (!piece.empty()) std::memcpy(whole.data() + static_cast<int64_t>(index) * stride, piece.data(), piece.size());
-  }
   const int64_t checksum = a.checksum;
-  const int64_t sequence = a.sequence;
-  buffered_ -= a.bytes;
-  g_buffered_part_bytes -= a.bytes;
-  sender.current.reset();
+  std::vector<uint8_t> whole = TakeWhole(sender);
   if (PartChecksum(whole.data(), whole.size()) != checksum) {
     ++abandoned_;
-    return fail("the " + std::to_string(count) + " parts of message " + std::to_string(sequence) +
+    return fail("the " + std::to_string(part.part_count) + " parts of message " + std::to_string(part.sequence) +
                 " do not match its checksum: the message is dropped");
   }
   ++completed_;

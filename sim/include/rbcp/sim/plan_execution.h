@@ -160,7 +160,19 @@ class PlanExecution {
 
  private:
   void Reset(const Eigen::Vector3d& base_W, const Eigen::Quaterniond& orientation_W, const JointVector& q);
+  /// Records the tick's maxima and decides the outcome when the run failed or ended this tick.
   void Judge(const RobotState& state, const JointVector& commanded);
+  /// The trunk or a thigh on the terrain (a fall); counts the other links that start touching it.
+  std::optional<ExecutionFailure> BodyContactFailure(const std::vector<TerrainContact>& contacts);
+  /// Roll or pitch more than max_tilt_rad from the plan's states on either side of the step.
+  std::optional<ExecutionFailure> TiltFailure(const RobotState& state, const ControllerStatus& status) const;
+  /// A stance foot that slid more than max_slip_m from where it touched down.
+  std::optional<ExecutionFailure> SlipFailure(const RobotState& state, const ControllerStatus& status,
+                                              const std::vector<TerrainContact>& contacts);
+  /// A joint commanded at the torque limit for longer than max_saturation_s.
+  std::optional<ExecutionFailure> SaturationFailure(double t, const JointVector& commanded);
+  /// The end of the run: the controller stopped, walked the whole plan, or the time ran out.
+  void JudgeEnd(const RobotState& state, const ControllerStatus& status);
   void Decide(std::optional<ExecutionFailure> failure);
   /// A failure at the current time, step and phase.
   ExecutionFailure Failure(const std::string& what, const std::string& leg, const std::string& detail) const;

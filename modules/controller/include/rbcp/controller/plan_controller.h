@@ -142,7 +142,22 @@ class PlanController {
 
   void Enter(ControllerPhase phase, double t);
   bool OnFoothold(const Measured& m, std::size_t leg) const;
+  /// Moves through the phases the measured state ends this tick.
   void Advance(const Measured& m);
+  /// Starts the plan StartPlan took: the base settles onto its first state.
+  void BeginPlan(const Measured& m);
+  /// One phase's transition, if its end condition holds.
+  void AdvancePhase(const Measured& m);
+  /// The swing leg `sl` unloads over unload_s, then lifts off on its swing path.
+  void AdvanceUnload(const Measured& m, std::size_t sl, double elapsed);
+  /// Touchdown on the foothold late enough in the swing; at the swing's end, the search.
+  void AdvanceSwing(const Measured& m, std::size_t sl, double elapsed);
+  /// The foot reaches down along the foothold's normal until it touches down, or fails.
+  void AdvanceSearch(const Measured& m, std::size_t sl, double elapsed);
+  /// Leg `sl` is a stance leg again, to be loaded, with its foothold's normal.
+  void TouchDown(std::size_t sl, double t);
+  /// A new plan, or the go-ahead to walk on, ends the wait.
+  void AdvanceAwait(const Measured& m);
   void BeginStep(int index, const Measured& m);
   void FinishStep(const Measured& m);
   void NextStepOrFinish(const Measured& m);  // the current plan's next step, else the final shift or the wait
@@ -153,6 +168,16 @@ class PlanController {
   SwingTrajectory PlanSwing(int index, const Eigen::Vector3d& foot_W) const;
   void EvaluateReference(double t);
   JointVector Torques(const Measured& m);
+  /// The wrench on the trunk about the CoM that holds the base on its reference.
+  Wrench BaseWrench(const Measured& m) const;
+  /// The wrench distributed over the loaded stance feet; sets the status's support margin.
+  ForceDistribution StanceForces(const Measured& m, const Wrench& wrench);
+  /// Adds to the stance leg's torques `t` its share of the wrench (force_W at its foot) and the
+  /// joint servo that keeps its foot in place.
+  void AddStanceTorques(const Measured& m, Leg leg, const Eigen::Matrix3d& J, const Eigen::Vector3d& force_W,
+                        Eigen::Vector3d& t) const;
+  /// Adds to the swinging (or searching) leg's torques `t` the joint PD that follows its path.
+  void AddSwingTorques(const Measured& m, Leg leg, const Eigen::Matrix3d& J, Eigen::Vector3d& t);
   static void CheckPlan(const ContactPlan& plan);
 
   const RobotModel& robot_;

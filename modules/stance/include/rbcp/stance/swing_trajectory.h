@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "rbcp/scenario/scenario.h"
@@ -98,6 +99,19 @@ class SwingTrajectory {
   Eigen::Vector3d At(double s, Eigen::Vector3d* ds = nullptr) const;
   /// The duration that keeps every part of the path below config.speed_mps.
   void SetDuration(const SwingPathConfig& config);
+
+  // The steps of Plan, on a candidate path.
+  struct Checks;
+  struct PathTerrain;
+  /// The terrain under the path's samples (their xy do not depend on the apex).
+  PathTerrain TerrainUnder(const Checks& checks) const;
+  /// Sets the clearance and whether the path at its apex clears the terrain; returns the latter.
+  bool CheckTerrain(const PathTerrain& under, const Checks& checks);
+  /// Counts the samples at which the leg checks fail (only up to the first with first_clear).
+  void CheckLeg(const Checks& checks);
+  /// Raises the apex from base_apex in kRiseStep steps, keeping in `best` the lowest path that
+  /// clears the terrain with the fewest leg failures so far; true when one passes every check.
+  bool RaiseApex(double base_apex, const Checks& checks, std::optional<SwingTrajectory>& best);
 
   Eigen::Vector3d start_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d end_ = Eigen::Vector3d::Zero();

@@ -23,6 +23,10 @@
 
 #include "rbcp/transport/message_faults.h"
 
+namespace rbcp_msgs {
+class message_part_t;
+}  // namespace rbcp_msgs
+
 namespace rbcp::transport {
 
 /// The companion channel of CHANNEL that carries its messages in parts: CHANNEL + kPartSuffix.
@@ -148,6 +152,14 @@ class PartAssembler {
   void Drop(Sender& sender);
   /// Drops incomplete messages without a part for kPartTimeout_s.
   void Expire(Clock::time_point now);
+  /// The sender with this id, heard now (a new one may drop the sender heard least recently).
+  Sender& SenderOf(int64_t id, Clock::time_point now);
+  /// The sequence is one of the sender's last kSequenceWindow messages (a late part).
+  static bool OfLastMessages(const Sender& sender, int64_t sequence);
+  /// Drops the sender's incomplete message and starts the one `part` belongs to.
+  void StartMessage(Sender& sender, const rbcp_msgs::message_part_t& part);
+  /// The sender's message, every part in, put together; its bytes are freed.
+  std::vector<uint8_t> TakeWhole(Sender& sender);
 
   std::string channel_;
   std::size_t max_message_bytes_;
