@@ -16,6 +16,7 @@
 #include "rbcp/sim/sim_node.h"
 #include "rbcp/sim/world_events.h"
 #include "rbcp/transport/run_loop.h"
+#include "program_main.h"
 namespace {
 
 using namespace rbcp;
@@ -33,12 +34,6 @@ struct Options {
   sim::SimNodeOptions node_options;
   double realtime_factor = 1.0;
 };
-
-constexpr const char* kAbout =
-    "ANYmal B in a Bullet simulation, walked by the onboard plan controller.\n"
-    "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time) and STATUS, and\n"
-    "walks every CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints\n"
-    "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input.";
 
 void AddOptions(CLI::App& app, Options& o) {
   nodes::AddCommonOptions(app, o.common);
@@ -67,6 +62,12 @@ void AddOptions(CLI::App& app, Options& o) {
   app.add_option("--sim-config", o.sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
   app.add_option("--controller-config", o.controller_config_path,
                  "controller parameters (default: CONFIG_DIR/controller.yaml)");
+
+  app.description(
+      "ANYmal B in a Bullet simulation, walked by the onboard plan controller.\n"
+      "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time) and STATUS, and\n"
+      "walks every CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints\n"
+      "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input.");
 }
 
 /// The simulated world: its configuration, the robot, the scenario, and the execution of plans
@@ -173,14 +174,11 @@ int ServeWorld(const Options& o, World& world) {
   return 0;
 }
 
+int Run(const Options& o) {
+  World world(o);
+  return o.plan_path.empty() ? ServeWorld(o, world) : ExecutePlan(o, world);
+}
+
 }  // namespace
 
-int main(int argc, char** argv) {
-  CLI::App app{kAbout};
-  Options options;
-  AddOptions(app, options);
-  return nodes::GuardedMain(rbcp::sim::SimNode::kProcessName, app, argc, argv, [&]() -> int {
-    World world(options);
-    return options.plan_path.empty() ? ServeWorld(options, world) : ExecutePlan(options, world);
-  });
-}
+int main(int argc, char** argv) { return rbcp::programs::Main(sim::SimNode::kProcessName, argc, argv, AddOptions, Run); }

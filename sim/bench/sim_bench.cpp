@@ -23,6 +23,7 @@
 #include "rbcp/nodes/offline_pipeline.h"
 #include "rbcp/nodes/process.h"
 #include "rbcp/plan_checker/plan_checker.h"
+#include "program_main.h"
 
 namespace {
 
@@ -69,6 +70,7 @@ void AddOptions(CLI::App& app, Options& o) {
   app.add_option("--jobs", o.jobs, "runs in parallel")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--time-budget", o.budget, "root planning time budget [s]")->capture_default_str();
   app.add_option("--json", o.json_path, "also write every run to this JSON file");
+  app.description("Plans and simulates every scenario over several seeds; prints the success table. Talks no LCM.");
 }
 
 /// Each of --scenarios: a name (CONFIG_DIR/scenarios/NAME.yaml) or a file.
@@ -238,16 +240,13 @@ void Report(const Options& o, const std::vector<Scenario>& scenarios, const std:
   }
 }
 
+int RunBench(const Options& o) {
+  Bench bench(o);
+  const std::vector<Run> runs = bench.RunAll();
+  Report(o, bench.scenarios(), runs);
+  return 0;
+}
+
 }  // namespace
 
-int main(int argc, char** argv) {
-  CLI::App app{"Plans and simulates every scenario over several seeds; prints the success table. Talks no LCM."};
-  Options options;
-  AddOptions(app, options);
-  return nodes::GuardedMain("sim_bench", app, argc, argv, [&]() -> int {
-    Bench bench(options);
-    const std::vector<Run> runs = bench.RunAll();
-    Report(options, bench.scenarios(), runs);
-    return 0;
-  });
-}
+int main(int argc, char** argv) { return rbcp::programs::Main("sim_bench", argc, argv, AddOptions, RunBench); }

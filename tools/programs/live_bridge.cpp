@@ -47,6 +47,7 @@
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp/page_socket.h"
+#include "program_main.h"
 #include "view_json.h"
 
 namespace {
@@ -536,14 +537,6 @@ struct Options {
   std::string page_path, follow_log, lcm_netns;
 };
 
-constexpr const char* kAbout =
-    "Forwards a running pipeline to web pages over a websocket on 127.0.0.1 (for tools/view --live):\n"
-    "the LCM messages of the processes (on --lcm-url, or read from a growing LCM log with\n"
-    "--follow-log) as compact JSON (docs/json_schema.md, live messages). GET / returns the page of\n"
-    "--page; the websocket is at /ws. A page that connects late first gets what came before.\n"
-    "Prints 'live_bridge: listening on http://127.0.0.1:PORT/' once it listens. Runs until SIGINT or\n"
-    "SIGTERM (or --max-runtime). Exit status: 0 stopped, 2 bad input.";
-
 void AddOptions(CLI::App& app, Options& o) {
   rbcp::nodes::AddCommonOptions(app, o.common);
   app.add_option("--port", o.port, "TCP port on 127.0.0.1 (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
@@ -556,6 +549,13 @@ void AddOptions(CLI::App& app, Options& o) {
                  "127.0.0.1 where the bridge started: a pipeline in a namespace followed from a browser outside it\n"
                  "(needs root)")
       ->excludes("--follow-log");
+  app.description(
+      "Forwards a running pipeline to web pages over a websocket on 127.0.0.1 (for tools/view --live):\n"
+      "the LCM messages of the processes (on --lcm-url, or read from a growing LCM log with\n"
+      "--follow-log) as compact JSON (docs/json_schema.md, live messages). GET / returns the page of\n"
+      "--page; the websocket is at /ws. A page that connects late first gets what came before.\n"
+      "Prints 'live_bridge: listening on http://127.0.0.1:PORT/' once it listens. Runs until SIGINT or\n"
+      "SIGTERM (or --max-runtime). Exit status: 0 stopped, 2 bad input.");
 }
 
 /// The page GET / returns: the file's bytes, "" without one.
@@ -605,9 +605,4 @@ int Run(const Options& o) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  CLI::App app{kAbout};
-  Options options;
-  AddOptions(app, options);
-  return rbcp::nodes::GuardedMain("live_bridge", app, argc, argv, [&] { return Run(options); });
-}
+int main(int argc, char** argv) { return rbcp::programs::Main("live_bridge", argc, argv, AddOptions, Run); }

@@ -60,6 +60,7 @@
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
 #include "log_messages.h"
+#include "program_main.h"
 
 namespace {
 
@@ -594,16 +595,6 @@ struct Options {
   double walking_state_hz = 50.0;
 };
 
-constexpr const char* kAbout =
-    "Replays the world's side of a recorded run (TERRAIN, ROBOT_STATE, CONTROLLER_STATUS, PLAN_REQUEST of an\nLCM log that "
-    "tools/launch recorded) into running planner processes (affordance_extractor, root_planner,\n"
-    "contact_planner with the run's --horizon-steps) and checks that they reproduce their recorded\n"
-    "answers: the contact surfaces, the root paths, and each CONTACT_PLAN (or failure) answering a wait of\n"
-    "the robot, compared per input within --tolerance (utime fields aside). Inputs go out in the\n"
-    "recorded order and pace; at each recorded answer the replay waits for the replayed one.\n"
-    "tools/replay-log starts the planners and runs it. Exit status: 0 reproduced, 1 an answer differs\n"
-    "or is missing, 2 bad input, 3 a planner did not answer in time.";
-
 void AddOptions(CLI::App& app, Options& o) {
   nodes::AddCommonOptions(app, o.common);
   app.add_option("--log", o.log_path, "the LCM log of a run (tools/launch's run.lcmlog)")->required()->check(CLI::ExistingFile);
@@ -617,6 +608,15 @@ void AddOptions(CLI::App& app, Options& o) {
                  "replays the same (the planners act only on the states of a robot waiting at a step boundary)");
   app.add_option("--walking-state-hz", o.walking_state_hz, "with --write-thinned: ROBOT_STATE kept while walking [Hz]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.description(
+      "Replays the world's side of a recorded run (TERRAIN, ROBOT_STATE, CONTROLLER_STATUS, PLAN_REQUEST of an\nLCM log that "
+      "tools/launch recorded) into running planner processes (affordance_extractor, root_planner,\n"
+      "contact_planner with the run's --horizon-steps) and checks that they reproduce their recorded\n"
+      "answers: the contact surfaces, the root paths, and each CONTACT_PLAN (or failure) answering a wait of\n"
+      "the robot, compared per input within --tolerance (utime fields aside). Inputs go out in the\n"
+      "recorded order and pace; at each recorded answer the replay waits for the replayed one.\n"
+      "tools/replay-log starts the planners and runs it. Exit status: 0 reproduced, 1 an answer differs\n"
+      "or is missing, 2 bad input, 3 a planner did not answer in time.");
 }
 
 int Run(const Options& o) {
@@ -645,9 +645,4 @@ int Run(const Options& o) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  CLI::App app{kAbout};
-  Options options;
-  AddOptions(app, options);
-  return nodes::GuardedMain("replay_log", app, argc, argv, [&] { return Run(options); });
-}
+int main(int argc, char** argv) { return rbcp::programs::Main("replay_log", argc, argv, AddOptions, Run); }

@@ -28,6 +28,7 @@
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 #include "log_messages.h"
+#include "program_main.h"
 #include "view_json.h"
 
 namespace {
@@ -224,16 +225,20 @@ struct Options {
   std::string log_path;
 };
 
-constexpr const char* kAbout =
-    "Turns the LCM log of a run (tools/launch records build/logs/RUN/run.lcmlog) into JSON: the plan the\n"
-    "robot walked (\"states\", as check_plan reads it), the simulator's verdict (sim_ok, outcome, sim_time_s),\n"
-    "the plans and replans with their latency (median and 95th percentile, from the log's receive times:\n"
-    "the first ROBOT_STATE a plan starts from to that CONTACT_PLAN) and the robot's trace (sim_trace, 20 Hz).\n"
-    "With the trace: joints and torques, the CoM's margin in the polygon of the feet in contact, and\n"
-    "each replan's time and latency (replans); the planners' compute times (compute_ms: per process,\n"
-    "the wall time of every input answered OK, from STATUS). A walked plan missing from the log is left out of\n"
-    "\"states\" and named in missing_plans. The JSON is described in docs/json_schema.md.\n"
-    "Reads a file; talks no LCM. Exit status: 0 written, 2 bad input.";
+void AddOptions(CLI::App& app, Options& o) {
+  nodes::AddOfflineOptions(app, o.common);
+  app.add_option("--log", o.log_path, "the LCM log of a run")->required()->check(CLI::ExistingFile);
+  app.description(
+      "Turns the LCM log of a run (tools/launch records build/logs/RUN/run.lcmlog) into JSON: the plan the\n"
+      "robot walked (\"states\", as check_plan reads it), the simulator's verdict (sim_ok, outcome, sim_time_s),\n"
+      "the plans and replans with their latency (median and 95th percentile, from the log's receive times:\n"
+      "the first ROBOT_STATE a plan starts from to that CONTACT_PLAN) and the robot's trace (sim_trace, 20 Hz).\n"
+      "With the trace: joints and torques, the CoM's margin in the polygon of the feet in contact, and\n"
+      "each replan's time and latency (replans); the planners' compute times (compute_ms: per process,\n"
+      "the wall time of every input answered OK, from STATUS). A walked plan missing from the log is left out of\n"
+      "\"states\" and named in missing_plans. The JSON is described in docs/json_schema.md.\n"
+      "Reads a file; talks no LCM. Exit status: 0 written, 2 bad input.");
+}
 
 int Run(const Options& o) {
   const RobotModel robot = RobotModel::LoadDefault(o.common.config_dir);
@@ -259,10 +264,4 @@ int Run(const Options& o) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  CLI::App app{kAbout};
-  Options options;
-  nodes::AddOfflineOptions(app, options.common);
-  app.add_option("--log", options.log_path, "the LCM log of a run")->required()->check(CLI::ExistingFile);
-  return nodes::GuardedMain("run_log", app, argc, argv, [&] { return Run(options); });
-}
+int main(int argc, char** argv) { return rbcp::programs::Main("run_log", argc, argv, AddOptions, Run); }

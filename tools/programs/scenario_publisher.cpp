@@ -48,6 +48,7 @@
 #include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
+#include "program_main.h"
 
 namespace {
 
@@ -301,14 +302,6 @@ struct Options {
   int64_t request_id = 0;
 };
 
-constexpr const char* kAbout =
-    "Drives a scenario through the pipeline's processes: TERRAIN -> AFFORDANCES, then a PLAN_REQUEST\n"
-    "from the scenario's start to its goal -> ROOT_PATH -> CONTACT_PLAN; checks the plan and prints a\n"
-    "summary; with --until sim the simulator (anymal_sim) publishes the terrain, walks the plan and reports\n"
-    "the outcome. Exit status: 0 answered (the plan passes the checker and, with --until sim, the robot\n"
-    "reached the goal), 1 a process failed, the plan fails the checker or the run failed, 2 bad input,\n"
-    "3 no answer in time.";
-
 void AddOptions(CLI::App& app, Options& o) {
   nodes::AddCommonOptions(app, o.common);
   app.add_option("--scenario", o.scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
@@ -329,6 +322,13 @@ void AddOptions(CLI::App& app, Options& o) {
   app.add_option("--time-budget", o.budget_s, "root planning time budget of the request [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "random seed of the request")->capture_default_str();
+  app.description(
+      "Drives a scenario through the pipeline's processes: TERRAIN -> AFFORDANCES, then a PLAN_REQUEST\n"
+      "from the scenario's start to its goal -> ROOT_PATH -> CONTACT_PLAN; checks the plan and prints a\n"
+      "summary; with --until sim the simulator (anymal_sim) publishes the terrain, walks the plan and reports\n"
+      "the outcome. Exit status: 0 answered (the plan passes the checker and, with --until sim, the robot\n"
+      "reached the goal), 1 a process failed, the plan fails the checker or the run failed, 2 bad input,\n"
+      "3 no answer in time.");
 }
 
 /// TERRAIN, from the simulator or, without it, from here: every period while the run lasts, as
@@ -597,14 +597,11 @@ class ScenarioRun {
   std::optional<rbcp_msgs::contact_plan_t> plan_msg_;
 };
 
+int Run(const Options& o) {
+  const Scenario scenario = LoadScenario(o.scenario_path);
+  return ScenarioRun(o, scenario).Run();
+}
+
 }  // namespace
 
-int main(int argc, char** argv) {
-  CLI::App app{kAbout};
-  Options options;
-  AddOptions(app, options);
-  return nodes::GuardedMain("scenario_publisher", app, argc, argv, [&]() -> int {
-    const Scenario scenario = LoadScenario(options.scenario_path);
-    return ScenarioRun(options, scenario).Run();
-  });
-}
+int main(int argc, char** argv) { return rbcp::programs::Main("scenario_publisher", argc, argv, AddOptions, Run); }
