@@ -201,75 +201,127 @@ class LoopWatch {
   transport::EveryMessage<rbcp_msgs::contact_plan_t> plans_;
 };
 
-/// --until loop: follows the run until the simulator's verdict, printing progress; returns the
-/// exit status.
-int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenario& scenario,
+/// --until loop: follows the run until the simulator's verdict, printing progress every 5 s.
+class LoopFollower {
+ public:
+  LoopFollower(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenario& scenario,
                const rbcp_msgs::plan_request_t& request, double run_timeout_s, double first_plan_timeout_s,
-               std::string summary) {
-  const auto start = Clock::now();
-  auto next_print = start + std::chrono::seconds(5);
-  auto next_request = start + std::chrono::seconds(1);
-  int restarts = 0;
-  int planner_failures = 0;
-  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  const auto finish = [&](int rc, const std::string& outcome) {
-    const auto& s = watch.record.Latest();
-    const auto& c = watch.record.LatestController();
-    std::ostringstream os;
-    os << summary << ", " << outcome << "; " << (s ? FixedNumber(static_cast<double>(s->utime) * 1e-6, 1) : "0")
-       << " s simulated in " << FixedNumber(elapsed(), 1) << " s wall, " << (c ? c->steps_done : 0) << " steps, "
-       << watch.record.Plans() << " plans (" << planner_failures << " failed replans), " << restarts
-       << " process restarts, replanning latency median "
-       << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
-       << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.95), 1) << " ms";
-    std::cout << os.str() << std::endl;
-    return rc;
-  };
-  std::cout << "loop: the robot walks to the goal, replanning at every step" << std::endl;
-  while (!transport::StopRequested()) {
-    lcm.handleTimeout(20);
-    if (Clock::now() >= next_request) {
-      // The goal again (same request), for a root planner that restarted since.
-      next_request += std::chrono::seconds(1);
-      lcm.publish(channels::kPlanRequest, &request);
+               std::string summary)
+      : lcm_(lcm),
+        board_(board),
+        watch_(watch),
+        scenario_(scenario),
+        request_(request),
+        run_timeout_s_(run_timeout_s),
+        first_plan_timeout_s_(first_plan_timeout_s),
+        summary_(std::move(summary)),
+        start_(Clock::now()),
+        next_print_(start_ + std::chrono::seconds(5)),
+        next_request_(start_ + std::chrono::seconds(1)) {}
+
+  /// Returns the exit status.
+  int Run() {
+    std::cout << "loop: the robot walks to the goal, replanning at every step" << std::endl;
+    while (!transport::StopRequested()) {
+      lcm_.handleTimeout(20);
+      RepeatRequest();
+      if (auto rc = TakeSupervisorEvents()) return *rc;
+      if (auto rc = TakeFailures()) return *rc;
+      if (const auto ok = board_.NewOk("anymal_sim")) return Finish(kOk, "the robot reached the goal: " + ok->reason);
+      if (auto rc = CheckTimeouts()) return *rc;
+      PrintProgress();
     }
-    for (const auto& e : board.TakeSupervisorEvents()) {
+    return Finish(kNoAnswer, "stopped");
+  }
+
+ private:
+  double Elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+  /// The goal again every second (same request), for a root planner that restarted since.
+  void RepeatRequest() {
+    if (Clock::now() < next_request_) return;
+    next_request_ += std::chrono::seconds(1);
+    lcm_.publish(channels::kPlanRequest, &request_);
+  }
+
+  /// The supervisor's restarts are counted; a process it gave up on ends the run.
+  std::optional<int> TakeSupervisorEvents() {
+    for (const auto& e : board_.TakeSupervisorEvents()) {
       std::cout << e.process << ": " << e.reason << std::endl;
-      if (e.state == rbcp_msgs::process_status_t::FAILED) return finish(kPlanningFailed, e.process + ": " + e.reason);
-      if (e.reason.find(" restarted (pid ") != std::string::npos) restarts += 1;
+      if (e.state == rbcp_msgs::process_status_t::FAILED) return Finish(kPlanningFailed, e.process + ": " + e.reason);
+      if (e.reason.find(" restarted (pid ") != std::string::npos) restarts_ += 1;
     }
-    while (auto f = board.TakeFailure()) {
+    return std::nullopt;
+  }
+
+  /// A contact planner's failure costs a replan; another process's ends the run.
+  std::optional<int> TakeFailures() {
+    while (auto f = board_.TakeFailure()) {
       if (f->process == "contact_planner") {
-        planner_failures += 1;
+        planner_failures_ += 1;
         std::cout << "contact_planner: no plan for this step boundary: " << f->reason << std::endl;
         continue;
       }
       std::cout << f->process << ": FAILED: " << f->reason << std::endl;
-      return finish(kPlanningFailed, f->process == "anymal_sim" ? "the robot did not reach the goal: " + f->reason
+      return Finish(kPlanningFailed, f->process == "anymal_sim" ? "the robot did not reach the goal: " + f->reason
                                                                  : f->process + " failed: " + f->reason);
     }
-    if (const auto ok = board.NewOk("anymal_sim")) return finish(kOk, "the robot reached the goal: " + ok->reason);
+    return std::nullopt;
+  }
+
+  std::optional<int> CheckTimeouts() {
     // No plan and no answer at all: the pipeline is not in the loop's mode. A contact planner that
     // answers FAILED is in it (the root planner then plans the next guide, the robot asks again).
-    if (watch.record.Plans() == 0 && planner_failures == 0 && elapsed() > first_plan_timeout_s) {
-      std::cerr << "scenario_publisher: no CONTACT_PLAN within " << first_plan_timeout_s
+    if (watch_.record.Plans() == 0 && planner_failures_ == 0 && Elapsed() > first_plan_timeout_s_) {
+      std::cerr << "scenario_publisher: no CONTACT_PLAN within " << first_plan_timeout_s_
                 << " s: is contact_planner running with --horizon-steps, and anymal_sim with --replan?\n";
-      return finish(kNoAnswer, "no CONTACT_PLAN from contact_planner");
+      return Finish(kNoAnswer, "no CONTACT_PLAN from contact_planner");
     }
-    if (elapsed() > run_timeout_s) return finish(kNoAnswer, "no verdict within " + FixedNumber(run_timeout_s, 0) + " s");
-    if (Clock::now() >= next_print && watch.record.Latest()) {
-      next_print += std::chrono::seconds(5);
-      const auto& s = *watch.record.Latest();
-      const auto& c = watch.record.LatestController();
-      const double dx = s.base_position[0] - scenario.goal.position.x(), dy = s.base_position[1] - scenario.goal.position.y();
-      std::cout << "loop: " << FixedNumber(static_cast<double>(s.utime) * 1e-6, 1) << " s simulated, "
-                << (c ? c->steps_done : 0) << " steps, " << FixedNumber(std::hypot(dx, dy), 2) << " m to the goal, "
-                << watch.record.Plans() << " plans" << (c && c->awaiting_plan ? ", waiting for a plan" : "") << "; "
-                << board.States() << std::endl;
-    }
+    if (Elapsed() > run_timeout_s_) return Finish(kNoAnswer, "no verdict within " + FixedNumber(run_timeout_s_, 0) + " s");
+    return std::nullopt;
   }
-  return finish(kNoAnswer, "stopped");
-}
+
+  void PrintProgress() {
+    if (Clock::now() < next_print_ || !watch_.record.Latest()) return;
+    next_print_ += std::chrono::seconds(5);
+    const auto& s = *watch_.record.Latest();
+    const auto& c = watch_.record.LatestController();
+    const double dx = s.base_position[0] - scenario_.goal.position.x(), dy = s.base_position[1] - scenario_.goal.position.y();
+    std::cout << "loop: " << FixedNumber(static_cast<double>(s.utime) * 1e-6, 1) << " s simulated, "
+              << (c ? c->steps_done : 0) << " steps, " << FixedNumber(std::hypot(dx, dy), 2) << " m to the goal, "
+              << watch_.record.Plans() << " plans" << (c && c->awaiting_plan ? ", waiting for a plan" : "") << "; "
+              << board_.States() << std::endl;
+  }
+
+  /// Prints the summary line with the outcome; returns rc.
+  int Finish(int rc, const std::string& outcome) const {
+    const auto& s = watch_.record.Latest();
+    const auto& c = watch_.record.LatestController();
+    std::ostringstream os;
+    os << summary_ << ", " << outcome << "; " << (s ? FixedNumber(static_cast<double>(s->utime) * 1e-6, 1) : "0")
+       << " s simulated in " << FixedNumber(Elapsed(), 1) << " s wall, " << (c ? c->steps_done : 0) << " steps, "
+       << watch_.record.Plans() << " plans (" << planner_failures_ << " failed replans), " << restarts_
+       << " process restarts, replanning latency median "
+       << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
+       << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.95), 1) << " ms";
+    std::cout << os.str() << std::endl;
+    return rc;
+  }
+
+  lcm::LCM& lcm_;
+  StatusBoard& board_;
+  LoopWatch& watch_;
+  const Scenario& scenario_;
+  const rbcp_msgs::plan_request_t& request_;
+  double run_timeout_s_;
+  double first_plan_timeout_s_;
+  std::string summary_;
+  Clock::time_point start_;
+  Clock::time_point next_print_;
+  Clock::time_point next_request_;
+  int restarts_ = 0;
+  int planner_failures_ = 0;
+};
 
 void PrintSurfaces(const Scenario& scenario, const std::vector<AffordanceSurface>& surfaces, double extract_ms) {
   double area = 0.0;
@@ -405,7 +457,9 @@ class ScenarioRun {
     SendRequest();
     if (auto rc = AwaitRootPath()) return *rc;
     if (o_.until == "root") return Finish(kOk, "");
-    if (loop_) return FollowLoop(*lcm_, board_, *watch_, scenario_, request_, o_.sim_timeout_s, o_.timeout_s, summary_);
+    if (loop_) {
+      return LoopFollower(*lcm_, board_, *watch_, scenario_, request_, o_.sim_timeout_s, o_.timeout_s, summary_).Run();
+    }
     if (auto rc = AwaitContactPlan()) return *rc;
     if (auto rc = CheckPlan()) return *rc;
     return AwaitWalk();
