@@ -249,12 +249,14 @@ struct Awaited {
   }
 };
 
+/// Progress lines on stderr (none with --quiet).
+using Say = std::function<void(const std::string&)>;
+
 /// Writes `events` to `path` without the LCM self test and with ROBOT_STATE thinned: while the
 /// robot walks, one state every 1 / walking_state_hz of simulated time (and the first after a
 /// wait); while it waits, each state once (the simulator repeats the same state every few ms).
 /// A CONTROLLER_STATUS goes with the ROBOT_STATE of its utime: kept when that state is.
-int WriteThinned(const std::vector<Event>& events, const std::string& path, double walking_state_hz,
-                 const std::function<void(const std::string&)>& say) {
+int WriteThinned(const std::vector<Event>& events, const std::string& path, double walking_state_hz, const Say& say) {
   lcm::LogFile out(path, "w");
   if (!out.good()) throw InputError("cannot write " + path);
   const auto period_us = static_cast<int64_t>(1e6 / walking_state_hz);
@@ -302,9 +304,6 @@ int WriteThinned(const std::vector<Event>& events, const std::string& path, doub
   say("wrote " + path + ": " + std::to_string(kept) + " of " + std::to_string(states) + " ROBOT_STATE messages kept");
   return 0;
 }
-
-/// Progress lines on stderr (none with --quiet).
-using Say = std::function<void(const std::string&)>;
 
 /// The log's messages, whole.
 std::vector<Event> ReadEvents(const std::string& path, const Say& say) {
