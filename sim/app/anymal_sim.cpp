@@ -3,6 +3,7 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <string>
 #include <thread>
 
 #include "rbcp/controller/controller_config.h"
@@ -15,130 +16,169 @@
 #include "rbcp/sim/sim_node.h"
 #include "rbcp/sim/world_events.h"
 #include "rbcp/transport/run_loop.h"
-
+#include "rbcp/cli/cli.h"
 namespace {
+
+using namespace rbcp;
+using Clock = std::chrono::steady_clock;
+
 /// [m] how far from the scenario's goal a plan may end and still reach it (the contact planner
 /// ends its plans at the root path's end, the goal, give or take the body's shift).
 constexpr double kGoalReach_m = 0.3;
-}  // namespace
 
-int main(int argc, char** argv) {
-  using namespace rbcp;
-  using Clock = std::chrono::steady_clock;
-  CLI::App app{"ANYmal B in a Bullet simulation, walked by the onboard plan controller.\n"
-               "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time) and STATUS, and\n"
-               "walks every CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints\n"
-               "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input."};
+/// The command line.
+struct Options {
   cli::CommonOptions common;
-  cli::AddCommonOptions(app, common);
-  std::string scenario_path, plan_path, sim_config_path, controller_config_path, log_csv_path;
+  std::string scenario_path, plan_path, sim_config_path, controller_config_path, log_csv_path, events_path;
   bool json = false, exit_when_decided = false;
   sim::SimNodeOptions node_options;
   double realtime_factor = 1.0;
-  app.add_option("--scenario", scenario_path, "scenario YAML: the world (terrain, and the start the robot stands on)")
+};
+
+void AddOptions(CLI::App& app, Options& o) {
+  cli::AddCommonOptions(app, o.common);
+  app.add_option("--scenario", o.scenario_path, "scenario YAML: the world (terrain, and the start the robot stands on)")
       ->required()->check(CLI::ExistingFile);
-  app.add_option("--plan", plan_path, "execute this contact plan (JSON as plan_scenario --stage contact prints it, "
-                                      "'-' for standard input) and exit");
-  app.add_flag("--json", json, "with --plan: print the outcome as one JSON object (with the 20 Hz trace)");
-  app.add_option("--log-csv", log_csv_path,
+  app.add_option("--plan", o.plan_path, "execute this contact plan (JSON as plan_scenario --stage contact prints it, "
+                                        "'-' for standard input) and exit");
+  app.add_flag("--json", o.json, "with --plan: print the outcome as one JSON object (with the 20 Hz trace)");
+  app.add_option("--log-csv", o.log_csv_path,
                  "with --plan: write every control tick to this CSV file (controller phase, step, support margin, "
                  "base pose and reference, joint positions and torques, foot contacts and normal forces)");
-  app.add_option("--realtime-factor", realtime_factor,
+  app.add_option("--realtime-factor", o.realtime_factor,
                  "process: simulated seconds per wall second (0: as fast as possible)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
-  app.add_flag("--exit-when-decided", exit_when_decided,
+  app.add_flag("--exit-when-decided", o.exit_when_decided,
                "process: exit once a plan's outcome is decided (status 0 goal reached, 1 failed)");
-  app.add_flag("--replan", node_options.replan,
+  app.add_flag("--replan", o.node_options.replan,
                "process: the robot stops at every step boundary until a CONTACT_PLAN starting from that stance "
                "comes (receding-horizon replanning; the world stands still meanwhile unless --realtime-factor > 0)");
-  app.add_option("--await-timeout", node_options.await_timeout_s,
+  app.add_option("--await-timeout", o.node_options.await_timeout_s,
                  "process, --replan: wall seconds to wait for a plan before going on with the current one")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  std::string events_path;
-  app.add_option("--events", events_path,
+  app.add_option("--events", o.events_path,
                  "process: scripted changes of the world at simulated times (YAML: add_box, remove_box, push, goal)")
       ->check(CLI::ExistingFile);
-  app.add_option("--sim-config", sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
-  app.add_option("--controller-config", controller_config_path,
+  app.add_option("--sim-config", o.sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
+  app.add_option("--controller-config", o.controller_config_path,
                  "controller parameters (default: CONFIG_DIR/controller.yaml)");
-  return cli::GuardedMain(sim::SimNode::kProcessName, app, argc, argv, [&]() -> int {
-    const sim::SimConfig sim_config =
-        sim::SimConfig::LoadFile(sim_config_path.empty() ? common.config_dir + "/sim.yaml" : sim_config_path);
-    const ControllerConfig controller_config = ControllerConfig::LoadFile(
-        controller_config_path.empty() ? common.config_dir + "/controller.yaml" : controller_config_path);
-    const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
-    const Scenario scenario = LoadScenario(scenario_path);
-    sim::PlanExecution execution(robot, common.config_dir + "/robots/anymal_b.urdf", scenario, sim_config,
-                                 controller_config, StanceRules::LoadFromDir(common.config_dir));
-    if (!plan_path.empty()) {
-      const ContactPlan plan = LoadContactPlanFile(plan_path);
-      execution.Start(plan);
-      const auto start = Clock::now();
-      if (log_csv_path.empty()) {
-        execution.Run();
-      } else {
-        std::ofstream csv(log_csv_path);
-        if (!csv) throw InputError("cannot write " + log_csv_path);
-        sim::WriteTickCsvHeader(csv);
-        do {
-          sim::WriteTickCsvRow(csv, execution);
-        } while (execution.Tick());
-        sim::WriteTickCsvRow(csv, execution);
-        if (!csv) throw InputError("cannot write " + log_csv_path);
-      }
-      // The plan's verdict is about the plan; the run's is about the scenario: a plan that ends
-      // away from the scenario's goal does not reach it, however well it was walked.
-      sim::ExecutionOutcome outcome = execution.Outcome();
-      sim::JudgeAgainstGoal(outcome, plan, scenario.goal, kGoalReach_m);
-      const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
-      if (json) {
-        nlohmann::json j = sim::OutcomeToJson(outcome);
-        AddSchemaKeys(j);
-        j["scenario"] = scenario.name;
-        j["sim_failure"] = j["failure"];  // as plan_scenario names it
-        j["sim_wall_s"] = wall_s;
-        std::cout << j.dump() << std::endl;
-      } else {
-        std::cout << "anymal_sim: " << sim::OutcomeSummary(outcome) << " (" << wall_s << " s wall, "
-                  << outcome.sim_time_s / std::max(wall_s, 1e-9) << "x real time)" << std::endl;
-      }
-      return outcome.ok() ? 0 : 1;
-    }
 
-    if (!events_path.empty()) node_options.events = sim::LoadWorldEvents(events_path);
-    auto lcm = transport::OpenLcm(common.lcm_url);
-    node_options.pause_while_awaiting = realtime_factor <= 0.0;
-    sim::SimNode node(*lcm, execution, scenario, sim_config, node_options);
-    node.status().set_verbose(!common.quiet);
-    node.status().StartBackgroundHeartbeat(0.4);
-    transport::InstallStopHandlers();
-    std::cerr << "[anymal_sim] " << scenario.name << ": TERRAIN, ROBOT_STATE, STATUS out; CONTACT_PLAN in; "
-              << (realtime_factor > 0 ? std::to_string(realtime_factor) + "x real time" : std::string("as fast as possible"))
-              << (node_options.replan ? "; replanning at every step boundary" : "") << "\n";
-    const auto start = Clock::now();
-    auto next_heartbeat = start;
-    while (!transport::StopRequested()) {
-      while (lcm->handleTimeout(0) > 0) {
-      }
-      node.Tick();
-      const auto now = Clock::now();
-      if (now >= next_heartbeat) {
-        node.Heartbeat();
-        next_heartbeat = now + std::chrono::milliseconds(250);
-      }
-      if (exit_when_decided && node.Decided()) {
-        node.Heartbeat();
-        return execution.Outcome().ok() ? 0 : 1;
-      }
-      const double wall_s = std::chrono::duration<double>(now - start).count();
-      if (common.max_runtime_s > 0 && wall_s > common.max_runtime_s) break;
-      if (node.Paused()) {
-        lcm->handleTimeout(1);  // the world stands still: wait for the plan without spinning
-      } else if (realtime_factor > 0) {
-        std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                  std::chrono::duration<double>(node.SimTime() / realtime_factor)));
-      }
-    }
-    return 0;
-  });
+  app.description(
+      "ANYmal B in a Bullet simulation, walked by the onboard plan controller.\n"
+      "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time) and STATUS, and\n"
+      "walks every CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints\n"
+      "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input.");
 }
+
+/// The simulated world: its configuration, the robot, the scenario, and the execution of plans
+/// on them (which keeps references to them: a World is not copied).
+struct World {
+  explicit World(const Options& o)
+      : sim_config(sim::SimConfig::LoadFile(o.sim_config_path.empty() ? o.common.config_dir + "/sim.yaml"
+                                                                      : o.sim_config_path)),
+        controller_config(ControllerConfig::LoadFile(
+            o.controller_config_path.empty() ? o.common.config_dir + "/controller.yaml" : o.controller_config_path)),
+        robot(RobotModel::LoadDefault(o.common.config_dir)),
+        scenario(LoadScenario(o.scenario_path)),
+        execution(robot, o.common.config_dir + "/robots/anymal_b.urdf", scenario, sim_config, controller_config,
+                  StanceRules::LoadFromDir(o.common.config_dir)) {}
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  const sim::SimConfig sim_config;
+  const ControllerConfig controller_config;
+  const RobotModel robot;
+  const Scenario scenario;
+  sim::PlanExecution execution;
+};
+
+/// Runs the started execution to its end, every control tick written to the CSV file at `path`.
+void RunWithTickCsv(sim::PlanExecution& execution, const std::string& path) {
+  std::ofstream csv(path);
+  if (!csv) throw InputError("cannot write " + path);
+  sim::WriteTickCsvHeader(csv);
+  do {
+    sim::WriteTickCsvRow(csv, execution);
+  } while (execution.Tick());
+  sim::WriteTickCsvRow(csv, execution);
+  if (!csv) throw InputError("cannot write " + path);
+}
+
+/// --plan: executes the plan offline and prints the outcome; returns the exit status.
+int ExecutePlan(const Options& o, World& world) {
+  const ContactPlan plan = LoadContactPlanFile(o.plan_path);
+  world.execution.Start(plan);
+  const auto start = Clock::now();
+  if (o.log_csv_path.empty()) {
+    world.execution.Run();
+  } else {
+    RunWithTickCsv(world.execution, o.log_csv_path);
+  }
+  // The plan's verdict is about the plan; the run's is about the scenario: a plan that ends
+  // away from the scenario's goal does not reach it, however well it was walked.
+  sim::ExecutionOutcome outcome = world.execution.Outcome();
+  sim::JudgeAgainstGoal(outcome, plan, world.scenario.goal, kGoalReach_m);
+  const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  if (o.json) {
+    nlohmann::json j = sim::OutcomeToJson(outcome);
+    AddSchemaKeys(j);
+    j["scenario"] = world.scenario.name;
+    j["sim_failure"] = j["failure"];  // as plan_scenario names it
+    j["sim_wall_s"] = wall_s;
+    std::cout << j.dump() << std::endl;
+  } else {
+    std::cout << "anymal_sim: " << sim::OutcomeSummary(outcome) << " (" << wall_s << " s wall, "
+              << outcome.sim_time_s / std::max(wall_s, 1e-9) << "x real time)" << std::endl;
+  }
+  return outcome.ok() ? 0 : 1;
+}
+
+/// The process: the world on LCM, ticking until stopped (or, with --exit-when-decided, until a
+/// plan's outcome is decided); returns the exit status.
+int ServeWorld(const Options& o, World& world) {
+  sim::SimNodeOptions node_options = o.node_options;
+  if (!o.events_path.empty()) node_options.events = sim::LoadWorldEvents(o.events_path);
+  auto lcm = transport::OpenLcm(o.common.lcm_url);
+  node_options.pause_while_awaiting = o.realtime_factor <= 0.0;
+  sim::SimNode node(*lcm, world.execution, world.scenario, world.sim_config, node_options);
+  node.status().set_verbose(!o.common.quiet);
+  node.status().StartBackgroundHeartbeat(0.4);
+  transport::InstallStopHandlers();
+  std::cerr << "[anymal_sim] " << world.scenario.name << ": TERRAIN, ROBOT_STATE, STATUS out; CONTACT_PLAN in; "
+            << (o.realtime_factor > 0 ? std::to_string(o.realtime_factor) + "x real time" : std::string("as fast as possible"))
+            << (node_options.replan ? "; replanning at every step boundary" : "") << "\n";
+  const auto start = Clock::now();
+  auto next_heartbeat = start;
+  while (!transport::StopRequested()) {
+    while (lcm->handleTimeout(0) > 0) {
+    }
+    node.Tick();
+    const auto now = Clock::now();
+    if (now >= next_heartbeat) {
+      node.Heartbeat();
+      next_heartbeat = now + std::chrono::milliseconds(250);
+    }
+    if (o.exit_when_decided && node.Decided()) {
+      node.Heartbeat();
+      return world.execution.Outcome().ok() ? 0 : 1;
+    }
+    const double wall_s = std::chrono::duration<double>(now - start).count();
+    if (o.common.max_runtime_s > 0 && wall_s > o.common.max_runtime_s) break;
+    if (node.Paused()) {
+      lcm->handleTimeout(1);  // the world stands still: wait for the plan without spinning
+    } else if (o.realtime_factor > 0) {
+      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
+                                                std::chrono::duration<double>(node.SimTime() / o.realtime_factor)));
+    }
+  }
+  return 0;
+}
+
+int Run(const Options& o) {
+  World world(o);
+  return o.plan_path.empty() ? ServeWorld(o, world) : ExecutePlan(o, world);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return rbcp::cli::Main(sim::SimNode::kProcessName, argc, argv, AddOptions, Run); }

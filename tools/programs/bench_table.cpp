@@ -22,6 +22,7 @@
 #include "rbcp/core/format.h"
 #include "rbcp/cli/cli.h"
 #include "rbcp/nodes/run_record.h"
+#include "rbcp/cli/cli.h"
 
 namespace {
 
@@ -200,75 +201,108 @@ std::string Markdown(const nlohmann::json& table) {
   return md.str();
 }
 
+/// The command line.
+struct Options {
+  std::string runs_dir, out_dir;
+  std::vector<std::string> order;  ///< scenarios first in the table
+  std::string title;
+};
+
+void AddOptions(CLI::App& app, Options& o) {
+  app.add_option("--runs", o.runs_dir, "folder of run folders")->required()->check(CLI::ExistingDirectory);
+  app.add_option("--out", o.out_dir, "where table.md and table.json go")->required();
+  app.add_option("--scenarios", o.order, "scenario order in the table (default: by name)")->delimiter(',');
+  app.add_option("--title", o.title, "a line under the table's heading (date, runs, seeds, machine)");
+  app.description(
+      "The paper's Table 1 from runs of the replanning loop (tools/bench table writes the runs): every\n"
+      "folder under --runs with a meta.json ({scenario, seed, exit, wall_s, stopped_after_s}) and, when\n"
+      "the run left a log, run.json (run_log's output). Per scenario: mean affordance extraction time (each TERRAIN), root\n"
+      "planning time (the first path), contact planning time (the sum of the planning times of the plans\n"
+      "the robot got, runs that reached the goal) with the steps walked, success over the runs (tools/launch\n"
+      "exited 0: the simulator's verdict was goal reached), mean\n"
+      "simulated time to the goal, replanning latency median and 95th percentile over every replan of\n"
+      "every run (run_log's, from the log's receive times). Writes table.md (beside the paper's figures)\n"
+      "and table.json into --out. Reads files; talks no LCM. Exit status: 0 written, 2 bad input.");
+}
+
+/// One run folder: its meta.json and, when the run left a log, its run.json.
+Run ReadRun(const fs::path& folder, std::string* scenario) {
+  const nlohmann::json meta = ReadJson(folder / "meta.json");
+  Run run;
+  *scenario = meta.at("scenario").get<std::string>();
+  run.seed = meta.at("seed");
+  run.exit = meta.at("exit");
+  run.wall_s = meta.at("wall_s");
+  if (meta.contains("stopped_after_s") && meta["stopped_after_s"].is_number()) run.stopped_after_s = meta["stopped_after_s"];
+  const fs::path log_path = folder / "run.json";
+  if (fs::exists(log_path)) {
+    run.log = ReadJson(log_path);
+    run.logged = true;
+  }
+  return run;
+}
+
+/// The runs under runs_dir, by scenario (a folder without meta.json is not a run).
+std::map<std::string, Row> ReadRows(const std::string& runs_dir) {
+  std::map<std::string, Row> rows;
+  for (const auto& entry : fs::directory_iterator(runs_dir)) {
+    if (!entry.is_directory() || !fs::exists(entry.path() / "meta.json")) continue;
+    std::string scenario;
+    Run run = ReadRun(entry.path(), &scenario);
+    Row& row = rows[scenario];
+    row.scenario = scenario;
+    row.runs.push_back(std::move(run));
+  }
+  if (rows.empty()) throw InputError("no run (a folder with meta.json) in " + runs_dir);
+  return rows;
+}
+
+/// table.json: a summary per scenario, those of --scenarios first, then the others by name.
+nlohmann::json TableJson(std::map<std::string, Row>& rows, const Options& o) {
+  std::vector<std::string> order = o.order;
+  for (const auto& [name, row] : rows) {
+    if (std::find(order.begin(), order.end(), name) == order.end()) order.push_back(name);
+  }
+  nlohmann::json table = {{"schema_version", 1}, {"title", o.title}, {"scenarios", nlohmann::json::array()}};
+  for (const std::string& name : order) {
+    auto it = rows.find(name);
+    if (it == rows.end()) continue;
+    std::sort(it->second.runs.begin(), it->second.runs.end(), [](const Run& a, const Run& b) { return a.seed < b.seed; });
+    table["scenarios"].push_back(Summarise(it->second));
+  }
+  return table;
+}
+
+/// table.md: the table with its heading and what its columns mean.
+std::string TableMarkdown(const nlohmann::json& table, const std::string& title) {
+  std::ostringstream md;
+  md << "# Table 1 through the replanning loop\n\n";
+  if (!title.empty()) md << title << "\n\n";
+  md << Markdown(table) << "\n"
+     << "Ours, and in parentheses the paper's Table 1 (ANYmal, 20 runs per environment).\n"
+     << "Ours: the four processes over LCM with the simulator as the world (tools/launch), the robot replanning\n"
+     << "at every step boundary (8 steps planned, 8 more searched). Affordance: mean extraction time per TERRAIN\n"
+     << "message. Root: the first root path's planning time. Contact: the sum of the planning times of the\n"
+     << "plans the robot got, and the steps walked to the goal (runs that reached it). Success: runs whose\n"
+     << "simulated robot reached the goal (Bullet, the onboard controller; the paper: Gazebo, Free Gait);\n"
+     << "a run still going after the bench's --run-timeout is stopped and counts as failed.\n"
+     << "Latency: from the first receipt of the ROBOT_STATE a plan started from to the receipt of that\n"
+     << "CONTACT_PLAN, in the log's receive times, over every replan of every run. The paper's contact time\n"
+     << "plans the whole path once.\n";
+  return md.str();
+}
+
+int WriteTable(const Options& o) {
+  std::map<std::string, Row> rows = ReadRows(o.runs_dir);
+  const nlohmann::json table = TableJson(rows, o);
+  fs::create_directories(o.out_dir);
+  std::ofstream(fs::path(o.out_dir) / "table.json") << table.dump(1) << "\n";
+  const std::string md = TableMarkdown(table, o.title);
+  std::ofstream(fs::path(o.out_dir) / "table.md") << md;
+  std::cout << md;
+  return 0;
+}
+
 }  // namespace
 
-int main(int argc, char** argv) {
-  CLI::App app{"The paper's Table 1 from runs of the replanning loop (tools/bench table writes the runs): every\n"
-               "folder under --runs with a meta.json ({scenario, seed, exit, wall_s, stopped_after_s}) and, when\n"
-               "the run left a log, run.json (run_log's output). Per scenario: mean affordance extraction time (each TERRAIN), root\n"
-               "planning time (the first path), contact planning time (the sum of the planning times of the plans\n"
-               "the robot got, runs that reached the goal) with the steps walked, success over the runs (tools/launch\n"
-               "exited 0: the simulator's verdict was goal reached), mean\n"
-               "simulated time to the goal, replanning latency median and 95th percentile over every replan of\n"
-               "every run (run_log's, from the log's receive times). Writes table.md (beside the paper's figures)\n"
-               "and table.json into --out. Reads files; talks no LCM. Exit status: 0 written, 2 bad input."};
-  std::string runs_dir, out_dir;
-  std::vector<std::string> order;
-  std::string title;
-  app.add_option("--runs", runs_dir, "folder of run folders")->required()->check(CLI::ExistingDirectory);
-  app.add_option("--out", out_dir, "where table.md and table.json go")->required();
-  app.add_option("--scenarios", order, "scenario order in the table (default: by name)")->delimiter(',');
-  app.add_option("--title", title, "a line under the table's heading (date, runs, seeds, machine)");
-  return cli::GuardedMain("bench_table", app, argc, argv, [&]() -> int {
-    std::map<std::string, Row> rows;
-    for (const auto& entry : fs::directory_iterator(runs_dir)) {
-      const fs::path meta_path = entry.path() / "meta.json";
-      if (!entry.is_directory() || !fs::exists(meta_path)) continue;
-      const nlohmann::json meta = ReadJson(meta_path);
-      Run run;
-      const std::string scenario = meta.at("scenario");
-      run.seed = meta.at("seed");
-      run.exit = meta.at("exit");
-      run.wall_s = meta.at("wall_s");
-      if (meta.contains("stopped_after_s") && meta["stopped_after_s"].is_number()) run.stopped_after_s = meta["stopped_after_s"];
-      const fs::path log_path = entry.path() / "run.json";
-      if (fs::exists(log_path)) {
-        run.log = ReadJson(log_path);
-        run.logged = true;
-      }
-      Row& row = rows[scenario];
-      row.scenario = scenario;
-      row.runs.push_back(std::move(run));
-    }
-    if (rows.empty()) throw InputError("no run (a folder with meta.json) in " + runs_dir);
-    for (const auto& [name, row] : rows) {
-      if (std::find(order.begin(), order.end(), name) == order.end()) order.push_back(name);
-    }
-    nlohmann::json table = {{"schema_version", 1}, {"title", title}, {"scenarios", nlohmann::json::array()}};
-    for (const std::string& name : order) {
-      auto it = rows.find(name);
-      if (it == rows.end()) continue;
-      std::sort(it->second.runs.begin(), it->second.runs.end(), [](const Run& a, const Run& b) { return a.seed < b.seed; });
-      table["scenarios"].push_back(Summarise(it->second));
-    }
-    fs::create_directories(out_dir);
-    std::ofstream(fs::path(out_dir) / "table.json") << table.dump(1) << "\n";
-    std::ostringstream md;
-    md << "# Table 1 through the replanning loop\n\n";
-    if (!title.empty()) md << title << "\n\n";
-    md << Markdown(table) << "\n"
-       << "Ours, and in parentheses the paper's Table 1 (ANYmal, 20 runs per environment).\n"
-       << "Ours: the four processes over LCM with the simulator as the world (tools/launch), the robot replanning\n"
-       << "at every step boundary (8 steps planned, 8 more searched). Affordance: mean extraction time per TERRAIN\n"
-       << "message. Root: the first root path's planning time. Contact: the sum of the planning times of the\n"
-       << "plans the robot got, and the steps walked to the goal (runs that reached it). Success: runs whose\n"
-       << "simulated robot reached the goal (Bullet, the onboard controller; the paper: Gazebo, Free Gait);\n"
-       << "a run still going after the bench's --run-timeout is stopped and counts as failed.\n"
-       << "Latency: from the first receipt of the ROBOT_STATE a plan started from to the receipt of that\n"
-       << "CONTACT_PLAN, in the log's receive times, over every replan of every run. The paper's contact time\n"
-       << "plans the whole path once.\n";
-    std::ofstream(fs::path(out_dir) / "table.md") << md.str();
-    std::cout << md.str();
-    return 0;
-  });
-}
+int main(int argc, char** argv) { return rbcp::cli::Main("bench_table", argc, argv, AddOptions, WriteTable); }

@@ -47,6 +47,7 @@
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp/page_socket.h"
+#include "rbcp/cli/cli.h"
 #include "view_json.h"
 
 namespace {
@@ -461,106 +462,147 @@ int64_t NowUs() {
   return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-}  // namespace
+/// The pipeline's messages as LCM delivers them, handed to the hub whenever the LCM socket has one.
+class LcmFeed {
+ public:
+  LcmFeed(net::io_context& io, const std::string& lcm_url, Hub& hub) : lcm_(rbcp::transport::OpenLcm(lcm_url)) {
+    lcm_->subscribeFunction(
+        ".*",
+        +[](const lcm::ReceiveBuffer* buffer, const std::string& channel, Hub* h) {
+          h->OnMessage(channel, NowUs(), buffer->data, buffer->data_size);
+        },
+        &hub);
+    socket_ = std::make_unique<net::posix::stream_descriptor>(io, ::dup(lcm_->getFileno()));
+    Wait();
+  }
 
-int main(int argc, char** argv) {
-  using namespace rbcp;
-  CLI::App app{"Forwards a running pipeline to web pages over a websocket on 127.0.0.1 (for tools/view --live):\n"
-               "the LCM messages of the processes (on --lcm-url, or read from a growing LCM log with\n"
-               "--follow-log) as compact JSON (docs/json_schema.md, live messages). GET / returns the page of\n"
-               "--page; the websocket is at /ws. A page that connects late first gets what came before.\n"
-               "Prints 'live_bridge: listening on http://127.0.0.1:PORT/' once it listens. Runs until SIGINT or\n"
-               "SIGTERM (or --max-runtime). Exit status: 0 stopped, 2 bad input."};
-  cli::CommonOptions common;
-  cli::AddCommonOptions(app, common);
+ private:
+  void Wait() {
+    socket_->async_wait(net::posix::stream_descriptor::wait_read, [this](beast::error_code error) {
+      if (error) return;
+      while (lcm_->handleTimeout(0) > 0) {
+      }
+      Wait();
+    });
+  }
+
+  std::unique_ptr<lcm::LCM> lcm_;
+  std::unique_ptr<net::posix::stream_descriptor> socket_;  ///< a copy of the LCM socket, watched by the context
+};
+
+/// The pipeline's messages from a growing LCM log, read every 100 ms.
+class LogFeed {
+ public:
+  LogFeed(net::io_context& io, const std::string& path, Hub& hub) : tail_(path), timer_(io), hub_(hub) { Poll(); }
+
+ private:
+  void Poll() {
+    tail_.Poll([&](const std::string& channel, int64_t t, const void* data, unsigned size) {
+      hub_.OnMessage(channel, t, data, size);
+    });
+    timer_.expires_after(std::chrono::milliseconds(100));
+    timer_.async_wait([this](beast::error_code error) {
+      if (!error) Poll();
+    });
+  }
+
+  LogTail tail_;
+  net::steady_timer timer_;
+  Hub& hub_;
+};
+
+/// Stops the context on SIGINT or SIGTERM, or after max_runtime_s (0: never).
+class StopConditions {
+ public:
+  StopConditions(net::io_context& io, double max_runtime_s) : signals_(io, SIGINT, SIGTERM), deadline_(io) {
+    signals_.async_wait([&io](beast::error_code, int) { io.stop(); });
+    if (max_runtime_s > 0) {
+      deadline_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+          std::chrono::duration<double>(max_runtime_s)));
+      deadline_.async_wait([&io](beast::error_code error) {
+        if (!error) io.stop();
+      });
+    }
+  }
+
+ private:
+  net::signal_set signals_;
+  net::steady_timer deadline_;
+};
+
+/// The command line.
+struct Options {
+  rbcp::cli::CommonOptions common;
   int port = 8765;
   std::string page_path, follow_log, lcm_netns;
-  app.add_option("--port", port, "TCP port on 127.0.0.1 (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
-  app.add_option("--page", page_path, "the page GET / returns (tools/view --live writes it)")->check(CLI::ExistingFile);
-  app.add_option("--follow-log", follow_log,
+};
+
+void AddOptions(CLI::App& app, Options& o) {
+  rbcp::cli::AddCommonOptions(app, o.common);
+  app.add_option("--port", o.port, "TCP port on 127.0.0.1 (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
+  app.add_option("--page", o.page_path, "the page GET / returns (tools/view --live writes it)")->check(CLI::ExistingFile);
+  app.add_option("--follow-log", o.follow_log,
                  "read the messages from this LCM log as it grows (e.g. build/logs/RUN/run.lcmlog while tools/launch "
                  "runs, from another network namespace) instead of subscribing on --lcm-url");
-  app.add_option("--lcm-netns", lcm_netns,
+  app.add_option("--lcm-netns", o.lcm_netns,
                  "subscribe on --lcm-url inside this named network namespace (ip netns) while the page is served on\n"
                  "127.0.0.1 where the bridge started: a pipeline in a namespace followed from a browser outside it\n"
                  "(needs root)")
       ->excludes("--follow-log");
-  return cli::GuardedMain("live_bridge", app, argc, argv, [&]() -> int {
-    std::string page;
-    if (!page_path.empty()) {
-      std::ifstream file(page_path, std::ios::binary);
-      std::ostringstream text;
-      text << file.rdbuf();
-      page = text.str();
-    }
-    const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
-    // The context outlives the hub: the pages' sockets in the hub are closed before it goes.
-    net::io_context io;
-    Hub hub(robot, common.quiet);
-    std::shared_ptr<Listener> listener;
-    try {
-      listener = std::make_shared<Listener>(io, tcp::endpoint(net::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)),
-                                            hub, page);
-    } catch (const boost::system::system_error& e) {
-      throw InputError("cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + e.code().message());
-    }
-    listener->Accept();
-    if (!lcm_netns.empty()) EnterNetworkNamespace(lcm_netns);
-
-    std::unique_ptr<lcm::LCM> lcm;
-    std::unique_ptr<net::posix::stream_descriptor> lcm_fd;
-    std::function<void()> wait_lcm;
-    std::unique_ptr<LogTail> tail;
-    net::steady_timer poll(io);
-    std::function<void()> poll_log;
-    if (follow_log.empty()) {
-      lcm = transport::OpenLcm(common.lcm_url);
-      lcm->subscribeFunction(
-          ".*",
-          +[](const lcm::ReceiveBuffer* buffer, const std::string& channel, Hub* h) {
-            h->OnMessage(channel, NowUs(), buffer->data, buffer->data_size);
-          },
-          &hub);
-      lcm_fd = std::make_unique<net::posix::stream_descriptor>(io, ::dup(lcm->getFileno()));
-      wait_lcm = [&] {
-        lcm_fd->async_wait(net::posix::stream_descriptor::wait_read, [&](beast::error_code error) {
-          if (error) return;
-          while (lcm->handleTimeout(0) > 0) {
-          }
-          wait_lcm();
-        });
-      };
-      wait_lcm();
-    } else {
-      tail = std::make_unique<LogTail>(follow_log);
-      poll_log = [&] {
-        tail->Poll([&](const std::string& channel, int64_t t, const void* data, unsigned size) {
-          hub.OnMessage(channel, t, data, size);
-        });
-        poll.expires_after(std::chrono::milliseconds(100));
-        poll.async_wait([&](beast::error_code error) {
-          if (!error) poll_log();
-        });
-      };
-      poll_log();
-    }
-
-    net::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](beast::error_code, int) { io.stop(); });
-    net::steady_timer deadline(io);
-    if (common.max_runtime_s > 0) {
-      deadline.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-          std::chrono::duration<double>(common.max_runtime_s)));
-      deadline.async_wait([&](beast::error_code error) {
-        if (!error) io.stop();
-      });
-    }
-    std::cerr << "live_bridge: listening on http://127.0.0.1:" << listener->Port() << "/ (websocket ws://127.0.0.1:"
-              << listener->Port() << "/ws), "
-              << (follow_log.empty() ? "LCM on '" + common.lcm_url + "'" + (lcm_netns.empty() ? "" : " in the network namespace " + lcm_netns)
-                                  : "following " + follow_log) << std::endl;
-    io.run();
-    std::cerr << "live_bridge: stopped (" << hub.Malformed() << " malformed messages dropped)" << std::endl;
-    return 0;
-  });
+  app.description(
+      "Forwards a running pipeline to web pages over a websocket on 127.0.0.1 (for tools/view --live):\n"
+      "the LCM messages of the processes (on --lcm-url, or read from a growing LCM log with\n"
+      "--follow-log) as compact JSON (docs/json_schema.md, live messages). GET / returns the page of\n"
+      "--page; the websocket is at /ws. A page that connects late first gets what came before.\n"
+      "Prints 'live_bridge: listening on http://127.0.0.1:PORT/' once it listens. Runs until SIGINT or\n"
+      "SIGTERM (or --max-runtime). Exit status: 0 stopped, 2 bad input.");
 }
+
+/// The page GET / returns: the file's bytes, "" without one.
+std::string ReadPage(const std::string& path) {
+  if (path.empty()) return "";
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+/// A listener on 127.0.0.1:port (0: any free port); a port that cannot be had is bad input.
+std::shared_ptr<Listener> Listen(net::io_context& io, int port, Hub& hub, const std::string& page) {
+  try {
+    return std::make_shared<Listener>(io, tcp::endpoint(net::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)),
+                                      hub, page);
+  } catch (const boost::system::system_error& e) {
+    throw rbcp::InputError("cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + e.code().message());
+  }
+}
+
+int Run(const Options& o) {
+  const std::string page = ReadPage(o.page_path);
+  const rbcp::RobotModel robot = rbcp::RobotModel::LoadDefault(o.common.config_dir);
+  // The context outlives the hub: the pages' sockets in the hub are closed before it goes.
+  net::io_context io;
+  Hub hub(robot, o.common.quiet);
+  const std::shared_ptr<Listener> listener = Listen(io, o.port, hub, page);
+  listener->Accept();
+  if (!o.lcm_netns.empty()) EnterNetworkNamespace(o.lcm_netns);
+  std::optional<LcmFeed> lcm_feed;
+  std::optional<LogFeed> log_feed;
+  if (o.follow_log.empty()) {
+    lcm_feed.emplace(io, o.common.lcm_url, hub);
+  } else {
+    log_feed.emplace(io, o.follow_log, hub);
+  }
+  const StopConditions stop(io, o.common.max_runtime_s);
+  std::cerr << "live_bridge: listening on http://127.0.0.1:" << listener->Port() << "/ (websocket ws://127.0.0.1:"
+            << listener->Port() << "/ws), "
+            << (o.follow_log.empty() ? "LCM on '" + o.common.lcm_url + "'" + (o.lcm_netns.empty() ? "" : " in the network namespace " + o.lcm_netns)
+                                     : "following " + o.follow_log) << std::endl;
+  io.run();
+  std::cerr << "live_bridge: stopped (" << hub.Malformed() << " malformed messages dropped)" << std::endl;
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return rbcp::cli::Main("live_bridge", argc, argv, AddOptions, Run); }

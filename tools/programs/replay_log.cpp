@@ -36,6 +36,7 @@
 #include <functional>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -58,6 +59,8 @@
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
+#include "log_messages.h"
+#include "rbcp/cli/cli.h"
 
 namespace {
 
@@ -246,12 +249,14 @@ struct Awaited {
   }
 };
 
+/// Progress lines on stderr (none with --quiet).
+using Say = std::function<void(const std::string&)>;
+
 /// Writes `events` to `path` without the LCM self test and with ROBOT_STATE thinned: while the
 /// robot walks, one state every 1 / walking_state_hz of simulated time (and the first after a
 /// wait); while it waits, each state once (the simulator repeats the same state every few ms).
 /// A CONTROLLER_STATUS goes with the ROBOT_STATE of its utime: kept when that state is.
-int WriteThinned(const std::vector<Event>& events, const std::string& path, double walking_state_hz,
-                 const std::function<void(const std::string&)>& say) {
+int WriteThinned(const std::vector<Event>& events, const std::string& path, double walking_state_hz, const Say& say) {
   lcm::LogFile out(path, "w");
   if (!out.good()) throw InputError("cannot write " + path);
   const auto period_us = static_cast<int64_t>(1e6 / walking_state_hz);
@@ -300,233 +305,343 @@ int WriteThinned(const std::vector<Event>& events, const std::string& path, doub
   return 0;
 }
 
-}  // namespace
+/// The log's messages, whole.
+std::vector<Event> ReadEvents(const std::string& path, const Say& say) {
+  std::vector<Event> events;
+  logs::ReadLogMessages(
+      path,
+      [&](int64_t timestamp, const std::string& channel, const void* data, std::size_t size) {
+        const auto* bytes = static_cast<const uint8_t*>(data);
+        events.push_back({timestamp, channel, std::vector<uint8_t>(bytes, bytes + size)});
+      },
+      [&](const std::string& problem) { say("skipped " + problem); });
+  return events;
+}
 
-int main(int argc, char** argv) {
-  CLI::App app{"Replays the world's side of a recorded run (TERRAIN, ROBOT_STATE, CONTROLLER_STATUS, PLAN_REQUEST of an\nLCM log that "
-               "tools/launch recorded) into running planner processes (affordance_extractor, root_planner,\n"
-               "contact_planner with the run's --horizon-steps) and checks that they reproduce their recorded\n"
-               "answers: the contact surfaces, the root paths, and each CONTACT_PLAN (or failure) answering a wait of\n"
-               "the robot, compared per input within --tolerance (utime fields aside). Inputs go out in the\n"
-               "recorded order and pace; at each recorded answer the replay waits for the replayed one.\n"
-               "tools/replay-log starts the planners and runs it. Exit status: 0 reproduced, 1 an answer differs\n"
-               "or is missing, 2 bad input, 3 a planner did not answer in time."};
-  cli::CommonOptions common;
-  cli::AddCommonOptions(app, common);
-  std::string log_path;
-  double tolerance = 1e-6, timeout_s = 30.0;
-  app.add_option("--log", log_path, "the LCM log of a run (tools/launch's run.lcmlog)")->required()->check(CLI::ExistingFile);
-  app.add_option("--tolerance", tolerance, "largest difference of a number taken as equal")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
-  app.add_option("--timeout", timeout_s, "longest wait for a planner's answer, and for the planners to be up [s]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  std::string thin_path;
-  double walking_state_hz = 50.0;
-  app.add_option("--write-thinned", thin_path,
-                 "instead of replaying: write the log to this file with ROBOT_STATE thinned while the robot walks "
-                 "(--walking-state-hz of simulated time; every state of a wait kept once), a smaller log that "
-                 "replays the same (the planners act only on the states of a robot waiting at a step boundary)");
-  app.add_option("--walking-state-hz", walking_state_hz, "with --write-thinned: ROBOT_STATE kept while walking [Hz]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  return cli::GuardedMain("replay_log", app, argc, argv, [&]() -> int {
-    const auto say = [&](const std::string& line) {
-      if (!common.quiet) std::cerr << "replay_log: " << line << "\n";
-    };
-    // The recording: inputs to replay, and the answers that came.
-    std::vector<Event> events;
-    {
-      lcm::LogFile log(log_path, "r");
-      if (!log.good()) throw InputError("cannot read the LCM log " + log_path);
-      // A message sent in parts (TERRAIN/PART) is one event once whole, at its last part's time.
-      transport::PartJoiner joiner;
-      while (const lcm::LogEvent* e = log.readNextEvent()) {
-        const int64_t timestamp = e->timestamp;
-        const std::string problem = joiner.Add(
-            e->channel, e->data, static_cast<std::size_t>(e->datalen),
-            [&](const std::string& channel, const void* data, std::size_t size) {
-              const auto* bytes = static_cast<const uint8_t*>(data);
-              events.push_back({timestamp, channel, std::vector<uint8_t>(bytes, bytes + size)});
-            });
-        if (!problem.empty()) say("skipped " + problem);
-      }
-    }
-    if (!thin_path.empty()) return WriteThinned(events, thin_path, walking_state_hz, say);
-    Answers recorded;
-    std::vector<Event> schedule;               // the inputs, in order
-    std::vector<std::vector<Awaited>> before;  // before[i]: the answers to wait for before schedule[i] goes out
-    std::vector<bool> waiting;                 // waiting[i]: schedule[i] is a ROBOT_STATE of a robot waiting for a plan
-    std::vector<Awaited> pending;              // recorded answers since the last input
-    std::size_t inputs = 0;
-    bool awaiting = false;                     // the last CONTROLLER_STATUS says the robot waits
-    for (const Event& e : events) {
-      if (e.channel == channels::kTerrain || e.channel == channels::kRobotState || e.channel == channels::kPlanRequest ||
-          e.channel == channels::kControllerStatus) {
-        if (e.channel == channels::kControllerStatus) awaiting = e.Decode<rbcp_msgs::controller_status_t>().awaiting_plan;
-        schedule.push_back(e);
-        before.push_back(std::exchange(pending, {}));
-        waiting.push_back(e.channel == channels::kRobotState && awaiting);
-        ++inputs;
-      } else if (e.channel == channels::kAffordances) {
-        const std::size_t n = recorded.surfaces.items.size();
-        recorded.OnSurfaces(e.Decode<rbcp_msgs::affordance_set_t>());
-        if (recorded.surfaces.items.size() > n) pending.push_back({Awaited::Kind::kSurfaces, n + 1, 0});
-      } else if (e.channel == channels::kRootPath) {
-        const std::size_t n = recorded.paths.items.size();
-        recorded.OnPath(e.Decode<rbcp_msgs::root_path_t>());
-        if (recorded.paths.items.size() > n) pending.push_back({Awaited::Kind::kPath, n + 1, 0});
-      } else if (e.channel == channels::kContactPlan) {
-        const auto plan = e.Decode<rbcp_msgs::contact_plan_t>();
-        if (recorded.plans.count(plan.start_utime) == 0) pending.push_back({Awaited::Kind::kPlan, 0, plan.start_utime});
-        recorded.OnPlan(plan);
-      } else if (e.channel == channels::kStatus) {
-        const auto status = e.Decode<rbcp_msgs::process_status_t>();
-        const std::size_t n = recorded.failures.size();
-        recorded.OnStatus(status);
-        if (recorded.failures.size() > n) pending.push_back({Awaited::Kind::kFailure, 0, status.input_utime});
-      }
-    }
-    if (recorded.plans.empty()) throw InputError(log_path + ": no CONTACT_PLAN in the log: nothing to reproduce");
-    say(std::to_string(inputs) + " inputs to replay; the recording answered with " +
-        std::to_string(recorded.surfaces.items.size()) + " contact surface set(s), " +
-        std::to_string(recorded.paths.items.size()) + " root path(s), " + std::to_string(recorded.plans.size()) +
-        " contact plan(s) and " + std::to_string(recorded.failures.size()) + " failed replan(s)");
+/// A recorded run as the replay uses it: the inputs to send, and the answers that came.
+struct Recording {
+  Answers answers;                           ///< what the planners answered
+  std::vector<Event> schedule;               ///< the inputs, in order
+  std::vector<std::vector<Awaited>> before;  ///< before[i]: the answers to wait for before schedule[i] goes out
+  std::vector<bool> waiting;                 ///< waiting[i]: schedule[i] is a ROBOT_STATE of a robot waiting for a plan
+};
 
-    auto lcm = transport::OpenLcm(common.lcm_url);
-    Listener listener(*lcm);
-    transport::MessagePublisher publisher(*lcm);  // a large TERRAIN goes in parts, as the simulator sent it
-    const auto publish = [&](const Event& e) {
-      const std::string problem = publisher.PublishEncoded(e.channel, e.data.data(), e.data.size());
-      if (!problem.empty()) throw InputError("cannot replay " + e.channel + ": " + problem);
-    };
+/// The world's side of a run: what the replay sends.
+bool IsInput(const std::string& channel) {
+  return channel == channels::kTerrain || channel == channels::kRobotState || channel == channels::kPlanRequest ||
+         channel == channels::kControllerStatus;
+}
+
+/// Adds a planner's answer to `recorded`; returns what the replay waits for when the answer is new.
+std::optional<Awaited> RecordAnswer(const Event& e, Answers& recorded) {
+  if (e.channel == channels::kAffordances) {
+    const std::size_t n = recorded.surfaces.items.size();
+    recorded.OnSurfaces(e.Decode<rbcp_msgs::affordance_set_t>());
+    if (recorded.surfaces.items.size() > n) return Awaited{Awaited::Kind::kSurfaces, n + 1, 0};
+  } else if (e.channel == channels::kRootPath) {
+    const std::size_t n = recorded.paths.items.size();
+    recorded.OnPath(e.Decode<rbcp_msgs::root_path_t>());
+    if (recorded.paths.items.size() > n) return Awaited{Awaited::Kind::kPath, n + 1, 0};
+  } else if (e.channel == channels::kContactPlan) {
+    const auto plan = e.Decode<rbcp_msgs::contact_plan_t>();
+    const bool is_new = recorded.plans.count(plan.start_utime) == 0;
+    recorded.OnPlan(plan);
+    if (is_new) return Awaited{Awaited::Kind::kPlan, 0, plan.start_utime};
+  } else if (e.channel == channels::kStatus) {
+    const auto status = e.Decode<rbcp_msgs::process_status_t>();
+    const std::size_t n = recorded.failures.size();
+    recorded.OnStatus(status);
+    if (recorded.failures.size() > n) return Awaited{Awaited::Kind::kFailure, 0, status.input_utime};
+  }
+  return std::nullopt;
+}
+
+/// The inputs in order, each with the recorded answers that came before it.
+Recording Schedule(const std::vector<Event>& events) {
+  Recording r;
+  std::vector<Awaited> pending;  // recorded answers since the last input
+  bool awaiting = false;         // the last CONTROLLER_STATUS says the robot waits
+  for (const Event& e : events) {
+    if (IsInput(e.channel)) {
+      if (e.channel == channels::kControllerStatus) awaiting = e.Decode<rbcp_msgs::controller_status_t>().awaiting_plan;
+      r.schedule.push_back(e);
+      r.before.push_back(std::exchange(pending, {}));
+      r.waiting.push_back(e.channel == channels::kRobotState && awaiting);
+    } else if (auto answer = RecordAnswer(e, r.answers)) {
+      pending.push_back(*answer);
+    }
+  }
+  return r;
+}
+
+/// The recorded inputs sent over LCM to the running planners, and their answers heard.
+class Replay {
+ public:
+  Replay(const cli::CommonOptions& common, double timeout_s)
+      : timeout_s_(timeout_s),
+        max_runtime_s_(common.max_runtime_s),
+        lcm_(transport::OpenLcm(common.lcm_url)),
+        listener_(*lcm_),
+        publisher_(*lcm_) {
     transport::InstallStopHandlers();
-    const auto program_start = Clock::now();
-    // SIGINT, SIGTERM or --max-runtime end the replay (exit 3: the answers were not all heard).
-    const auto stopped = [&] {
-      return transport::StopRequested() ||
-             (common.max_runtime_s > 0.0 &&
-              std::chrono::duration<double>(Clock::now() - program_start).count() > common.max_runtime_s);
-    };
-    const auto pump_until = [&](const std::function<bool()>& done, double seconds) {
-      const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
-      while (!done() && Clock::now() < end && !stopped()) lcm->handleTimeout(5);
-      return done();
-    };
+    program_start_ = Clock::now();
+  }
+
+  /// Whether every planner reports on STATUS within the timeout (if not, said on stderr).
+  bool PlannersUp() {
     for (const char* process : {"affordance_extractor", "root_planner", "contact_planner"}) {
-      if (!pump_until([&] { return listener.answers.heard.count(process) > 0; }, timeout_s)) {
-        std::cerr << "replay_log: no STATUS from " << process << " within " << timeout_s << " s: is it running on this LCM URL?\n";
-        return kNoAnswer;
+      if (!PumpUntil([&] { return listener_.answers.heard.count(process) > 0; }, timeout_s_)) {
+        std::cerr << "replay_log: no STATUS from " << process << " within " << timeout_s_
+                  << " s: is it running on this LCM URL?\n";
+        return false;
       }
     }
-    say("the planners are up; replaying " + log_path);
+    return true;
+  }
 
-    // Inputs at the recorded pace; the clock shifts by every wait for an answer.
-    const auto start = Clock::now();
-    const int64_t t0 = schedule.front().timestamp;
-    Clock::duration shift{0};
-    for (std::size_t i = 0; i < schedule.size(); ++i) {
-      if (stopped()) {
+  /// Sends the inputs at the recorded pace, the clock shifted by every wait for an answer, then
+  /// hears the answers to the last ones. False when an answer did not come or the replay was
+  /// stopped (said on stderr).
+  bool Run(const Recording& recording) {
+    start_ = Clock::now();
+    t0_ = recording.schedule.front().timestamp;
+    for (std::size_t i = 0; i < recording.schedule.size(); ++i) {
+      if (Stopped()) {
         std::cerr << "replay_log: stopped before the end of the log\n";
-        return kNoAnswer;
+        return false;
       }
-      for (const Awaited& wait : before[i]) {
-        const auto waited_from = Clock::now();
-        // While the robot waits for its plan, the simulator repeats its state every 5 ms: a
-        // planner that was busy when the first one came (and whose socket dropped it) hears it.
-        auto next_repeat = Clock::now() + std::chrono::milliseconds(5);
-        const auto answered_or_repeat = [&] {
-          if (wait.Done(listener.answers)) return true;
-          if (i > 0 && waiting[i - 1] && Clock::now() >= next_repeat) {
-            next_repeat += std::chrono::milliseconds(5);
-            if (i > 1 && schedule[i - 2].channel == channels::kControllerStatus) publish(schedule[i - 2]);
-            publish(schedule[i - 1]);
-          }
-          return false;
-        };
-        if (!pump_until(answered_or_repeat, timeout_s)) {
-          if (stopped()) std::cerr << "replay_log: stopped before the end of the log, waiting for " << wait.What() << "\n";
-          else std::cerr << "replay_log: no answer within " << timeout_s << " s: " << wait.What() << "\n";
-          return kNoAnswer;
-        }
-        const auto due = start + shift + std::chrono::microseconds(schedule[i].timestamp - t0);
-        if (Clock::now() > due) shift += Clock::now() - std::max(waited_from, due);
+      for (const Awaited& wait : recording.before[i]) {
+        if (!AwaitAnswer(recording, i, wait)) return false;
       }
-      const auto due = start + shift + std::chrono::microseconds(schedule[i].timestamp - t0);
+      const auto due = Due(recording.schedule[i]);
       while (Clock::now() < due) {
-        lcm->handleTimeout(std::max(1, static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(due - Clock::now()).count())));
+        lcm_->handleTimeout(std::max(1, static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(due - Clock::now()).count())));
       }
-      publish(schedule[i]);
+      Publish(recording.schedule[i]);
     }
-    // The answers to the last inputs.
-    pump_until([] { return false; }, 1.0);
-    const double replay_s = std::chrono::duration<double>(Clock::now() - start).count();
+    PumpUntil([] { return false; }, 1.0);
+    seconds_ = std::chrono::duration<double>(Clock::now() - start_).count();
+    return true;
+  }
 
-    // The comparison, per input.
-    const Answers& replayed = listener.answers;
-    int differences = 0;
-    double largest = 0.0;
-    const auto report = [&](const std::string& what, const Diff& d) {
-      largest = std::max(largest, d.max());
-      if (d.ok()) return;
-      ++differences;
-      std::cout << "replay_log: DIFFERS: " << what << ": " << d.first() << std::endl;
-    };
-    const auto missing = [&](const std::string& what) {
-      ++differences;
-      std::cout << "replay_log: MISSING: " << what << std::endl;
-    };
-    for (std::size_t i = 0; i < recorded.surfaces.items.size(); ++i) {
-      const std::string what = "contact surface set " + std::to_string(i + 1);
-      if (i >= replayed.surfaces.items.size()) { missing(what); continue; }
-      Diff d(tolerance);
-      Compare(recorded.surfaces.items[i], replayed.surfaces.items[i], d);
-      report(what, d);
-    }
-    for (std::size_t i = 0; i < recorded.paths.items.size(); ++i) {
-      const std::string what = "root path " + std::to_string(i + 1);
-      if (i >= replayed.paths.items.size()) { missing(what); continue; }
-      Diff d(tolerance);
-      Compare(recorded.paths.items[i], replayed.paths.items[i], d);
-      report(what, d);
-    }
-    int states = 0;
-    for (const auto& [utime, plan] : recorded.plans) {
-      const std::string what = "CONTACT_PLAN " + std::to_string(plan.plan_seq) + " from the ROBOT_STATE of utime " + std::to_string(utime);
-      const auto it = replayed.plans.find(utime);
-      if (it == replayed.plans.end()) {
-        const auto f = replayed.failures.find(utime);
-        missing(what + (f != replayed.failures.end() ? " (the replayed planner failed: " + f->second + ")" : ""));
-        continue;
+  const Answers& answers() const { return listener_.answers; }
+  /// How long Run took [s].
+  double seconds() const { return seconds_; }
+
+ private:
+  /// SIGINT, SIGTERM or --max-runtime end the replay (exit 3: the answers were not all heard).
+  bool Stopped() const {
+    return transport::StopRequested() ||
+           (max_runtime_s_ > 0.0 && std::chrono::duration<double>(Clock::now() - program_start_).count() > max_runtime_s_);
+  }
+
+  bool PumpUntil(const std::function<bool()>& done, double seconds) {
+    const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+    while (!done() && Clock::now() < end && !Stopped()) lcm_->handleTimeout(5);
+    return done();
+  }
+
+  /// A large TERRAIN goes in parts, as the simulator sent it.
+  void Publish(const Event& e) {
+    const std::string problem = publisher_.PublishEncoded(e.channel, e.data.data(), e.data.size());
+    if (!problem.empty()) throw InputError("cannot replay " + e.channel + ": " + problem);
+  }
+
+  /// When `e` goes out: at its recorded time after the first input, shifted by the waits so far.
+  Clock::time_point Due(const Event& e) const { return start_ + shift_ + std::chrono::microseconds(e.timestamp - t0_); }
+
+  /// Waits for the replayed counterpart of a recorded answer that came before input i.
+  bool AwaitAnswer(const Recording& recording, std::size_t i, const Awaited& wait) {
+    const auto waited_from = Clock::now();
+    // While the robot waits for its plan, the simulator repeats its state every 5 ms: a
+    // planner that was busy when the first one came (and whose socket dropped it) hears it.
+    auto next_repeat = Clock::now() + std::chrono::milliseconds(5);
+    const auto answered_or_repeat = [&] {
+      if (wait.Done(listener_.answers)) return true;
+      if (i > 0 && recording.waiting[i - 1] && Clock::now() >= next_repeat) {
+        next_repeat += std::chrono::milliseconds(5);
+        if (i > 1 && recording.schedule[i - 2].channel == channels::kControllerStatus) Publish(recording.schedule[i - 2]);
+        Publish(recording.schedule[i - 1]);
       }
-      Diff d(tolerance);
-      Compare(plan, it->second, d);
-      report(what, d);
-      states += plan.num_states;
+      return false;
+    };
+    if (!PumpUntil(answered_or_repeat, timeout_s_)) {
+      if (Stopped()) std::cerr << "replay_log: stopped before the end of the log, waiting for " << wait.What() << "\n";
+      else std::cerr << "replay_log: no answer within " << timeout_s_ << " s: " << wait.What() << "\n";
+      return false;
     }
-    for (const auto& [utime, reason] : recorded.failures) {
-      const std::string what = "the failed replan from the ROBOT_STATE of utime " + std::to_string(utime);
-      const auto it = replayed.failures.find(utime);
-      if (it == replayed.failures.end()) { missing(what + " (recorded: " + reason + ")"); continue; }
-      if (it->second != reason) {
-        ++differences;
-        std::cout << "replay_log: DIFFERS: " << what << ": recorded '" << reason << "', replayed '" << it->second << "'\n";
-      }
-    }
-    for (const auto& [utime, plan] : replayed.plans) {
-      if (recorded.plans.count(utime) == 0 && recorded.failures.count(utime) == 0) {
+    const auto due = Due(recording.schedule[i]);
+    if (Clock::now() > due) shift_ += Clock::now() - std::max(waited_from, due);
+    return true;
+  }
+
+  double timeout_s_;
+  double max_runtime_s_;
+  std::unique_ptr<lcm::LCM> lcm_;
+  Listener listener_;
+  transport::MessagePublisher publisher_;
+  Clock::time_point program_start_;
+  Clock::time_point start_;  ///< when the first input was due
+  int64_t t0_ = 0;           ///< the first input's recorded time [us]
+  Clock::duration shift_{0};
+  double seconds_ = 0.0;
+};
+
+/// The recorded answers against the replayed ones, per input: every difference and every missing
+/// answer printed on stdout.
+class Comparison {
+ public:
+  Comparison(const Answers& recorded, const Answers& replayed, double tolerance)
+      : recorded_(recorded), replayed_(replayed), tolerance_(tolerance) {
+    CompareDistinct("contact surface set", recorded.surfaces, replayed.surfaces);
+    CompareDistinct("root path", recorded.paths, replayed.paths);
+    ComparePlans();
+    CompareFailures();
+  }
+
+  /// Notes the replayed plans that answer inputs the recording has no answer to.
+  void SayUnanswered(const Say& say) const {
+    for (const auto& [utime, plan] : replayed_.plans) {
+      if (recorded_.plans.count(utime) == 0 && recorded_.failures.count(utime) == 0) {
         say("note: a CONTACT_PLAN from the ROBOT_STATE of utime " + std::to_string(utime) +
             " that the recording has no answer to (the recording ended first)");
       }
     }
+  }
+
+  /// Prints the verdict on stdout; returns the exit status.
+  int PrintVerdict(double replay_s) const {
     std::ostringstream summary;
-    summary << "replay_log: " << recorded.surfaces.items.size() << " contact surface set(s), "
-            << recorded.paths.items.size() << " root path(s), " << recorded.plans.size() << " contact plan(s) ("
-            << states << " states) and " << recorded.failures.size() << " failed replan(s) compared in "
-            << FixedNumber(replay_s, 1) << " s; largest difference " << largest << " (tolerance " << tolerance << "): ";
-    if (differences == 0) {
+    summary << "replay_log: " << recorded_.surfaces.items.size() << " contact surface set(s), "
+            << recorded_.paths.items.size() << " root path(s), " << recorded_.plans.size() << " contact plan(s) ("
+            << states_ << " states) and " << recorded_.failures.size() << " failed replan(s) compared in "
+            << FixedNumber(replay_s, 1) << " s; largest difference " << largest_ << " (tolerance " << tolerance_ << "): ";
+    if (differences_ == 0) {
       std::cout << summary.str() << "the planners reproduced the recorded answers" << std::endl;
       return kReproduced;
     }
-    std::cout << summary.str() << differences << " answer(s) differ or are missing" << std::endl;
+    std::cout << summary.str() << differences_ << " answer(s) differ or are missing" << std::endl;
     return kDiffers;
-  });
+  }
+
+ private:
+  void Report(const std::string& what, const Diff& d) {
+    largest_ = std::max(largest_, d.max());
+    if (d.ok()) return;
+    ++differences_;
+    std::cout << "replay_log: DIFFERS: " << what << ": " << d.first() << std::endl;
+  }
+  void Missing(const std::string& what) {
+    ++differences_;
+    std::cout << "replay_log: MISSING: " << what << std::endl;
+  }
+
+  /// Surface sets and root paths, in the order of their distinct contents.
+  template <typename Msg>
+  void CompareDistinct(const std::string& name, const Distinct<Msg>& recorded, const Distinct<Msg>& replayed) {
+    for (std::size_t i = 0; i < recorded.items.size(); ++i) {
+      const std::string what = name + " " + std::to_string(i + 1);
+      if (i >= replayed.items.size()) { Missing(what); continue; }
+      Diff d(tolerance_);
+      Compare(recorded.items[i], replayed.items[i], d);
+      Report(what, d);
+    }
+  }
+
+  void ComparePlans() {
+    for (const auto& [utime, plan] : recorded_.plans) {
+      const std::string what = "CONTACT_PLAN " + std::to_string(plan.plan_seq) + " from the ROBOT_STATE of utime " + std::to_string(utime);
+      const auto it = replayed_.plans.find(utime);
+      if (it == replayed_.plans.end()) {
+        const auto f = replayed_.failures.find(utime);
+        Missing(what + (f != replayed_.failures.end() ? " (the replayed planner failed: " + f->second + ")" : ""));
+        continue;
+      }
+      Diff d(tolerance_);
+      Compare(plan, it->second, d);
+      Report(what, d);
+      states_ += plan.num_states;
+    }
+  }
+
+  void CompareFailures() {
+    for (const auto& [utime, reason] : recorded_.failures) {
+      const std::string what = "the failed replan from the ROBOT_STATE of utime " + std::to_string(utime);
+      const auto it = replayed_.failures.find(utime);
+      if (it == replayed_.failures.end()) { Missing(what + " (recorded: " + reason + ")"); continue; }
+      if (it->second != reason) {
+        ++differences_;
+        std::cout << "replay_log: DIFFERS: " << what << ": recorded '" << reason << "', replayed '" << it->second << "'\n";
+      }
+    }
+  }
+
+  const Answers& recorded_;
+  const Answers& replayed_;
+  double tolerance_;
+  int differences_ = 0;
+  double largest_ = 0.0;
+  int states_ = 0;  ///< states of the recorded plans that were compared
+};
+
+/// The command line.
+struct Options {
+  cli::CommonOptions common;
+  std::string log_path;
+  double tolerance = 1e-6;
+  double timeout_s = 30.0;
+  std::string thin_path;
+  double walking_state_hz = 50.0;
+};
+
+void AddOptions(CLI::App& app, Options& o) {
+  cli::AddCommonOptions(app, o.common);
+  app.add_option("--log", o.log_path, "the LCM log of a run (tools/launch's run.lcmlog)")->required()->check(CLI::ExistingFile);
+  app.add_option("--tolerance", o.tolerance, "largest difference of a number taken as equal")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--timeout", o.timeout_s, "longest wait for a planner's answer, and for the planners to be up [s]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--write-thinned", o.thin_path,
+                 "instead of replaying: write the log to this file with ROBOT_STATE thinned while the robot walks "
+                 "(--walking-state-hz of simulated time; every state of a wait kept once), a smaller log that "
+                 "replays the same (the planners act only on the states of a robot waiting at a step boundary)");
+  app.add_option("--walking-state-hz", o.walking_state_hz, "with --write-thinned: ROBOT_STATE kept while walking [Hz]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.description(
+      "Replays the world's side of a recorded run (TERRAIN, ROBOT_STATE, CONTROLLER_STATUS, PLAN_REQUEST of an\nLCM log that "
+      "tools/launch recorded) into running planner processes (affordance_extractor, root_planner,\n"
+      "contact_planner with the run's --horizon-steps) and checks that they reproduce their recorded\n"
+      "answers: the contact surfaces, the root paths, and each CONTACT_PLAN (or failure) answering a wait of\n"
+      "the robot, compared per input within --tolerance (utime fields aside). Inputs go out in the\n"
+      "recorded order and pace; at each recorded answer the replay waits for the replayed one.\n"
+      "tools/replay-log starts the planners and runs it. Exit status: 0 reproduced, 1 an answer differs\n"
+      "or is missing, 2 bad input, 3 a planner did not answer in time.");
 }
+
+int Run(const Options& o) {
+  const Say say = [&](const std::string& line) {
+    if (!o.common.quiet) std::cerr << "replay_log: " << line << "\n";
+  };
+  const std::vector<Event> events = ReadEvents(o.log_path, say);
+  if (!o.thin_path.empty()) return WriteThinned(events, o.thin_path, o.walking_state_hz, say);
+  const Recording recording = Schedule(events);
+  const Answers& recorded = recording.answers;
+  if (recorded.plans.empty()) throw InputError(o.log_path + ": no CONTACT_PLAN in the log: nothing to reproduce");
+  say(std::to_string(recording.schedule.size()) + " inputs to replay; the recording answered with " +
+      std::to_string(recorded.surfaces.items.size()) + " contact surface set(s), " +
+      std::to_string(recorded.paths.items.size()) + " root path(s), " + std::to_string(recorded.plans.size()) +
+      " contact plan(s) and " + std::to_string(recorded.failures.size()) + " failed replan(s)");
+
+  Replay replay(o.common, o.timeout_s);
+  if (!replay.PlannersUp()) return kNoAnswer;
+  say("the planners are up; replaying " + o.log_path);
+  if (!replay.Run(recording)) return kNoAnswer;
+
+  const Comparison comparison(recorded, replay.answers(), o.tolerance);
+  comparison.SayUnanswered(say);
+  return comparison.PrintVerdict(replay.seconds());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return rbcp::cli::Main("replay_log", argc, argv, AddOptions, Run); }

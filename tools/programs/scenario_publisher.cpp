@@ -20,8 +20,10 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -46,6 +48,7 @@
 #include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
+#include "rbcp/cli/cli.h"
 
 namespace {
 
@@ -198,75 +201,127 @@ class LoopWatch {
   transport::EveryMessage<rbcp_msgs::contact_plan_t> plans_;
 };
 
-/// --until loop: follows the run until the simulator's verdict, printing progress; returns the
-/// exit status.
-int FollowLoop(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenario& scenario,
+/// --until loop: follows the run until the simulator's verdict, printing progress every 5 s.
+class LoopFollower {
+ public:
+  LoopFollower(lcm::LCM& lcm, StatusBoard& board, LoopWatch& watch, const Scenario& scenario,
                const rbcp_msgs::plan_request_t& request, double run_timeout_s, double first_plan_timeout_s,
-               std::string summary) {
-  const auto start = Clock::now();
-  auto next_print = start + std::chrono::seconds(5);
-  auto next_request = start + std::chrono::seconds(1);
-  int restarts = 0;
-  int planner_failures = 0;
-  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  const auto finish = [&](int rc, const std::string& outcome) {
-    const auto& s = watch.record.Latest();
-    const auto& c = watch.record.LatestController();
-    std::ostringstream os;
-    os << summary << ", " << outcome << "; " << (s ? FixedNumber(static_cast<double>(s->utime) * 1e-6, 1) : "0")
-       << " s simulated in " << FixedNumber(elapsed(), 1) << " s wall, " << (c ? c->steps_done : 0) << " steps, "
-       << watch.record.Plans() << " plans (" << planner_failures << " failed replans), " << restarts
-       << " process restarts, replanning latency median "
-       << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
-       << FixedNumber(nodes::Percentile(watch.record.LatenciesMs(), 0.95), 1) << " ms";
-    std::cout << os.str() << std::endl;
-    return rc;
-  };
-  std::cout << "loop: the robot walks to the goal, replanning at every step" << std::endl;
-  while (!transport::StopRequested()) {
-    lcm.handleTimeout(20);
-    if (Clock::now() >= next_request) {
-      // The goal again (same request), for a root planner that restarted since.
-      next_request += std::chrono::seconds(1);
-      lcm.publish(channels::kPlanRequest, &request);
+               std::string summary)
+      : lcm_(lcm),
+        board_(board),
+        watch_(watch),
+        scenario_(scenario),
+        request_(request),
+        run_timeout_s_(run_timeout_s),
+        first_plan_timeout_s_(first_plan_timeout_s),
+        summary_(std::move(summary)),
+        start_(Clock::now()),
+        next_print_(start_ + std::chrono::seconds(5)),
+        next_request_(start_ + std::chrono::seconds(1)) {}
+
+  /// Returns the exit status.
+  int Run() {
+    std::cout << "loop: the robot walks to the goal, replanning at every step" << std::endl;
+    while (!transport::StopRequested()) {
+      lcm_.handleTimeout(20);
+      RepeatRequest();
+      if (auto rc = TakeSupervisorEvents()) return *rc;
+      if (auto rc = TakeFailures()) return *rc;
+      if (const auto ok = board_.NewOk("anymal_sim")) return Finish(kOk, "the robot reached the goal: " + ok->reason);
+      if (auto rc = CheckTimeouts()) return *rc;
+      PrintProgress();
     }
-    for (const auto& e : board.TakeSupervisorEvents()) {
+    return Finish(kNoAnswer, "stopped");
+  }
+
+ private:
+  double Elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+  /// The goal again every second (same request), for a root planner that restarted since.
+  void RepeatRequest() {
+    if (Clock::now() < next_request_) return;
+    next_request_ += std::chrono::seconds(1);
+    lcm_.publish(channels::kPlanRequest, &request_);
+  }
+
+  /// The supervisor's restarts are counted; a process it gave up on ends the run.
+  std::optional<int> TakeSupervisorEvents() {
+    for (const auto& e : board_.TakeSupervisorEvents()) {
       std::cout << e.process << ": " << e.reason << std::endl;
-      if (e.state == rbcp_msgs::process_status_t::FAILED) return finish(kPlanningFailed, e.process + ": " + e.reason);
-      if (e.reason.find(" restarted (pid ") != std::string::npos) restarts += 1;
+      if (e.state == rbcp_msgs::process_status_t::FAILED) return Finish(kPlanningFailed, e.process + ": " + e.reason);
+      if (e.reason.find(" restarted (pid ") != std::string::npos) restarts_ += 1;
     }
-    while (auto f = board.TakeFailure()) {
+    return std::nullopt;
+  }
+
+  /// A contact planner's failure costs a replan; another process's ends the run.
+  std::optional<int> TakeFailures() {
+    while (auto f = board_.TakeFailure()) {
       if (f->process == "contact_planner") {
-        planner_failures += 1;
+        planner_failures_ += 1;
         std::cout << "contact_planner: no plan for this step boundary: " << f->reason << std::endl;
         continue;
       }
       std::cout << f->process << ": FAILED: " << f->reason << std::endl;
-      return finish(kPlanningFailed, f->process == "anymal_sim" ? "the robot did not reach the goal: " + f->reason
+      return Finish(kPlanningFailed, f->process == "anymal_sim" ? "the robot did not reach the goal: " + f->reason
                                                                  : f->process + " failed: " + f->reason);
     }
-    if (const auto ok = board.NewOk("anymal_sim")) return finish(kOk, "the robot reached the goal: " + ok->reason);
+    return std::nullopt;
+  }
+
+  std::optional<int> CheckTimeouts() {
     // No plan and no answer at all: the pipeline is not in the loop's mode. A contact planner that
     // answers FAILED is in it (the root planner then plans the next guide, the robot asks again).
-    if (watch.record.Plans() == 0 && planner_failures == 0 && elapsed() > first_plan_timeout_s) {
-      std::cerr << "scenario_publisher: no CONTACT_PLAN within " << first_plan_timeout_s
+    if (watch_.record.Plans() == 0 && planner_failures_ == 0 && Elapsed() > first_plan_timeout_s_) {
+      std::cerr << "scenario_publisher: no CONTACT_PLAN within " << first_plan_timeout_s_
                 << " s: is contact_planner running with --horizon-steps, and anymal_sim with --replan?\n";
-      return finish(kNoAnswer, "no CONTACT_PLAN from contact_planner");
+      return Finish(kNoAnswer, "no CONTACT_PLAN from contact_planner");
     }
-    if (elapsed() > run_timeout_s) return finish(kNoAnswer, "no verdict within " + FixedNumber(run_timeout_s, 0) + " s");
-    if (Clock::now() >= next_print && watch.record.Latest()) {
-      next_print += std::chrono::seconds(5);
-      const auto& s = *watch.record.Latest();
-      const auto& c = watch.record.LatestController();
-      const double dx = s.base_position[0] - scenario.goal.position.x(), dy = s.base_position[1] - scenario.goal.position.y();
-      std::cout << "loop: " << FixedNumber(static_cast<double>(s.utime) * 1e-6, 1) << " s simulated, "
-                << (c ? c->steps_done : 0) << " steps, " << FixedNumber(std::hypot(dx, dy), 2) << " m to the goal, "
-                << watch.record.Plans() << " plans" << (c && c->awaiting_plan ? ", waiting for a plan" : "") << "; "
-                << board.States() << std::endl;
-    }
+    if (Elapsed() > run_timeout_s_) return Finish(kNoAnswer, "no verdict within " + FixedNumber(run_timeout_s_, 0) + " s");
+    return std::nullopt;
   }
-  return finish(kNoAnswer, "stopped");
-}
+
+  void PrintProgress() {
+    if (Clock::now() < next_print_ || !watch_.record.Latest()) return;
+    next_print_ += std::chrono::seconds(5);
+    const auto& s = *watch_.record.Latest();
+    const auto& c = watch_.record.LatestController();
+    const double dx = s.base_position[0] - scenario_.goal.position.x(), dy = s.base_position[1] - scenario_.goal.position.y();
+    std::cout << "loop: " << FixedNumber(static_cast<double>(s.utime) * 1e-6, 1) << " s simulated, "
+              << (c ? c->steps_done : 0) << " steps, " << FixedNumber(std::hypot(dx, dy), 2) << " m to the goal, "
+              << watch_.record.Plans() << " plans" << (c && c->awaiting_plan ? ", waiting for a plan" : "") << "; "
+              << board_.States() << std::endl;
+  }
+
+  /// Prints the summary line with the outcome; returns rc.
+  int Finish(int rc, const std::string& outcome) const {
+    const auto& s = watch_.record.Latest();
+    const auto& c = watch_.record.LatestController();
+    std::ostringstream os;
+    os << summary_ << ", " << outcome << "; " << (s ? FixedNumber(static_cast<double>(s->utime) * 1e-6, 1) : "0")
+       << " s simulated in " << FixedNumber(Elapsed(), 1) << " s wall, " << (c ? c->steps_done : 0) << " steps, "
+       << watch_.record.Plans() << " plans (" << planner_failures_ << " failed replans), " << restarts_
+       << " process restarts, replanning latency median "
+       << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
+       << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.95), 1) << " ms";
+    std::cout << os.str() << std::endl;
+    return rc;
+  }
+
+  lcm::LCM& lcm_;
+  StatusBoard& board_;
+  LoopWatch& watch_;
+  const Scenario& scenario_;
+  const rbcp_msgs::plan_request_t& request_;
+  double run_timeout_s_;
+  double first_plan_timeout_s_;
+  std::string summary_;
+  Clock::time_point start_;
+  Clock::time_point next_print_;
+  Clock::time_point next_request_;
+  int restarts_ = 0;
+  int planner_failures_ = 0;
+};
 
 void PrintSurfaces(const Scenario& scenario, const std::vector<AffordanceSurface>& surfaces, double extract_ms) {
   double area = 0.0;
@@ -286,215 +341,321 @@ void PrintSurfaces(const Scenario& scenario, const std::vector<AffordanceSurface
   std::fflush(stdout);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"Drives a scenario through the pipeline's processes: TERRAIN -> AFFORDANCES, then a PLAN_REQUEST\n"
-               "from the scenario's start to its goal -> ROOT_PATH -> CONTACT_PLAN; checks the plan and prints a\n"
-               "summary; with --until sim the simulator (anymal_sim) publishes the terrain, walks the plan and reports\n"
-               "the outcome. Exit status: 0 answered (the plan passes the checker and, with --until sim, the robot\n"
-               "reached the goal), 1 a process failed, the plan fails the checker or the run failed, 2 bad input,\n"
-               "3 no answer in time."};
+/// The command line.
+struct Options {
   cli::CommonOptions common;
-  cli::AddCommonOptions(app, common);
-  std::string scenario_path, until = "contact";
-  double timeout_s = 10.0, period_s = 1.0, budget_s = 5.0, sim_timeout_s = 900.0;
+  std::string scenario_path;
+  std::string until = "contact";  ///< the last answer to wait for
+  double timeout_s = 10.0;
+  double period_s = 1.0;
+  double budget_s = 5.0;
+  double sim_timeout_s = 900.0;
   int seed = 1;
   int64_t request_id = 0;
-  app.add_option("--scenario", scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
-  app.add_option("--request-id", request_id,
+};
+
+void AddOptions(CLI::App& app, Options& o) {
+  cli::AddCommonOptions(app, o.common);
+  app.add_option("--scenario", o.scenario_path, "scenario YAML")->required()->check(CLI::ExistingFile);
+  app.add_option("--request-id", o.request_id,
                  "id of the plan request; 0 (default): a random 64-bit id, so that no other client's request or "
                  "answer is taken for this run's")
       ->capture_default_str();
-  app.add_option("--until", until,
+  app.add_option("--until", o.until,
                  "last answer to wait for: affordance, root, contact, sim (one plan walked whole) or loop (the "
                  "replanning loop walks to the goal)")
       ->capture_default_str()->check(CLI::IsMember({"affordance", "root", "contact", "sim", "loop"}));
-  app.add_option("--sim-timeout", sim_timeout_s, "with --until sim: give up after this many seconds of walking")
+  app.add_option("--sim-timeout", o.sim_timeout_s, "with --until sim: give up after this many seconds of walking")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--timeout", timeout_s, "give up after this many seconds without the awaited answer")
+  app.add_option("--timeout", o.timeout_s, "give up after this many seconds without the awaited answer")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--period", period_s, "without the simulator: publish the terrain this often while the run lasts [s]")
+  app.add_option("--period", o.period_s, "without the simulator: publish the terrain this often while the run lasts [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--time-budget", budget_s, "root planning time budget of the request [s]")
+  app.add_option("--time-budget", o.budget_s, "root planning time budget of the request [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--seed", seed, "random seed of the request")->capture_default_str();
-  return cli::GuardedMain("scenario_publisher", app, argc, argv, [&]() -> int {
-    const Scenario scenario = LoadScenario(scenario_path);
-    auto lcm = transport::OpenLcm(common.lcm_url);
-    StatusBoard board(*lcm, channels::kStatus);
-    transport::LatestMessage<rbcp_msgs::affordance_set_t> affordances(*lcm, channels::kAffordances);
-    transport::LatestMessage<rbcp_msgs::root_path_t> root_path(*lcm, channels::kRootPath);
-    transport::LatestMessage<rbcp_msgs::contact_plan_t> contact_plan(*lcm, channels::kContactPlan);
+  app.add_option("--seed", o.seed, "random seed of the request")->capture_default_str();
+  app.description(
+      "Drives a scenario through the pipeline's processes: TERRAIN -> AFFORDANCES, then a PLAN_REQUEST\n"
+      "from the scenario's start to its goal -> ROOT_PATH -> CONTACT_PLAN; checks the plan and prints a\n"
+      "summary; with --until sim the simulator (anymal_sim) publishes the terrain, walks the plan and reports\n"
+      "the outcome. Exit status: 0 answered (the plan passes the checker and, with --until sim, the robot\n"
+      "reached the goal), 1 a process failed, the plan fails the checker or the run failed, 2 bad input,\n"
+      "3 no answer in time.");
+}
+
+/// TERRAIN, from the simulator or, without it, from here: every period while the run lasts, as
+/// the simulator sends it, so a process that lost it hears it again (a large terrain goes in
+/// parts, on TERRAIN/PART).
+class TerrainSender {
+ public:
+  TerrainSender(lcm::LCM& lcm, const Scenario& scenario, bool simulated, double period_s)
+      : simulated_(simulated), period_s_(period_s), next_(Clock::now()), publisher_(lcm) {
+    if (!simulated_) msg_ = transport::ToTerrainMsg(scenario.terrain_mesh, utime_, scenario.name);
+  }
+
+  /// Sends the terrain when it is due (never with the simulator); a new problem is said on stderr.
+  void Tick() {
+    if (simulated_ || Clock::now() < next_) return;
+    msg_.utime = utime_;
+    const std::string problem = publisher_.Publish(channels::kTerrain, msg_);
+    if (!problem.empty() && problem != problem_) std::cerr << "scenario_publisher: " << problem << "\n";
+    problem_ = problem;
+    utime_ += static_cast<int64_t>(period_s_ * 1e6);
+    next_ = Clock::now() + std::chrono::milliseconds(static_cast<int>(period_s_ * 1000));
+  }
+
+  /// Prints what is sent from here (nothing with the simulator).
+  void Print() const {
+    if (simulated_) return;
+    std::cout << "terrain: " << msg_.num_triangles << " triangles, "
+              << FixedNumber(msg_.getEncodedSize() / (1024.0 * 1024.0), 1) << " MB on " << channels::kTerrain;
+    if (publisher_.parted_messages() > 0) {
+      std::cout << " in " << publisher_.parts_sent() << " parts (" << transport::PartChannel(channels::kTerrain) << ")";
+    }
+    std::cout << ", every " << period_s_ << " s" << std::endl;
+  }
+
+  /// "" or why the last terrain could not be sent.
+  const std::string& problem() const { return problem_; }
+  /// The simulated time of the next terrain sent from here [us] (0 with the simulator).
+  int64_t utime() const { return utime_; }
+
+ private:
+  bool simulated_;
+  double period_s_;
+  int64_t utime_ = 0;
+  Clock::time_point next_;
+  transport::MessagePublisher publisher_;
+  rbcp_msgs::terrain_mesh_t msg_;
+  std::string problem_;
+};
+
+/// One run of the scenario through the pipeline, step by step. A step returns nothing to go on,
+/// or the exit status the run ends with (after the summary line).
+class ScenarioRun {
+ public:
+  ScenarioRun(const Options& o, const Scenario& scenario)
+      : o_(o),
+        scenario_(scenario),
+        loop_(o.until == "loop"),
+        simulated_(o.until == "sim" || loop_),
+        lcm_(transport::OpenLcm(o.common.lcm_url)),
+        board_(*lcm_, channels::kStatus),
+        affordances_(*lcm_, channels::kAffordances),
+        root_path_(*lcm_, channels::kRootPath),
+        contact_plan_(*lcm_, channels::kContactPlan),
+        summary_("summary: " + scenario.name) {
     transport::InstallStopHandlers();
+    if (loop_) watch_.emplace(*lcm_);
+  }
 
+  int Run() {
+    if (auto rc = AwaitProcesses()) return *rc;
+    if (auto rc = SendTerrain()) return *rc;
+    if (auto rc = AwaitSurfaces()) return *rc;
+    if (o_.until == "affordance") return Finish(kOk, "");
+    SendRequest();
+    if (auto rc = AwaitRootPath()) return *rc;
+    if (o_.until == "root") return Finish(kOk, "");
+    if (loop_) {
+      return LoopFollower(*lcm_, board_, *watch_, scenario_, request_, o_.sim_timeout_s, o_.timeout_s, summary_).Run();
+    }
+    if (auto rc = AwaitContactPlan()) return *rc;
+    if (auto rc = CheckPlan()) return *rc;
+    return AwaitWalk();
+  }
+
+ private:
+  using Step = std::optional<int>;
+
+  int Finish(int rc, const std::string& last) {
+    std::cout << summary_ << (last.empty() ? "" : ", ") << last << std::endl;
+    return rc;
+  }
+  int NoAnswer(const std::string& what, const std::string& process) {
+    std::cerr << "scenario_publisher: no " << what << " within " << o_.timeout_s << " s: is " << process
+              << " running on this LCM URL?\n";
+    return Finish(kNoAnswer, "no " + what + " from " + process);
+  }
+  int StoppedOrFailed(Waited w, const std::string& stage) {
+    if (w != Waited::kFailed) return Finish(kNoAnswer, "stopped during " + stage);
+    const auto& f = *board_.last_failure();
+    return Finish(kPlanningFailed, stage + " failed: " + f.process + ": " + f.reason);
+  }
+  /// The end of a wait for `what` from `process` during `stage`: nothing when it came.
+  Step AfterWait(Waited w, const std::string& what, const std::string& process, const std::string& stage) {
+    if (w == Waited::kTimeout) return NoAnswer(what, process);
+    if (w != Waited::kDone) return StoppedOrFailed(w, stage);
+    return std::nullopt;
+  }
+
+  /// Every process is up: nothing published before would reach it.
+  Step AwaitProcesses() {
     std::vector<std::string> processes = {"affordance_extractor"};
-    if (until != "affordance") processes.push_back("root_planner");
-    if (until == "contact" || until == "sim" || until == "loop") processes.push_back("contact_planner");
-    const bool loop = until == "loop";
-    const bool simulated = until == "sim" || loop;
-    std::optional<LoopWatch> watch;
-    if (loop) watch.emplace(*lcm);
-    if (simulated) processes.push_back("anymal_sim");
-    std::string summary = "summary: " + scenario.name;
-    auto finish = [&](int rc, const std::string& last) {
-      std::cout << summary << (last.empty() ? "" : ", ") << last << std::endl;
-      return rc;
-    };
-    auto no_answer = [&](const std::string& what, const std::string& process) {
-      std::cerr << "scenario_publisher: no " << what << " within " << timeout_s << " s: is " << process
-                << " running on this LCM URL?\n";
-      return finish(kNoAnswer, "no " + what + " from " + process);
-    };
-    auto stopped_or_failed = [&](Waited w, const std::string& stage) {
-      if (w != Waited::kFailed) return finish(kNoAnswer, "stopped during " + stage);
-      const auto& f = *board.last_failure();
-      return finish(kPlanningFailed, stage + " failed: " + f.process + ": " + f.reason);
-    };
-
-    // Every process is up: nothing published before would reach it.
+    if (o_.until != "affordance") processes.push_back("root_planner");
+    if (o_.until == "contact" || simulated_) processes.push_back("contact_planner");
+    if (simulated_) processes.push_back("anymal_sim");
     for (const auto& process : processes) {
-      const Waited w = WaitUntil(*lcm, board, timeout_s, [&] { return board.Heard(process); });
-      if (w == Waited::kTimeout) return no_answer("STATUS", process);
-      if (w != Waited::kDone) return stopped_or_failed(w, "startup");
+      const Waited w = WaitUntil(*lcm_, board_, o_.timeout_s, [&] { return board_.Heard(process); });
+      if (auto rc = AfterWait(w, "STATUS", process, "startup")) return rc;
     }
+    return std::nullopt;
+  }
 
-    // TERRAIN, from the simulator or, without it, from here: every period while the run lasts, as
-    // the simulator sends it, so a process that lost it hears it again (a large terrain goes in
-    // parts, on TERRAIN/PART).
-    int64_t utime = 0;
-    auto next = Clock::now();
-    transport::MessagePublisher publisher(*lcm);
-    rbcp_msgs::terrain_mesh_t terrain_msg;
-    if (!simulated) terrain_msg = transport::ToTerrainMsg(scenario.terrain_mesh, utime, scenario.name);
-    std::string terrain_problem;
-    const auto publish_terrain = [&] {
-      if (simulated || Clock::now() < next) return;
-      terrain_msg.utime = utime;
-      const std::string problem = publisher.Publish(channels::kTerrain, terrain_msg);
-      if (!problem.empty() && problem != terrain_problem) std::cerr << "scenario_publisher: " << problem << "\n";
-      terrain_problem = problem;
-      utime += static_cast<int64_t>(period_s * 1e6);
-      next = Clock::now() + std::chrono::milliseconds(static_cast<int>(period_s * 1000));
-    };
-    publish_terrain();
-    if (!terrain_problem.empty()) return finish(kPlanningFailed, "the terrain cannot be sent: " + terrain_problem);
-    if (!simulated) {
-      std::cout << "terrain: " << terrain_msg.num_triangles << " triangles, "
-                << FixedNumber(terrain_msg.getEncodedSize() / (1024.0 * 1024.0), 1) << " MB on " << channels::kTerrain;
-      if (publisher.parted_messages() > 0) {
-        std::cout << " in " << publisher.parts_sent() << " parts (" << transport::PartChannel(channels::kTerrain) << ")";
-      }
-      std::cout << ", every " << period_s << " s" << std::endl;
-    }
+  Step SendTerrain() {
+    terrain_.emplace(*lcm_, scenario_, simulated_, o_.period_s);
+    terrain_->Tick();
+    if (!terrain_->problem().empty()) return Finish(kPlanningFailed, "the terrain cannot be sent: " + terrain_->problem());
+    terrain_->Print();
+    return std::nullopt;
+  }
+
+  Step AwaitSurfaces() {
     std::optional<rbcp_msgs::affordance_set_t> surfaces_msg;
-    Waited w = WaitUntil(
-        *lcm, board, timeout_s, [&] { return (surfaces_msg = affordances.Take()).has_value(); }, publish_terrain);
-    if (w == Waited::kTimeout) return no_answer("AFFORDANCES", "affordance_extractor");
-    if (w != Waited::kDone) return stopped_or_failed(w, "affordance extraction");
+    const Waited w = WaitUntil(
+        *lcm_, board_, o_.timeout_s, [&] { return (surfaces_msg = affordances_.Take()).has_value(); },
+        [&] { terrain_->Tick(); });
+    if (auto rc = AfterWait(w, "AFFORDANCES", "affordance_extractor", "affordance extraction")) return rc;
     // The extractor's OK status follows its AFFORDANCES.
-    Pump(*lcm, 0.2, [&] { return board.NewOk("affordance_extractor").has_value(); });
-    const auto extracted = board.NewOk("affordance_extractor");
+    Pump(*lcm_, 0.2, [&] { return board_.NewOk("affordance_extractor").has_value(); });
+    const auto extracted = board_.NewOk("affordance_extractor");
     const auto surfaces = transport::FromAffordanceMsg(*surfaces_msg);
-    PrintSurfaces(scenario, surfaces, extracted ? extracted->compute_ms : -1.0);
-    summary += ": " + std::to_string(surfaces.size()) + " surfaces";
-    if (until == "affordance") return finish(kOk, "");
+    PrintSurfaces(scenario_, surfaces, extracted ? extracted->compute_ms : -1.0);
+    summary_ += ": " + std::to_string(surfaces.size()) + " surfaces";
+    return std::nullopt;
+  }
 
-    // PLAN_REQUEST from the scenario's start to its goal, answered by ROOT_PATH.
-    rbcp_msgs::plan_request_t request{};
-    request.utime = utime;
-    request.request_id = request_id != 0 ? request_id : transport::RandomId();
-    request.use_start = true;
-    request.start_position[0] = scenario.start.position.x();
-    request.start_position[1] = scenario.start.position.y();
-    request.start_yaw = scenario.start.yaw;
-    request.goal_position[0] = scenario.goal.position.x();
-    request.goal_position[1] = scenario.goal.position.y();
-    request.goal_yaw = scenario.goal.yaw;
-    request.time_budget = budget_s;
-    request.seed = seed;
-    lcm->publish(channels::kPlanRequest, &request);
-    // The request again every second until it is answered: an answer lost on the way (or a
-    // request lost) costs a second, not the run; a repeat is answered with the same answer.
-    auto next_request = Clock::now() + std::chrono::seconds(1);
-    const auto repeat_request = [&] {
-      publish_terrain();
-      if (Clock::now() < next_request) return;
-      next_request = Clock::now() + std::chrono::seconds(1);
-      lcm->publish(channels::kPlanRequest, &request);
-    };
-    std::cout << "plan request " << request.request_id << " on PLAN_REQUEST: (" << request.start_position[0] << ", "
-              << request.start_position[1] << ") -> (" << request.goal_position[0] << ", " << request.goal_position[1]
-              << "), seed " << seed << "\n";
-    std::optional<rbcp_msgs::root_path_t> path;
-    w = WaitUntil(
-        *lcm, board, timeout_s,
+  /// PLAN_REQUEST from the scenario's start to its goal.
+  void SendRequest() {
+    request_.utime = terrain_->utime();
+    request_.request_id = o_.request_id != 0 ? o_.request_id : transport::RandomId();
+    request_.use_start = true;
+    request_.start_position[0] = scenario_.start.position.x();
+    request_.start_position[1] = scenario_.start.position.y();
+    request_.start_yaw = scenario_.start.yaw;
+    request_.goal_position[0] = scenario_.goal.position.x();
+    request_.goal_position[1] = scenario_.goal.position.y();
+    request_.goal_yaw = scenario_.goal.yaw;
+    request_.time_budget = o_.budget_s;
+    request_.seed = o_.seed;
+    lcm_->publish(channels::kPlanRequest, &request_);
+    next_request_ = Clock::now() + std::chrono::seconds(1);
+    std::cout << "plan request " << request_.request_id << " on PLAN_REQUEST: (" << request_.start_position[0] << ", "
+              << request_.start_position[1] << ") -> (" << request_.goal_position[0] << ", "
+              << request_.goal_position[1] << "), seed " << o_.seed << "\n";
+  }
+
+  /// The request again every second until it is answered: an answer lost on the way (or a
+  /// request lost) costs a second, not the run; a repeat is answered with the same answer.
+  void RepeatRequest() {
+    terrain_->Tick();
+    if (Clock::now() < next_request_) return;
+    next_request_ = Clock::now() + std::chrono::seconds(1);
+    lcm_->publish(channels::kPlanRequest, &request_);
+  }
+
+  /// ROOT_PATH answering the request.
+  Step AwaitRootPath() {
+    const Waited w = WaitUntil(
+        *lcm_, board_, o_.timeout_s,
         [&] {
-          auto p = root_path.Take();
-          if (p && p->request_id == request.request_id && AnswersGoal(*p, request)) path = std::move(p);
-          return path.has_value();
+          auto p = root_path_.Take();
+          if (p && p->request_id == request_.request_id && AnswersGoal(*p, request_)) path_ = std::move(p);
+          return path_.has_value();
         },
-        repeat_request);
-    if (w == Waited::kTimeout) return no_answer("ROOT_PATH", "root_planner");
-    if (w != Waited::kDone) return stopped_or_failed(w, "root planning");
-    Pump(*lcm, 0.2, [&] { return board.NewOk("root_planner").has_value(); });
-    const double duration_s = path->points.empty() ? 0.0 : path->points.back().t - path->points.front().t;
-    const auto root_ok = board.NewOk("root_planner");
-    std::cout << "root_planner: path of " << FixedNumber(duration_s, 2) << " s (" << path->num_points
+        [&] { RepeatRequest(); });
+    if (auto rc = AfterWait(w, "ROOT_PATH", "root_planner", "root planning")) return rc;
+    Pump(*lcm_, 0.2, [&] { return board_.NewOk("root_planner").has_value(); });
+    const double duration_s = path_->points.empty() ? 0.0 : path_->points.back().t - path_->points.front().t;
+    const auto root_ok = board_.NewOk("root_planner");
+    std::cout << "root_planner: path of " << FixedNumber(duration_s, 2) << " s (" << path_->num_points
               << " points) on ROOT_PATH";
     if (root_ok) std::cout << ", planned in " << FixedNumber(root_ok->compute_ms, 1) << " ms";
     std::cout << "\n";
-    summary += ", root path of " + FixedNumber(duration_s, 2) + " s" +
-               (root_ok ? " in " + FixedNumber(root_ok->compute_ms, 1) + " ms" : std::string());
-    if (until == "root") return finish(kOk, "");
-    if (loop) return FollowLoop(*lcm, board, *watch, scenario, request, sim_timeout_s, timeout_s, summary);
+    summary_ += ", root path of " + FixedNumber(duration_s, 2) + " s" +
+                (root_ok ? " in " + FixedNumber(root_ok->compute_ms, 1) + " ms" : std::string());
+    return std::nullopt;
+  }
 
-    // CONTACT_PLAN along the path, then the independent check.
-    std::optional<rbcp_msgs::contact_plan_t> plan_msg;
-    w = WaitUntil(
-        *lcm, board, timeout_s,
+  /// CONTACT_PLAN along the path.
+  Step AwaitContactPlan() {
+    const Waited w = WaitUntil(
+        *lcm_, board_, o_.timeout_s,
         [&] {
-          auto p = contact_plan.Take();
+          auto p = contact_plan_.Take();
           // The plan of this request, made on the terrain its root path was planned on.
-          if (p && p->request_id == request.request_id && p->terrain_id == path->terrain_id) plan_msg = std::move(p);
-          return plan_msg.has_value();
+          if (p && p->request_id == request_.request_id && p->terrain_id == path_->terrain_id) plan_msg_ = std::move(p);
+          return plan_msg_.has_value();
         },
-        repeat_request);
-    if (w == Waited::kTimeout) return no_answer("CONTACT_PLAN", "contact_planner");
-    if (w != Waited::kDone) return stopped_or_failed(w, "contact planning");
-    Pump(*lcm, 0.2, [&] { return board.NewOk("contact_planner").has_value(); });
-    const auto contact_ok = board.NewOk("contact_planner");
-    const int steps = std::max(0, plan_msg->num_states - 1);
-    std::cout << "contact_planner: " << plan_msg->num_states << " states on CONTACT_PLAN";
+        [&] { RepeatRequest(); });
+    if (auto rc = AfterWait(w, "CONTACT_PLAN", "contact_planner", "contact planning")) return rc;
+    Pump(*lcm_, 0.2, [&] { return board_.NewOk("contact_planner").has_value(); });
+    const auto contact_ok = board_.NewOk("contact_planner");
+    const int steps = std::max(0, plan_msg_->num_states - 1);
+    std::cout << "contact_planner: " << plan_msg_->num_states << " states on CONTACT_PLAN";
     if (contact_ok) std::cout << ": " << contact_ok->reason << " (" << FixedNumber(contact_ok->compute_ms, 1) << " ms)";
     std::cout << "\n";
-    summary += ", " + std::to_string(steps) + " contact steps" +
-               (contact_ok ? " in " + FixedNumber(contact_ok->compute_ms, 1) + " ms" : std::string());
+    summary_ += ", " + std::to_string(steps) + " contact steps" +
+                (contact_ok ? " in " + FixedNumber(contact_ok->compute_ms, 1) + " ms" : std::string());
+    return std::nullopt;
+  }
+
+  /// The independent check of the plan; without the simulator it ends the run.
+  Step CheckPlan() {
     try {
       const PlanCheckReport report =
-          CheckPlanForScenario(common.config_dir, scenario, transport::FromContactPlanMsg(*plan_msg));
+          CheckPlanForScenario(o_.common.config_dir, scenario_, transport::FromContactPlanMsg(*plan_msg_));
       for (const auto& v : report.violations) std::cout << "  state " << v.state << ": " << v.check << ": " << v.detail << "\n";
       std::cout << "plan check: " << report.Summary() << "\n";
-      summary += report.ok ? ", the plan passes the checker" : ", the plan does not pass the checker";
-      if (!simulated) return finish(report.ok ? kOk : kPlanningFailed, "");
+      summary_ += report.ok ? ", the plan passes the checker" : ", the plan does not pass the checker";
+      if (!simulated_) return Finish(report.ok ? kOk : kPlanningFailed, "");
     } catch (const InputError& e) {
       std::cout << "plan check: cannot check the plan: " << e.what() << "\n";
-      return finish(kPlanningFailed, "the plan cannot be checked");
+      return Finish(kPlanningFailed, "the plan cannot be checked");
     }
+    return std::nullopt;
+  }
 
-    // The simulator walks the plan and judges the run.
+  /// The simulator walks the plan and judges the run.
+  int AwaitWalk() {
     std::cout << "anymal_sim: walking the plan ..." << std::endl;
     const auto walk_start = Clock::now();
-    w = WaitUntil(*lcm, board, sim_timeout_s, [&] { return board.NewOk("anymal_sim").has_value(); });
+    const Waited w = WaitUntil(*lcm_, board_, o_.sim_timeout_s, [&] { return board_.NewOk("anymal_sim").has_value(); });
     const double walk_s = std::chrono::duration<double>(Clock::now() - walk_start).count();
-    if (w == Waited::kTimeout) return no_answer("outcome", "anymal_sim");
-    if (w == Waited::kFailed && board.last_failure()->process == "anymal_sim") {
-      std::cout << "anymal_sim: FAILED: " << board.last_failure()->reason << "\n";
-      return finish(kPlanningFailed, "the robot did not reach the goal: " + board.last_failure()->reason);
+    if (w == Waited::kTimeout) return NoAnswer("outcome", "anymal_sim");
+    if (w == Waited::kFailed && board_.last_failure()->process == "anymal_sim") {
+      std::cout << "anymal_sim: FAILED: " << board_.last_failure()->reason << "\n";
+      return Finish(kPlanningFailed, "the robot did not reach the goal: " + board_.last_failure()->reason);
     }
-    if (w != Waited::kDone) return stopped_or_failed(w, "execution");
-    const auto walked = board.NewOk("anymal_sim");
+    if (w != Waited::kDone) return StoppedOrFailed(w, "execution");
+    const auto walked = board_.NewOk("anymal_sim");
     std::cout << "anymal_sim: " << walked->reason << " (" << FixedNumber(walk_s, 1) << " s wall)\n";
-    return finish(kOk, "the robot walked the plan: " + walked->reason);
-  });
+    return Finish(kOk, "the robot walked the plan: " + walked->reason);
+  }
+
+  const Options& o_;
+  const Scenario& scenario_;
+  const bool loop_;       ///< --until loop: the replanning loop walks to the goal
+  const bool simulated_;  ///< the simulator is the world
+  std::unique_ptr<lcm::LCM> lcm_;
+  StatusBoard board_;
+  transport::LatestMessage<rbcp_msgs::affordance_set_t> affordances_;
+  transport::LatestMessage<rbcp_msgs::root_path_t> root_path_;
+  transport::LatestMessage<rbcp_msgs::contact_plan_t> contact_plan_;
+  std::optional<LoopWatch> watch_;
+  std::optional<TerrainSender> terrain_;
+  std::string summary_;  ///< the summary line so far
+  rbcp_msgs::plan_request_t request_{};
+  Clock::time_point next_request_;
+  std::optional<rbcp_msgs::root_path_t> path_;
+  std::optional<rbcp_msgs::contact_plan_t> plan_msg_;
+};
+
+int Run(const Options& o) {
+  const Scenario scenario = LoadScenario(o.scenario_path);
+  return ScenarioRun(o, scenario).Run();
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return rbcp::cli::Main("scenario_publisher", argc, argv, AddOptions, Run); }

@@ -14,12 +14,16 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "rbcp/core/format.h"
 #include "rbcp/offline_pipeline/offline_pipeline.h"
 #include "rbcp/cli/cli.h"
 #include "rbcp/plan_checker/plan_checker.h"
+#include "rbcp/cli/cli.h"
 
 namespace {
 
@@ -46,144 +50,203 @@ double Median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"Plans and simulates every scenario over several seeds; prints the success table. Talks no LCM."};
-  std::string config_dir = DefaultConfigDir(), json_path;
+/// The command line.
+struct Options {
+  std::string config_dir = DefaultConfigDir();
+  std::string json_path;
   std::vector<std::string> scenarios = {"flat_ground",       "slalom_debris",       "plinth",       "darpa_rubble",
                                         "paper_flat_ground", "paper_slalom_debris", "paper_plinth", "paper_darpa"};
-  unsigned seeds = 20, first_seed = 1;
+  unsigned seeds = 20;
+  unsigned first_seed = 1;
   int jobs = 2;
   double budget = 5.0;
-  app.add_option("--config-dir", config_dir, "configuration folder")->capture_default_str();
-  app.add_option("--scenarios", scenarios, "scenario names (config/scenarios/NAME.yaml) or files")->capture_default_str();
-  app.add_option("--seeds", seeds, "seeds per scenario")->capture_default_str();
-  app.add_option("--first-seed", first_seed, "first seed")->capture_default_str();
-  app.add_option("--jobs", jobs, "runs in parallel")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--time-budget", budget, "root planning time budget [s]")->capture_default_str();
-  app.add_option("--json", json_path, "also write every run to this JSON file");
-  return cli::GuardedMain("sim_bench", app, argc, argv, [&]() -> int {
-    OfflinePipeline pipeline(config_dir);
+};
+
+void AddOptions(CLI::App& app, Options& o) {
+  app.add_option("--config-dir", o.config_dir, "configuration folder")->capture_default_str();
+  app.add_option("--scenarios", o.scenarios, "scenario names (config/scenarios/NAME.yaml) or files")->capture_default_str();
+  app.add_option("--seeds", o.seeds, "seeds per scenario")->capture_default_str();
+  app.add_option("--first-seed", o.first_seed, "first seed")->capture_default_str();
+  app.add_option("--jobs", o.jobs, "runs in parallel")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--time-budget", o.budget, "root planning time budget [s]")->capture_default_str();
+  app.add_option("--json", o.json_path, "also write every run to this JSON file");
+  app.description("Plans and simulates every scenario over several seeds; prints the success table. Talks no LCM.");
+}
+
+/// Each of --scenarios: a name (CONFIG_DIR/scenarios/NAME.yaml) or a file.
+std::vector<Scenario> LoadScenarios(const Options& o) {
+  std::vector<Scenario> loaded;
+  for (const std::string& s : o.scenarios) {
+    loaded.push_back(LoadScenario(s.find('/') == std::string::npos && s.find(".yaml") == std::string::npos
+                                      ? o.config_dir + "/scenarios/" + s + ".yaml"
+                                      : s));
+  }
+  return loaded;
+}
+
+/// Every scenario with every seed, run in parallel jobs.
+class Bench {
+ public:
+  /// Loads the pipeline (and the limb database), then the scenarios.
+  explicit Bench(const Options& o) : o_(o), pipeline_(o.config_dir) {
     // Runs in parallel share the cores with the contact planner's own search threads.
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    if (jobs > 1) pipeline.SetContactSearchThreads(std::max(1, cores / jobs));
-    pipeline.limb_database();
-    std::vector<Scenario> loaded;
-    for (const std::string& s : scenarios) {
-      loaded.push_back(LoadScenario(s.find('/') == std::string::npos && s.find(".yaml") == std::string::npos
-                                        ? config_dir + "/scenarios/" + s + ".yaml"
-                                        : s));
-    }
+    if (o_.jobs > 1) pipeline_.SetContactSearchThreads(std::max(1, cores / o_.jobs));
+    pipeline_.limb_database();
+    scenarios_ = LoadScenarios(o_);
+  }
+
+  const std::vector<Scenario>& scenarios() const { return scenarios_; }
+
+  /// The runs, scenario by scenario, seed by seed.
+  std::vector<Run> RunAll() {
     std::vector<std::pair<std::size_t, unsigned>> work;
-    for (std::size_t i = 0; i < loaded.size(); ++i) {
-      for (unsigned k = 0; k < seeds; ++k) work.emplace_back(i, first_seed + k);
+    for (std::size_t i = 0; i < scenarios_.size(); ++i) {
+      for (unsigned k = 0; k < o_.seeds; ++k) work.emplace_back(i, o_.first_seed + k);
     }
     std::vector<Run> runs(work.size());
     std::atomic<std::size_t> next{0};
-    std::mutex print;
-    auto worker = [&] {
-      for (std::size_t w = next++; w < work.size(); w = next++) {
-        const Scenario& scenario = loaded[work[w].first];
-        const unsigned seed = work[w].second;
-        Run& run = runs[w];
-        run.scenario = scenario.name;
-        run.seed = seed;
-        PipelineResult r;
-        try {
-          r = pipeline.Run(scenario, PipelineStage::kSim, seed, budget);
-        } catch (const std::exception& e) {
-          // A run that cannot even start (bad input, a configuration error) is a failed run.
-          run.failure = "error";
-          run.detail = e.what();
-          std::lock_guard<std::mutex> lock(print);
-          std::cerr << "sim_bench: " << run.scenario << " seed " << seed << ": FAILED " << run.detail << "\n";
-          continue;
-        }
-        run.planned = r.contact && r.contact->ok;
-        run.guides = r.root ? static_cast<int>(r.failed_guides.size()) + 1 : 0;
-        run.steps = run.planned ? r.contact->steps : 0;
-        if (run.planned) {
-          const PlanCheckReport check = CheckPlanForScenario(config_dir, scenario, r.contact->plan);
-          run.checked = check.ok;
-          if (!check.ok) {
-            std::lock_guard<std::mutex> lock(print);
-            std::cerr << "sim_bench: " << run.scenario << " seed " << seed << ": check_plan: " << check.Summary() << "\n";
-          }
-        }
-        if (r.sim) {
-          run.reached = r.sim->ok();
-          run.sim_s = r.sim->sim_time_s;
-          run.wall_s = r.sim_wall_s;
-          run.max_torque_ratio = r.sim->max_torque_ratio;
-          run.collisions = r.sim->collisions;
-          if (!r.sim->trace.empty()) {
-            run.distance_m = (r.sim->trace.back().base_position - r.sim->trace.front().base_position).head<2>().norm();
-          }
-          if (r.sim->failure) {
-            run.failure = r.sim->failure->what;
-            run.detail = r.failure;
-          }
-        } else {
-          run.failure = r.contact ? "contact" : r.root ? "root" : "affordance";
-          run.detail = r.failure;
-        }
-        std::lock_guard<std::mutex> lock(print);
-        std::cerr << "sim_bench: " << run.scenario << " seed " << seed << ": "
-                  << (run.reached ? "goal reached" : "FAILED " + run.detail) << " (" << run.steps << " steps, "
-                  << FixedNumber(run.sim_s, 1) << " s simulated in " << FixedNumber(run.wall_s, 1) << " s)\n";
-      }
+    const auto worker = [&] {
+      for (std::size_t w = next++; w < work.size(); w = next++) runs[w] = RunOne(scenarios_[work[w].first], work[w].second);
     };
     std::vector<std::thread> threads;
-    for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
+    for (int j = 0; j < o_.jobs; ++j) threads.emplace_back(worker);
     for (std::thread& t : threads) t.join();
+    return runs;
+  }
 
-    std::cout << "| scenario | plans | on a later guide | pass check_plan | goal reached | failures | mean time to goal | "
-                 "mean speed | mean steps | max torque / limit | real-time factor (median) |\n"
-                 "|---|---|---|---|---|---|---|---|---|---|---|\n";
-    nlohmann::json all = nlohmann::json::array();
-    for (const Scenario& scenario : loaded) {
-      int planned = 0, checked = 0, reached = 0, later_guide = 0;
-      double time = 0.0, speed = 0.0, steps = 0.0, torque = 0.0;
-      std::vector<double> rtf;
-      std::map<std::string, int> failures;
-      for (const Run& r : runs) {
-        if (r.scenario != scenario.name) continue;
-        planned += r.planned;
-        later_guide += r.planned && r.guides > 1;
-        checked += r.checked;
-        if (r.planned) steps += r.steps;
-        if (r.wall_s > 0.0) rtf.push_back(r.sim_s / r.wall_s);
-        torque = std::max(torque, r.max_torque_ratio);
-        if (r.reached) {
-          ++reached;
-          time += r.sim_s;
-          speed += r.distance_m / r.sim_s;
-        } else {
-          failures[r.failure] += 1;
-        }
-        all.push_back({{"scenario", r.scenario}, {"seed", r.seed}, {"planned", r.planned}, {"checked", r.checked},
-                       {"reached_goal", r.reached},
-                       {"failure", r.failure.empty() ? nlohmann::json() : nlohmann::json(r.failure)},
-                       {"detail", r.detail}, {"guides", r.guides}, {"steps", r.steps}, {"sim_time_s", r.sim_s}, {"sim_wall_s", r.wall_s},
-                       {"distance_m", r.distance_m}, {"max_torque_ratio", r.max_torque_ratio},
-                       {"collisions", r.collisions}});
-      }
-      std::string failure_text;
-      for (const auto& [what, n] : failures) failure_text += (failure_text.empty() ? "" : ", ") + what + " " + std::to_string(n);
-      std::cout << "| " << scenario.name << " | " << planned << "/" << seeds << " | " << later_guide << " | " << checked
-                << "/" << planned << " | "
-                << reached << "/" << seeds << " | "
-                << (failure_text.empty() ? "-" : failure_text) << " | "
-                << (reached ? FixedNumber(time / reached, 1) + " s" : "-") << " | "
-                << (reached ? FixedNumber(speed / reached, 3) + " m/s" : "-") << " | "
-                << (planned ? FixedNumber(steps / planned, 1) : "-") << " | " << FixedNumber(torque, 2) << " | "
-                << FixedNumber(Median(rtf), 1) << "x |\n";
+ private:
+  /// A line on stderr, whole among the jobs' lines.
+  void Say(const std::string& line) {
+    std::lock_guard<std::mutex> lock(print_);
+    std::cerr << "sim_bench: " << line << "\n";
+  }
+
+  /// Plans, checks and walks the scenario with the seed.
+  Run RunOne(const Scenario& scenario, unsigned seed) {
+    Run run;
+    run.scenario = scenario.name;
+    run.seed = seed;
+    const std::string name = run.scenario + " seed " + std::to_string(seed);
+    PipelineResult r;
+    try {
+      r = pipeline_.Run(scenario, PipelineStage::kSim, seed, o_.budget);
+    } catch (const std::exception& e) {
+      // A run that cannot even start (bad input, a configuration error) is a failed run.
+      run.failure = "error";
+      run.detail = e.what();
+      Say(name + ": FAILED " + run.detail);
+      return run;
     }
-    if (!json_path.empty()) {
-      std::ofstream out(json_path);
-      out << all.dump(1) << "\n";
+    run.planned = r.contact && r.contact->ok;
+    run.guides = r.root ? static_cast<int>(r.failed_guides.size()) + 1 : 0;
+    run.steps = run.planned ? r.contact->steps : 0;
+    if (run.planned) {
+      const PlanCheckReport check = CheckPlanForScenario(o_.config_dir, scenario, r.contact->plan);
+      run.checked = check.ok;
+      if (!check.ok) Say(name + ": check_plan: " + check.Summary());
     }
-    return 0;
-  });
+    TakeWalk(r, run);
+    Say(name + ": " + (run.reached ? "goal reached" : "FAILED " + run.detail) + " (" + std::to_string(run.steps) +
+        " steps, " + FixedNumber(run.sim_s, 1) + " s simulated in " + FixedNumber(run.wall_s, 1) + " s)");
+    return run;
+  }
+
+  /// The simulator's figures of the walk, or the stage that failed before it.
+  static void TakeWalk(const PipelineResult& r, Run& run) {
+    if (!r.sim) {
+      run.failure = r.contact ? "contact" : r.root ? "root" : "affordance";
+      run.detail = r.failure;
+      return;
+    }
+    run.reached = r.sim->ok();
+    run.sim_s = r.sim->sim_time_s;
+    run.wall_s = r.sim_wall_s;
+    run.max_torque_ratio = r.sim->max_torque_ratio;
+    run.collisions = r.sim->collisions;
+    if (!r.sim->trace.empty()) {
+      run.distance_m = (r.sim->trace.back().base_position - r.sim->trace.front().base_position).head<2>().norm();
+    }
+    if (r.sim->failure) {
+      run.failure = r.sim->failure->what;
+      run.detail = r.failure;
+    }
+  }
+
+  const Options& o_;
+  OfflinePipeline pipeline_;
+  std::vector<Scenario> scenarios_;
+  std::mutex print_;
+};
+
+nlohmann::json RunJson(const Run& r) {
+  return {{"scenario", r.scenario}, {"seed", r.seed}, {"planned", r.planned}, {"checked", r.checked},
+          {"reached_goal", r.reached},
+          {"failure", r.failure.empty() ? nlohmann::json() : nlohmann::json(r.failure)},
+          {"detail", r.detail}, {"guides", r.guides}, {"steps", r.steps}, {"sim_time_s", r.sim_s}, {"sim_wall_s", r.wall_s},
+          {"distance_m", r.distance_m}, {"max_torque_ratio", r.max_torque_ratio},
+          {"collisions", r.collisions}};
 }
+
+/// The table's row of a scenario, over its runs.
+void PrintRow(const Scenario& scenario, const std::vector<Run>& runs, unsigned seeds) {
+  int planned = 0, checked = 0, reached = 0, later_guide = 0;
+  double time = 0.0, speed = 0.0, steps = 0.0, torque = 0.0;
+  std::vector<double> rtf;
+  std::map<std::string, int> failures;
+  for (const Run& r : runs) {
+    if (r.scenario != scenario.name) continue;
+    planned += r.planned;
+    later_guide += r.planned && r.guides > 1;
+    checked += r.checked;
+    if (r.planned) steps += r.steps;
+    if (r.wall_s > 0.0) rtf.push_back(r.sim_s / r.wall_s);
+    torque = std::max(torque, r.max_torque_ratio);
+    if (r.reached) {
+      ++reached;
+      time += r.sim_s;
+      speed += r.distance_m / r.sim_s;
+    } else {
+      failures[r.failure] += 1;
+    }
+  }
+  std::string failure_text;
+  for (const auto& [what, n] : failures) failure_text += (failure_text.empty() ? "" : ", ") + what + " " + std::to_string(n);
+  std::cout << "| " << scenario.name << " | " << planned << "/" << seeds << " | " << later_guide << " | " << checked
+            << "/" << planned << " | "
+            << reached << "/" << seeds << " | "
+            << (failure_text.empty() ? "-" : failure_text) << " | "
+            << (reached ? FixedNumber(time / reached, 1) + " s" : "-") << " | "
+            << (reached ? FixedNumber(speed / reached, 3) + " m/s" : "-") << " | "
+            << (planned ? FixedNumber(steps / planned, 1) : "-") << " | " << FixedNumber(torque, 2) << " | "
+            << FixedNumber(Median(rtf), 1) << "x |\n";
+}
+
+/// The success table in Markdown on stdout, and with --json every run, scenario by scenario.
+void Report(const Options& o, const std::vector<Scenario>& scenarios, const std::vector<Run>& runs) {
+  std::cout << "| scenario | plans | on a later guide | pass check_plan | goal reached | failures | mean time to goal | "
+               "mean speed | mean steps | max torque / limit | real-time factor (median) |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  nlohmann::json all = nlohmann::json::array();
+  for (const Scenario& scenario : scenarios) {
+    PrintRow(scenario, runs, o.seeds);
+    for (const Run& r : runs) {
+      if (r.scenario == scenario.name) all.push_back(RunJson(r));
+    }
+  }
+  if (!o.json_path.empty()) {
+    std::ofstream out(o.json_path);
+    out << all.dump(1) << "\n";
+  }
+}
+
+int RunBench(const Options& o) {
+  Bench bench(o);
+  const std::vector<Run> runs = bench.RunAll();
+  Report(o, bench.scenarios(), runs);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return rbcp::cli::Main("sim_bench", argc, argv, AddOptions, RunBench); }

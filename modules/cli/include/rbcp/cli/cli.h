@@ -29,4 +29,21 @@ void AddOfflineOptions(CLI::App& app, CommonOptions& options);
 /// and returns 2.
 int GuardedMain(const char* process, CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
+/// Adds a program's description and options to `app`, parsed into `options`.
+template <typename Options>
+using AddOptionsFunction = void (*)(CLI::App& app, Options& options);
+/// A program's work on its parsed options; returns the exit status.
+template <typename Options>
+using RunFunction = int (*)(const Options& options);
+
+/// The main() of a program `name` (the prefix of its error messages): its command line parsed
+/// into its Options, then its work on them, under GuardedMain.
+template <typename Options>
+int Main(const char* name, int argc, char** argv, AddOptionsFunction<Options> add_options, RunFunction<Options> run) {
+  CLI::App app;
+  Options options;
+  add_options(app, options);
+  return GuardedMain(name, app, argc, argv, [&] { return run(options); });
+}
+
 }  // namespace rbcp::cli
