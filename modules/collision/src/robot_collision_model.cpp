@@ -93,7 +93,7 @@ void RobotCollisionModel::BuildPairs(const RobotModel& robot) {
   std::vector<Eigen::Isometry3d> poses;
   std::vector<Aabb> boxes;
   for (const CollisionPrimitive& p : primitives_) {
-    shapes.push_back(FclShape::From(p));
+    shapes.emplace_back(p);
     poses.push_back(link_poses[static_cast<std::size_t>(p.link_index)] * p.pose_link);
     boxes.push_back(shapes.back().Bounds(poses.back()));
   }

@@ -73,7 +73,7 @@ struct RobotSelfCollision::Impl {
   Impl(const RobotModel& r, RobotCollisionModel m, bool measure)
       : robot(r), model(std::move(m)), measure_penetration(measure) {
     for (const CollisionPrimitive& p : model.Primitives()) {
-      shapes.push_back(FclShape::From(p));
+      shapes.emplace_back(p);
       groups.push_back(p.leg ? 1 + static_cast<std::size_t>(Index(*p.leg)) : 0);
     }
     for (Leg leg : kAllLegs) {

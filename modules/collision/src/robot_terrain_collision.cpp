@@ -41,7 +41,7 @@ std::string Text(double x) {
 
 // Exact test of the shape at pose T against one terrain triangle; with `depth`, also its
 // penetration depth (FCL measures it only when the contact point and normal are requested too).
-bool TouchesTriangle(const FclShape& s, const Eigen::Isometry3d& T, const GridTriangle& t, double* depth) {
+inline bool TouchesTriangle(const FclShape& s, const Eigen::Isometry3d& T, const GridTriangle& t, double* depth) {
   Eigen::Vector3d point, normal;
   Eigen::Vector3d* point_out = depth != nullptr ? &point : nullptr;
   Eigen::Vector3d* normal_out = depth != nullptr ? &normal : nullptr;
@@ -63,7 +63,7 @@ bool TouchesTriangle(const FclShape& s, const Eigen::Isometry3d& T, const GridTr
 // A cheap sufficient test that a shape does not touch a terrain triangle (whose own normal the
 // caller has tested): the line from the shape's centre to the triangle's centroid, the box face
 // normals, the cylinder axis as separating axes.
-bool SeparatedFromTriangle(const FclShape& s, const Eigen::Isometry3d& T, const GridTriangle& t) {
+inline bool SeparatedFromTriangle(const FclShape& s, const Eigen::Isometry3d& T, const GridTriangle& t) {
   const Eigen::Vector3d& p = t.corners[0];
   const Eigen::Vector3d& q = t.corners[1];
   const Eigen::Vector3d& r = t.corners[2];
@@ -104,7 +104,11 @@ struct RobotTerrainCollision::Impl {
   // For each shape, the shape whose penetration depth is reported for it: itself, except for
   // the shrunk stance foot, which reports the depth of the full foot sphere.
   std::vector<int> depth_shape;
-  std::array<std::vector<int>, kNumLegs> stance;  // a leg's shapes with the stance foot and adapter
+  // Shape lists, hip to foot for a leg: the model's (trunk, swing) and a stance leg's, with the
+  // stance foot and adapter.
+  std::vector<int> trunk;
+  std::array<std::vector<int>, kNumLegs> swing;
+  std::array<std::vector<int>, kNumLegs> stance;
 
   Impl(const RobotModel& robot, const CollisionOptions& o)
       : options(o),
@@ -115,7 +119,8 @@ struct RobotTerrainCollision::Impl {
   const RobotCollisionModel& Model() const { return self.Model(); }
   // A leg's shapes, hip to foot: those of a swing leg, or of a stance leg.
   const std::vector<int>& LegShapes(Leg leg, bool in_contact) const {
-    return in_contact ? stance[static_cast<std::size_t>(Index(leg))] : Model().LegPrimitives(leg);
+    const auto l = static_cast<std::size_t>(Index(leg));
+    return in_contact ? stance[l] : swing[l];
   }
 
   void BuildShapes();
@@ -156,7 +161,9 @@ struct RobotTerrainCollision::Impl {
     if (AnyTriangleTouching(s, pose, box, [&](const GridTriangle& t) {
           return !SeparatedFromTriangle(s, pose, t) && TouchesTriangle(s, pose, t, nullptr);
         })) {
-      if (options.measure_penetration) depth = TerrainDepth(shapes[static_cast<std::size_t>(depth_shape[static_cast<std::size_t>(i)])], link_W);
+      if (options.measure_penetration) {
+        depth = TerrainDepth(shapes[static_cast<std::size_t>(depth_shape[static_cast<std::size_t>(i)])], link_W);
+      }
     } else if (!grid->Bounds().Contains(box) || !grid->Inside(pose.translation(), &depth)) {
       return false;
     }
@@ -183,9 +190,13 @@ void RobotTerrainCollision::Impl::BuildShapes() {
   reference_link_poses = Robot().LinkPoses(Robot().ReferenceConfiguration());
   for (const CollisionPrimitive& p : Model().Primitives()) {
     depth_shape.push_back(static_cast<int>(shapes.size()));
-    shapes.push_back(FclShape::From(p));
+    shapes.emplace_back(p);
   }
-  for (Leg leg : kAllLegs) AddStanceShapes(leg);
+  trunk = Model().Trunk();
+  for (Leg leg : kAllLegs) {
+    swing[static_cast<std::size_t>(Index(leg))] = Model().LegPrimitives(leg);
+    AddStanceShapes(leg);
+  }
 }
 
 // The stance variants of a leg's foot and adapter tube (see the header), and the leg's stance list.
@@ -276,7 +287,7 @@ CollisionReport RobotTerrainCollision::CheckRobot(const Eigen::Isometry3d& base_
   std::vector<Eigen::Isometry3d>& link_poses = ThreadLinkPoses();
   m.Robot().LinkPoses(q, &link_poses);
   CollisionReport report;
-  if (m.ListHitsTerrain(m.Model().Trunk(), base_W, link_poses, &report)) return report;
+  if (m.ListHitsTerrain(m.trunk, base_W, link_poses, &report)) return report;
   for (Leg leg : kAllLegs) {
     if (m.ListHitsTerrain(m.LegShapes(leg, feet_in_contact[static_cast<std::size_t>(Index(leg))]), base_W, link_poses,
                           &report)) {
@@ -303,7 +314,7 @@ CollisionReport RobotTerrainCollision::CheckTrunk(const Eigen::Isometry3d& base_
   RBCP_CHECK(base_W.matrix().allFinite(), "collision query with a non-finite pose");
   const Impl& m = *impl_;
   CollisionReport report;
-  m.ListHitsTerrain(m.Model().Trunk(), base_W, m.reference_link_poses, &report);
+  m.ListHitsTerrain(m.trunk, base_W, m.reference_link_poses, &report);
   return report;
 }
 
