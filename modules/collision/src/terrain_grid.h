@@ -73,7 +73,7 @@ class TerrainGrid {
 };
 
 template <typename Visit>
-bool TerrainGrid::AnyTriangleNear(const Aabb& box, Visit&& visit) const {
+inline bool TerrainGrid::AnyTriangleNear(const Aabb& box, Visit&& visit) const {
   if (!box.Overlaps(bounds_)) return false;
   const int qx0 = CellX(box.lo.x()), qx1 = CellX(box.hi.x()), qy0 = CellY(box.lo.y()), qy1 = CellY(box.hi.y());
   for (int iy = qy0; iy <= qy1; ++iy) {

@@ -5,67 +5,30 @@
 #include "rbcp/core/error.h"
 
 namespace rbcp::limb_database_detail {
-namespace {
-
-/// Links of the leg whose pose changes when joint j moves by a small step from the reference.
-std::vector<bool> LinksMovedBy(const RobotModel& model, Leg leg, int j) {
-  const JointVector q0 = model.ReferenceConfiguration();
-  JointVector q1 = q0;
-  q1[kJointsPerLeg * Index(leg) + j] += 0.1;
-  const auto p0 = model.LinkPoses(q0);
-  const auto p1 = model.LinkPoses(q1);
-  std::vector<bool> moved(p0.size(), false);
-  for (std::size_t i = 0; i < p0.size(); ++i) {
-    moved[i] = !(p0[i].matrix() - p1[i].matrix()).isZero(1e-12);
-  }
-  return moved;
-}
-
-}  // namespace
 
 LegSelfCollision::LegSelfCollision(const RobotModel& model, Leg leg)
-    : model_(model), leg_(leg), q_(model.ReferenceConfiguration()) {
-  const auto& shapes = model.CollisionShapes();
-  const std::vector<bool> moved_haa = LinksMovedBy(model, leg, 0);
-  const std::vector<bool> moved_hfe = LinksMovedBy(model, leg, 1);
-  const std::vector<bool> moved_kfe = LinksMovedBy(model, leg, 2);
-
-  std::vector<std::size_t> trunk, hip, thigh, distal;
-  for (std::size_t s = 0; s < shapes.size(); ++s) {
-    const auto link = static_cast<std::size_t>(shapes[s].link_index);
-    if (!shapes[s].leg) {
-      trunk.push_back(s);
-    } else if (*shapes[s].leg == leg) {
-      if (moved_kfe[link]) {
-        distal.push_back(s);
-      } else if (moved_hfe[link]) {
-        thigh.push_back(s);
-      } else if (moved_haa[link]) {
-        hip.push_back(s);
-      }
-    }
+    : model_(model), collision_(model), leg_(leg), q_(model.ReferenceConfiguration()) {
+  const auto body = [&](int i) { return collision_.Primitives()[static_cast<std::size_t>(i)].body; };
+  for (const PrimitivePair& p : collision_.LegTrunkPairs(leg)) {
+    if (body(p.a) == RobotBody::kShank) pairs_.push_back(p);
   }
-  RBCP_CHECK(!trunk.empty() && !distal.empty(), "the leg self-collision filter needs trunk and shank shapes");
+  RBCP_CHECK(!pairs_.empty(), "the leg self-collision filter needs trunk and shank shapes");
+  const auto& shank_hip = collision_.ShankHipPairs(leg);
+  pairs_.insert(pairs_.end(), shank_hip.begin(), shank_hip.end());
+  for (const PrimitivePair& p : collision_.LegTrunkPairs(leg)) {
+    if (body(p.a) == RobotBody::kThigh) pairs_.push_back(p);
+  }
 
   model.LinkPoses(q_, &link_poses_);
-  posed_.resize(shapes.size());
-  for (std::size_t s = 0; s < shapes.size(); ++s) posed_[s] = Posed(s, link_poses_);
-
-  for (std::size_t d : distal) {
-    for (std::size_t t : trunk) pairs_.emplace_back(d, t);
-    for (std::size_t h : hip) pairs_.emplace_back(d, h);
+  posed_.resize(collision_.Primitives().size());
+  for (std::size_t s = 0; s < posed_.size(); ++s) posed_[s] = Posed(s, link_poses_);
+  for (const PrimitivePair& p : pairs_) {
+    const auto a = static_cast<std::size_t>(p.a);
+    if (std::find(moving_shapes_.begin(), moving_shapes_.end(), a) == moving_shapes_.end()) moving_shapes_.push_back(a);
   }
-  for (std::size_t th : thigh) {
-    for (std::size_t t : trunk) {
-      if (!PrimitivesOverlap(posed_[th], posed_[t])) pairs_.emplace_back(th, t);
-    }
+  for (int i : collision_.LegPrimitives(leg)) {
+    if (body(i) == RobotBody::kHip) moving_shapes_.push_back(static_cast<std::size_t>(i));
   }
-  for (const auto& [a, b] : pairs_) {
-    if (std::find(moving_shapes_.begin(), moving_shapes_.end(), a) == moving_shapes_.end()) {
-      moving_shapes_.push_back(a);
-    }
-  }
-  for (std::size_t h : hip) moving_shapes_.push_back(h);
   const auto first = FirstCollision(LegJoints(model.ReferenceConfiguration(), leg));
   if (!first.first.empty()) {
     throw InputError("limb database: the reference configuration of leg " + std::string(LegName(leg)) +
@@ -74,8 +37,8 @@ LegSelfCollision::LegSelfCollision(const RobotModel& model, Leg leg)
   }
 }
 
-ConvexPrimitive LegSelfCollision::Posed(std::size_t shape, const std::vector<Eigen::Isometry3d>& link_poses) const {
-  const CollisionShape& s = model_.CollisionShapes()[shape];
+ConvexPrimitive LegSelfCollision::Posed(std::size_t primitive, const std::vector<Eigen::Isometry3d>& link_poses) const {
+  const CollisionPrimitive& s = collision_.Primitives()[primitive];
   const Eigen::Isometry3d pose = link_poses[static_cast<std::size_t>(s.link_index)] * s.pose_link;
   ConvexPrimitive p;
   p.centre = pose.translation();
@@ -83,11 +46,11 @@ ConvexPrimitive LegSelfCollision::Posed(std::size_t shape, const std::vector<Eig
   switch (s.kind) {
     case CollisionShape::Kind::kBox:
       p.kind = ConvexPrimitive::Kind::kBox;
-      p.half = 0.5 * s.box_size;
+      p.half = s.half_extents;
       break;
     case CollisionShape::Kind::kCylinder:
       p.kind = ConvexPrimitive::Kind::kCylinder;
-      p.half = Eigen::Vector3d(0.0, 0.0, 0.5 * s.length);
+      p.half = Eigen::Vector3d(0.0, 0.0, s.half_length);
       p.radius = s.radius;
       break;
     case CollisionShape::Kind::kSphere:
@@ -102,17 +65,17 @@ std::pair<std::string, std::string> LegSelfCollision::FirstCollision(const Eigen
   SetLegJoints(q_, leg_, q_leg);
   model_.LinkPoses(q_, &link_poses_);
   for (std::size_t s : moving_shapes_) posed_[s] = Posed(s, link_poses_);
-  const auto& shapes = model_.CollisionShapes();
-  for (const auto& [a, b] : pairs_) {
-    if (PrimitivesOverlap(posed_[a], posed_[b])) return {shapes[a].name, shapes[b].name};
+  for (const PrimitivePair& p : pairs_) {
+    if (PrimitivesOverlap(posed_[static_cast<std::size_t>(p.a)], posed_[static_cast<std::size_t>(p.b)])) {
+      return {Name(p.a), Name(p.b)};
+    }
   }
   return {};
 }
 
 std::vector<std::string> LegSelfCollision::PairNames() const {
   std::vector<std::string> names;
-  const auto& shapes = model_.CollisionShapes();
-  for (const auto& [a, b] : pairs_) names.push_back(shapes[a].name + " / " + shapes[b].name);
+  for (const PrimitivePair& p : pairs_) names.push_back(Name(p.a) + " / " + Name(p.b));
   return names;
 }
 

@@ -1,20 +1,15 @@
 #pragma once
 // Self-collision filter of one leg, used to reject limb database samples.
 //
-// The robot's URDF collision primitives are used as they are: boxes and spheres exactly, cylinders
-// through their bounding capsule and bounding box (see convex_primitives.h), which never misses a
-// collision and rarely reports a false one.
+// The pairs are the leg's in the robot's RobotCollisionModel (rbcp/collision): its thigh and
+// shank primitives against the trunk's (LegTrunkPairs) and its shank's against its own hip's
+// (ShankHipPairs). The other three legs are not tested: their configuration is only known when a
+// contact is planned. The shank's pairs come first: a colliding sample is rejected soonest.
 //
-// Checked pairs (the other three legs stay at the reference configuration and are not tested:
-// their configuration is only known when a contact is planned):
-//  * every primitive of the leg's distal body (shank, adapter tube, foot: the links that move with
-//    KFE) against every trunk primitive (main body, belly bumps, the four HAA actuators) and
-//    against the primitives of the leg's own hip link (the links that move with HAA only);
-//  * every primitive of the thigh (the links that move with HFE but not KFE) against the trunk
-//    primitives that do not overlap it in the reference configuration (its own HAA actuator
-//    touches the thigh's upper protector by construction and is skipped).
-// Adjacent bodies (hip-thigh, thigh-shank) are never tested against each other: they overlap at
-// their joints by construction.
+// Narrow phase: the primitives are tested as they are, boxes and spheres exactly, cylinders
+// through their bounding capsule and bounding box (see convex_primitives.h), which never misses a
+// collision and rarely reports a false one. The reference configuration must pass this test
+// (the constructor checks it), so no tested pair overlaps by construction.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -23,6 +18,7 @@
 #include <vector>
 
 #include "convex_primitives.h"
+#include "rbcp/collision/robot_collision_model.h"
 #include "rbcp/robot/robot_model.h"
 
 namespace rbcp::limb_database_detail {
@@ -43,15 +39,19 @@ class LegSelfCollision {
   std::vector<std::string> PairNames() const;
 
  private:
-  ConvexPrimitive Posed(std::size_t shape, const std::vector<Eigen::Isometry3d>& link_poses) const;
+  ConvexPrimitive Posed(std::size_t primitive, const std::vector<Eigen::Isometry3d>& link_poses) const;
+  const std::string& Name(int primitive) const {
+    return collision_.Primitives()[static_cast<std::size_t>(primitive)].name;
+  }
 
   const RobotModel& model_;
+  RobotCollisionModel collision_;
   Leg leg_;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs_;  // indices into model_.CollisionShapes()
-  std::vector<std::size_t> moving_shapes_;                  // leg shapes taking part in some pair
+  std::vector<PrimitivePair> pairs_;
+  std::vector<std::size_t> moving_shapes_;  // leg primitives taking part in some pair
   mutable JointVector q_;
   mutable std::vector<Eigen::Isometry3d> link_poses_;
-  mutable std::vector<ConvexPrimitive> posed_;  // indexed like model_.CollisionShapes()
+  mutable std::vector<ConvexPrimitive> posed_;  // indexed like collision_.Primitives()
 };
 
 }  // namespace rbcp::limb_database_detail

@@ -53,6 +53,21 @@ TEST(LegSelfCollision, ChecksShankAndFootAgainstTrunkAndHipAndThighAgainstTrunk)
   for (const std::string& p : pairs) EXPECT_EQ(p.find("RF_shank"), std::string::npos) << p;
 }
 
+TEST(LegSelfCollision, PairsAreTheCollisionModelsLegTrunkAndShankHipPairs) {
+  const RobotCollisionModel model(Anymal());
+  const auto name = [&](int i) { return model.Primitives()[static_cast<std::size_t>(i)].name; };
+  for (Leg leg : kAllLegs) {
+    std::vector<std::string> expected;
+    for (const auto* pairs : {&model.LegTrunkPairs(leg), &model.ShankHipPairs(leg)}) {
+      for (const PrimitivePair& p : *pairs) expected.push_back(name(p.a) + " / " + name(p.b));
+    }
+    std::vector<std::string> tested = LegSelfCollision(Anymal(), leg).PairNames();
+    std::sort(expected.begin(), expected.end());
+    std::sort(tested.begin(), tested.end());
+    EXPECT_EQ(tested, expected) << LegName(leg);
+  }
+}
+
 TEST(LegSelfCollision, KnownCollisionsOnEveryLeg) {
   struct Case {
     Eigen::Vector3d q_lf;

@@ -1,101 +1,14 @@
 #include "rbcp/root_planner/rom.h"
 
-#include <fcl/narrowphase/collision.h>
-
-#include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 
+#include "rbcp/collision/robot_self_collision.h"
 #include "rbcp/core/error.h"
 #include "rbcp/robot/robot_model.h"
 
 namespace rbcp {
-namespace {
-
-std::shared_ptr<fcl::CollisionGeometryd> MakeGeometry(const CollisionShape& shape) {
-  switch (shape.kind) {
-    case CollisionShape::Kind::kBox:
-      return std::make_shared<fcl::Boxd>(shape.box_size.x(), shape.box_size.y(), shape.box_size.z());
-    case CollisionShape::Kind::kCylinder:
-      return std::make_shared<fcl::Cylinderd>(shape.radius, shape.length);
-    case CollisionShape::Kind::kSphere:
-      return std::make_shared<fcl::Sphered>(shape.radius);
-  }
-  RBCP_CHECK(false, "unknown collision shape kind");
-}
-
-// Collision primitives of one leg against the trunk's, for the self-collision test.
-class LegTrunkCollision {
- public:
-  LegTrunkCollision(const RobotModel& robot, Leg leg) : robot_(robot), leg_(leg) {
-    const std::string hip_link = std::string(LegName(leg)) + "_HIP";
-    const auto& shapes = robot.CollisionShapes();
-    for (std::size_t i = 0; i < shapes.size(); ++i) {
-      const CollisionShape& s = shapes[i];
-      if (!s.leg) {
-        trunk_.push_back(Entry{i, std::make_unique<fcl::CollisionObjectd>(MakeGeometry(s))});
-      } else if (*s.leg == leg && s.link != hip_link) {
-        // The hip link turns about the HAA axis fixed to the trunk: it is adjacent, not checked.
-        leg_shapes_.push_back(Entry{i, std::make_unique<fcl::CollisionObjectd>(MakeGeometry(s))});
-      }
-    }
-    // Pairs overlapping in the reference configuration overlap by design of the primitives.
-    const JointVector q_ref = robot.ReferenceConfiguration();
-    Place(q_ref);
-    for (std::size_t a = 0; a < leg_shapes_.size(); ++a) {
-      for (std::size_t b = 0; b < trunk_.size(); ++b) {
-        if (!Collide(a, b)) pairs_.emplace_back(a, b);
-      }
-    }
-  }
-
-  bool Collides(const Eigen::Vector3d& q_leg) {
-    JointVector q = robot_.ReferenceConfiguration();
-    SetLegJoints(q, leg_, q_leg);
-    Place(q);
-    for (const auto& [a, b] : pairs_) {
-      if (Collide(a, b)) return true;
-    }
-    return false;
-  }
-
- private:
-  struct Entry {
-    std::size_t shape;
-    std::unique_ptr<fcl::CollisionObjectd> object;
-  };
-
-  void Place(const JointVector& q) {
-    robot_.LinkPoses(q, &poses_);
-    const auto& shapes = robot_.CollisionShapes();
-    for (auto* list : {&trunk_, &leg_shapes_}) {
-      for (auto& e : *list) {
-        const CollisionShape& s = shapes[e.shape];
-        const Eigen::Isometry3d pose = poses_[static_cast<std::size_t>(s.link_index)] * s.pose_link;
-        e.object->setTransform(pose.rotation(), pose.translation());
-        e.object->computeAABB();
-      }
-    }
-  }
-
-  bool Collide(std::size_t a, std::size_t b) const {
-    const auto& oa = *leg_shapes_[a].object;
-    const auto& ob = *trunk_[b].object;
-    if (!oa.getAABB().overlap(ob.getAABB())) return false;
-    fcl::CollisionRequestd request;
-    fcl::CollisionResultd result;
-    return fcl::collide(&oa, &ob, request, result) > 0;
-  }
-
-  const RobotModel& robot_;
-  Leg leg_;
-  std::vector<Entry> trunk_;
-  std::vector<Entry> leg_shapes_;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs_;
-  std::vector<Eigen::Isometry3d> poses_;
-};
-
-}  // namespace
 
 RomGenerationConfig RomGenerationConfig::Load(const YamlMap& map) {
   RomGenerationConfig c;
@@ -174,8 +87,10 @@ std::vector<Eigen::Vector3d> SampleFootPositions(const RobotModel& robot, Leg le
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const Eigen::Vector3d lo = robot.LegLowerBounds(leg);
   const Eigen::Vector3d hi = robot.LegUpperBounds(leg);
-  std::unique_ptr<LegTrunkCollision> collision;
-  if (config.reject_self_collisions) collision = std::make_unique<LegTrunkCollision>(robot, leg);
+  // The leg against the trunk (the other legs' configurations are not known here).
+  std::optional<RobotSelfCollision> collision;
+  if (config.reject_self_collisions) collision.emplace(robot, RobotCollisionModel(robot), /*measure_penetration=*/false);
+  JointVector q_robot = robot.ReferenceConfiguration();
   std::vector<Eigen::Vector3d> feet;
   feet.reserve(static_cast<std::size_t>(config.samples));
   int rejected = 0;
@@ -193,7 +108,8 @@ std::vector<Eigen::Vector3d> SampleFootPositions(const RobotModel& robot, Leg le
   for (int i = 0; i < config.samples; ++i) {
     Eigen::Vector3d q;
     for (int j = 0; j < 3; ++j) q[j] = lo[j] + unit(rng) * (hi[j] - lo[j]);
-    if (collision && collision->Collides(q)) {
+    SetLegJoints(q_robot, leg, q);
+    if (collision && collision->CheckLegTrunk(q_robot, leg).collision) {
       ++rejected;
       continue;
     }

@@ -23,11 +23,10 @@
 /// shank tilts more than ~27 degrees from the normal; without its last 2 cm, beyond ~62 degrees).
 /// Shanks, thighs and hips are always checked, and swing legs are checked whole.
 ///
-/// Self-collision: shapes of different legs against each other, and leg shapes against trunk
-/// shapes. Not checked: pairs within one leg, a leg's <LEG>_HIP link against the trunk (they
-/// share the HAA joint), and the leg-trunk pairs that already overlap in
-/// the reference standing configuration (primitives that overlap by construction, e.g. the
-/// thigh's upper protector around the HAA actuator); SelfCollisionExclusions() lists them.
+/// Self-collision (CheckSelf): RobotSelfCollision over the pairs of the robot's
+/// RobotCollisionModel, built with this checker's thigh and trunk margins: each leg against the
+/// trunk and against the other legs, without the pairs that model leaves out (adjacent bodies,
+/// pairs within one leg, leg-trunk pairs overlapping in the reference configuration).
 ///
 /// Thread safety and cost: every query is const and keeps its scratch space per thread, so one
 /// instance may be shared by several threads. Once warm, the library allocates nothing per query
@@ -42,27 +41,13 @@
 #include <utility>
 #include <vector>
 
+#include "rbcp/collision/collision_report.h"
+#include "rbcp/collision/robot_self_collision.h"
 #include "rbcp/core/leg.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/robot/robot_model.h"
 
 namespace rbcp {
-
-/// Outcome of a collision query. When several shapes collide, the first in checking order is
-/// reported. Terrain: trunk shapes, then the legs LF, RF, LH, RH, each from hip to foot, in the
-/// order of RobotModel::CollisionShapes(). Self: for each leg in turn, its shapes against the
-/// trunk's, then against each later leg's.
-struct CollisionReport {
-  bool collision = false;
-  std::string first_shape;  ///< URDF collision name of the robot shape (the link name if unnamed)
-  /// "terrain", or for self-collision the other robot shape's name (e.g. "LH_shank").
-  std::string obstacle;
-  /// Depth [m] of the deepest contact FCL reports between the two (the shortest translation
-  /// separating the shape from one terrain triangle or from the other shape). For a stance foot,
-  /// the depth of the full sphere. For a shape enclosed by the terrain: the vertical distance from
-  /// its centre up to the nearest upward-facing terrain triangle above it.
-  double penetration = 0.0;
-};
 
 /// Tolerances of the stance legs (see the file comment).
 struct CollisionOptions {
@@ -108,8 +93,8 @@ class RobotTerrainCollision {
   /// The trunk (the base link's shapes) against the terrain.
   CollisionReport CheckTrunk(const Eigen::Isometry3d& base_W) const;
 
-  /// Self-collision: leg against leg (different legs) and leg against trunk, with the exclusions
-  /// listed by SelfCollisionExclusions(). Independent of the base pose.
+  /// Self-collision: leg against leg (different legs) and leg against trunk
+  /// (RobotSelfCollision::Check). Independent of the base pose.
   CollisionReport CheckSelf(const JointVector& q) const;
   /// The pairs of CheckSelf(q) that hold a shape of `leg`: where a configuration differs from
   /// one that passed CheckSelf only in that leg's joints (a swing), the same verdict for less work.
@@ -119,7 +104,8 @@ class RobotTerrainCollision {
   bool InsideTerrain(const Eigen::Vector3d& p_W) const;
 
   /// Leg-trunk shape pairs (leg shape name, trunk shape name) that CheckSelf does not test
-  /// because they overlap in the reference configuration; HIP-trunk pairs are not listed.
+  /// because they overlap in the reference configuration (RobotCollisionModel::ReferenceOverlaps);
+  /// hip-trunk pairs are not listed.
   std::vector<std::pair<std::string, std::string>> SelfCollisionExclusions() const;
 
   const CollisionOptions& Options() const;

@@ -3,9 +3,8 @@
 /// contact point can reach within the planning joint bounds without the leg hitting the trunk.
 ///
 /// Generation: leg configurations are drawn uniformly within the planning joint bounds (seeded
-/// std::mt19937_64); a configuration is rejected when a collision primitive of the leg's thigh,
-/// shank, adapter or foot overlaps a trunk primitive (pairs already overlapping in the reference
-/// configuration are design overlaps and ignored); the foot contact points of the rest are
+/// std::mt19937_64); a configuration is rejected when the leg hits the trunk (its leg-trunk pairs
+/// of RobotCollisionModel, RobotSelfCollision::CheckLegTrunk); the foot contact points of the rest are
 /// wrapped in their convex hull (Qhull), which is simplified to at most `max_triangles` triangles
 /// (an inner approximation, so never larger than the true hull) and finally scaled by `scale`
 /// about the shape's volume centroid or the leg's HAA joint origin.
