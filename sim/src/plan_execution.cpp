@@ -302,7 +302,7 @@ void PlanExecution::Decide(std::optional<ExecutionFailure> failure) {
 void PlanExecution::Judge(const RobotState& state, const JointVector& commanded) {
   const double t = state.t;
   const ControllerStatus& status = controller_->Status();
-  const double limit = config_.physics.torque_limit_Nm;
+  const double limit = robot_.ContinuousTorqueLimit();
   outcome_.max_torque_ratio = std::max(outcome_.max_torque_ratio, state.tau.cwiseAbs().maxCoeff() / limit);
   if (status.phase == ControllerPhase::kSwing) {
     outcome_.min_support_margin_m = std::min(outcome_.min_support_margin_m, status.support_margin_m);

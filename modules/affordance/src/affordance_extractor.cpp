@@ -398,8 +398,7 @@ void AffordanceExtractor::Workspace::ChainBoundary(int region, const RegionPlane
 
 AffordanceExtractor::AffordanceExtractor(AffordanceConfig config)
     : config_(config), ws_(std::make_unique<Workspace>()) {
-  const std::string problem = config_.Problem();
-  if (!problem.empty()) throw InputError("affordance config: " + problem);
+  config_.Validate("affordance config");
 }
 
 AffordanceExtractor::~AffordanceExtractor() = default;
