@@ -37,9 +37,10 @@ constexpr double kContactErp = 0.02;
 constexpr double kWarmStartingFactor = 0.85;
 // Generalized velocity clamp of the btMultiBody [m/s, rad/s], as a multiple of the joint speed
 // bound (and at least 50): a numerical safety net only.
-double MaxCoordinateVelocity(const PhysicsConfig& c) { return std::max(50.0, 4.0 * c.joint_velocity_limit_radps); }
+double MaxCoordinateVelocity(double joint_velocity_limit_radps) { return std::max(50.0, 4.0 * joint_velocity_limit_radps); }
 
-/// The planning parameters next to the URDF (same name, .yaml): the reference configuration.
+/// The planning parameters next to the URDF (same name, .yaml): the reference configuration and
+/// the torque and joint speed limits.
 std::string RobotYamlPath(const std::string& urdf_path) {
   return std::filesystem::path(urdf_path).replace_extension(".yaml").string();
 }
@@ -80,6 +81,8 @@ struct BulletWorld::Impl {
   PhysicsConfig config;
   RobotDescription description;
   JointVector q_reference = JointVector::Zero();
+  double torque_limit_Nm = 0.0;             ///< the robot's continuous torque limit
+  double joint_velocity_limit_radps = 0.0;  ///< the robot's joint speed limit
 
   std::unique_ptr<btDefaultCollisionConfiguration> collision_configuration;
   std::unique_ptr<Dispatcher> dispatcher;
@@ -212,7 +215,10 @@ BulletWorld::BulletWorld(const std::string& urdf_path, const std::vector<Terrain
   Impl& m = *impl_;
   m.config = config;
   m.description = RobotDescription::FromUrdf(urdf_path);
-  m.q_reference = RobotModel::Load(urdf_path, RobotYamlPath(urdf_path)).ReferenceConfiguration();
+  const RobotModel robot = RobotModel::Load(urdf_path, RobotYamlPath(urdf_path));
+  m.q_reference = robot.ReferenceConfiguration();
+  m.torque_limit_Nm = robot.ContinuousTorqueLimit();
+  m.joint_velocity_limit_radps = robot.JointVelocityLimit();
   m.base_com_from_link = m.description.bodies[RobotDescription::kBase].inertial_frame.inverse();
 
   m.collision_configuration = std::make_unique<btDefaultCollisionConfiguration>();
@@ -236,7 +242,7 @@ BulletWorld::BulletWorld(const std::string& urdf_path, const std::vector<Terrain
   info.m_timeStep = config.time_step_s;
 
   InstallSelfCollisionCallbacks();
-  m.robot = MultiBodyRobot::Build(m.description, config.friction, MaxCoordinateVelocity(config));
+  m.robot = MultiBodyRobot::Build(m.description, config.friction, MaxCoordinateVelocity(m.joint_velocity_limit_radps));
   m.robot.AddTo(m.world.get());
   m.robot_in_world = true;
   m.ExcludeOverlapsByConstruction();
@@ -266,9 +272,9 @@ JointVector BulletWorld::SetJointTorques(const JointVector& tau_command) {
       throw InputError("BulletWorld::SetJointTorques: '" + JointName(i) + "': expected a finite torque, got " +
                        std::to_string(tau_command[i]));
     }
-    m.command[i] = std::clamp(tau_command[i], -m.config.torque_limit_Nm, m.config.torque_limit_Nm);
-    next[i] = ActuatorTorque(m.command[i], m.Mb().getJointVel(i), m.config.torque_limit_Nm,
-                             m.config.joint_velocity_limit_radps);
+    m.command[i] = std::clamp(tau_command[i], -m.torque_limit_Nm, m.torque_limit_Nm);
+    next[i] = ActuatorTorque(m.command[i], m.Mb().getJointVel(i), m.torque_limit_Nm,
+                             m.joint_velocity_limit_radps);
   }
   return next;
 }
@@ -280,8 +286,8 @@ void BulletWorld::Step() {
   // Bullet clears joint torques after each stepSimulation and addJointTorque accumulates, so
   // each torque is added exactly once per step.
   for (int i = 0; i < kNumJoints; ++i) {
-    m.applied[i] = ActuatorTorque(m.command[i], mb.getJointVel(i), m.config.torque_limit_Nm,
-                                  m.config.joint_velocity_limit_radps);
+    m.applied[i] = ActuatorTorque(m.command[i], mb.getJointVel(i), m.torque_limit_Nm,
+                                  m.joint_velocity_limit_radps);
     mb.addJointTorque(i, m.applied[i]);
   }
   // Like joint torques, external forces are cleared after every step.

@@ -301,8 +301,8 @@ void PlanExecution::Decide(std::optional<ExecutionFailure> failure) {
 
 void PlanExecution::Judge(const RobotState& state, const JointVector& commanded) {
   const ControllerStatus& status = controller_->Status();
-  outcome_.max_torque_ratio =
-      std::max(outcome_.max_torque_ratio, state.tau.cwiseAbs().maxCoeff() / config_.physics.torque_limit_Nm);
+  const double limit = robot_.ContinuousTorqueLimit();
+  outcome_.max_torque_ratio = std::max(outcome_.max_torque_ratio, state.tau.cwiseAbs().maxCoeff() / limit);
   if (status.phase == ControllerPhase::kSwing) {
     outcome_.min_support_margin_m = std::min(outcome_.min_support_margin_m, status.support_margin_m);
   }
@@ -406,7 +406,7 @@ std::optional<ExecutionFailure> PlanExecution::SlipFailure(const RobotState& sta
 
 std::optional<ExecutionFailure> PlanExecution::SaturationFailure(double t, const JointVector& commanded) {
   // Each joint's time at the limit runs from the first tick of its command there.
-  const double limit = config_.physics.torque_limit_Nm;
+  const double limit = robot_.ContinuousTorqueLimit();
   for (int j = 0; j < kNumJoints; ++j) {
     const std::size_t k = static_cast<std::size_t>(j);
     if (std::abs(commanded[j]) >= limit - 1e-9) {

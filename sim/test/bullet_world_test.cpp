@@ -236,7 +236,7 @@ TEST(BulletWorld, TorqueIsCutAtTheSpeedLimit) {
   BulletWorld world(test::UrdfPath(), {}, test::ShippedPhysics());
   world.ResetRobot(Eigen::Vector3d(0, 0, 5), Eigen::Quaterniond::Identity(), Model().ReferenceConfiguration());
   const int knee = 2;
-  const double limit = world.Config().joint_velocity_limit_radps;
+  const double limit = Model().JointVelocityLimit();
   double peak = 0.0;
   int cut_steps = 0;
   for (int k = 0; k < test::StepsFor(world, 0.2); ++k) {

@@ -10,8 +10,7 @@ namespace {
 using rbcp::test_support::ErrorOf;
 
 constexpr const char* kValid =
-    "{gravity_mps2: 9.8, time_step_s: 0.0005, solver_iterations: 40, friction: 0.7, torque_limit_Nm: 35, "
-    "joint_velocity_limit_radps: 12}";
+    "{gravity_mps2: 9.8, time_step_s: 0.0005, solver_iterations: 40, friction: 0.7}";
 
 std::string ErrorWith(const char* key, const char* value) {
   YAML::Node node = YAML::Load(kValid);
@@ -25,8 +24,6 @@ TEST(PhysicsConfig, LoadsTheShippedFile) {
   EXPECT_NEAR(c.time_step_s, 1.0 / 1200.0, 1e-15);
   EXPECT_GE(c.solver_iterations, 1);
   EXPECT_DOUBLE_EQ(c.friction, 0.8);
-  EXPECT_DOUBLE_EQ(c.torque_limit_Nm, 40.0);
-  EXPECT_DOUBLE_EQ(c.joint_velocity_limit_radps, 15.0);
 }
 
 TEST(PhysicsConfig, ReadsEveryKey) {
@@ -35,8 +32,6 @@ TEST(PhysicsConfig, ReadsEveryKey) {
   EXPECT_DOUBLE_EQ(c.time_step_s, 0.0005);
   EXPECT_EQ(c.solver_iterations, 40);
   EXPECT_DOUBLE_EQ(c.friction, 0.7);
-  EXPECT_DOUBLE_EQ(c.torque_limit_Nm, 35.0);
-  EXPECT_DOUBLE_EQ(c.joint_velocity_limit_radps, 12.0);
 }
 
 TEST(PhysicsConfig, RejectsMissingAndUnknownKeys) {
@@ -52,6 +47,8 @@ TEST(PhysicsConfig, RejectsMissingAndUnknownKeys) {
               PhysicsConfig::Load(YamlMap(node, "sim.yaml: physics"));
             }),
             "sim.yaml: physics: 'damping': unknown key");
+  // The robot's limits are the robot model's (config/robots/anymal_b.yaml), not the simulator's.
+  EXPECT_EQ(ErrorWith("torque_limit_Nm", "40"), "sim.yaml: physics: 'torque_limit_Nm': unknown key");
 }
 
 TEST(PhysicsConfig, RejectsOutOfRangeValues) {
@@ -60,10 +57,6 @@ TEST(PhysicsConfig, RejectsOutOfRangeValues) {
   EXPECT_EQ(ErrorWith("time_step_s", "0.001"), "");
   EXPECT_EQ(ErrorWith("solver_iterations", "0"), "sim.yaml: physics: 'solver_iterations': expected an integer >= 1, got 0");
   EXPECT_EQ(ErrorWith("friction", "0"), "sim.yaml: physics: 'friction': expected a positive number, got 0");
-  EXPECT_EQ(ErrorWith("torque_limit_Nm", "-1"),
-            "sim.yaml: physics: 'torque_limit_Nm': expected a positive number [N m], got -1");
-  EXPECT_EQ(ErrorWith("joint_velocity_limit_radps", "0"),
-            "sim.yaml: physics: 'joint_velocity_limit_radps': expected a positive number [rad/s], got 0");
   EXPECT_EQ(ErrorWith("gravity_mps2", "-9.81"),
             "sim.yaml: physics: 'gravity_mps2': expected a non-negative number [m/s^2], got -9.81");
   EXPECT_EQ(ErrorWith("gravity_mps2", "0"), "");

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "flat_ground_plan.h"
 #include "rbcp/controller/controller_config.h"
@@ -29,6 +31,25 @@ struct Models {
 const Models& Get() {
   static const Models setup;
   return setup;
+}
+
+/// The shipped robot with another continuous torque limit [N m]: its planning parameters written
+/// to a file of their own with that one line changed.
+RobotModel RobotWithTorqueLimit(double limit_Nm) {
+  std::ifstream in(ConfigDir() + "/robots/anymal_b.yaml");
+  std::string text;
+  int replaced = 0;
+  for (std::string line; std::getline(in, line);) {
+    const bool limit = line.rfind("continuous_torque_limit:", 0) == 0;
+    replaced += limit ? 1 : 0;
+    std::ostringstream changed;
+    changed << "continuous_torque_limit: " << limit_Nm;
+    text += (limit ? changed.str() : line) + "\n";
+  }
+  EXPECT_EQ(replaced, 1) << "the robot file names its continuous torque limit once";
+  const std::string path = ::testing::TempDir() + "/anymal_b_torque_limit.yaml";
+  std::ofstream(path) << text;
+  return RobotModel::Load(Get().urdf, path);
 }
 
 /// What ended a run, for the message of a failed expectation.
@@ -209,7 +230,7 @@ TEST(PlanExecution, TheTraceCarriesJointsTorquesAndTheSupportMargin) {
       EXPECT_GT(s.support_margin_m, 0.0) << "t " << s.t;
     }
     if (in_contact == 4) ++four_feet;
-    EXPECT_LE(s.torques.cwiseAbs().maxCoeff(), g.sim.physics.torque_limit_Nm + 1e-9);
+    EXPECT_LE(s.torques.cwiseAbs().maxCoeff(), g.robot.ContinuousTorqueLimit() + 1e-9);
   }
   EXPECT_GT(three_feet, 0);
   EXPECT_GT(four_feet, 0);
@@ -260,12 +281,11 @@ TEST(PlanExecution, AFootholdThatIsNotThereEndsTheRunAsNoGround) {
 TEST(PlanExecution, WithoutTorquesTheRobotCollapsesAndTheJudgeSaysFall) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
-  ControllerConfig limp = g.controller;
-  limp.torque_limit_Nm = 1e-9;  // the controller commands (next to) nothing ...
+  const RobotModel limp = RobotWithTorqueLimit(1e-9);  // the controller commands (next to) nothing ...
   SimConfig patient = g.sim;
   patient.outcome.max_saturation_s = 100.0;  // ... which is not to count as saturation here,
   patient.outcome.max_slip_m = 1.0;          // nor the feet sliding apart as it sinks
-  PlanExecution run(g.robot, g.urdf, scenario, patient, limp, g.stance);
+  PlanExecution run(limp, g.urdf, scenario, patient, g.controller, g.stance);
   run.Start(BuildFlatGroundPlan(g.robot, 4, 0.08));
   const ExecutionOutcome& o = run.Run();
   ASSERT_TRUE(o.failure.has_value());

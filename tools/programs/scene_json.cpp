@@ -26,7 +26,6 @@
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/scenario/scenario.h"
-#include "rbcp/sim/sim_config.h"
 #include "view_json.h"
 
 namespace {
@@ -86,7 +85,6 @@ json Joints(const std::string& urdf_path) {
 json Robot(const std::string& config_dir) {
   const std::string urdf_path = config_dir + "/robots/anymal_b.urdf";
   const rbcp::RobotModel robot = rbcp::RobotModel::Load(urdf_path, config_dir + "/robots/anymal_b.yaml");
-  const rbcp::sim::SimConfig sim_config = rbcp::sim::SimConfig::LoadFile(config_dir + "/sim.yaml");
   const rbcp::StanceConfig stance_config = rbcp::StanceConfig::LoadFile(config_dir + "/stance.yaml");
 
   json links = json::array();
@@ -133,7 +131,7 @@ json Robot(const std::string& config_dir) {
           {"reference_configuration", q_reference},
           {"reference_link_poses", reference_poses},
           {"nominal_base_height", robot.NominalBaseHeight()},
-          {"torque_limit_Nm", sim_config.physics.torque_limit_Nm},
+          {"torque_limit_Nm", robot.ContinuousTorqueLimit()},
           {"urdf_effort_limit_Nm", robot.TorqueLimit()},
           {"support_margin_m", stance_config.support_margin_m},
           {"foot_radius", robot.FootRadius()},
@@ -150,7 +148,7 @@ int main(int argc, char** argv) {
   std::string scenario_path, config_dir = rbcp::DefaultConfigDir();
   app.add_option("--scenario", scenario_path, "scenario YAML")->check(CLI::ExistingFile);
   app.add_option("--config-dir", config_dir,
-                 "folder with affordance.yaml, sim.yaml, controller.yaml and robots/ (default: $RBCP_CONFIG_DIR, "
+                 "folder with affordance.yaml, stance.yaml and robots/ (default: $RBCP_CONFIG_DIR, "
                  "else the installed PREFIX/share/rbcp/config, else the checkout's config/)")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);

@@ -522,8 +522,7 @@ bool AffordanceExtractor::Workspace::WriteConvexPieces(const RegionPlane& plane,
 
 AffordanceExtractor::AffordanceExtractor(AffordanceConfig config)
     : config_(config), ws_(std::make_unique<Workspace>()) {
-  const std::string problem = config_.Problem();
-  if (!problem.empty()) throw InputError("affordance config: " + problem);
+  config_.Validate("affordance config");
 }
 
 AffordanceExtractor::~AffordanceExtractor() = default;

@@ -18,14 +18,10 @@ std::string LoadError(const std::string& yaml) {
 
 const char* kValid = "{max_inclination_deg: 30, neighbour_angle_deg: 5, min_area: 1e-3, edge_margin: 0.05}";
 
-TEST(AffordanceConfig, CommittedFileHoldsTheDefaults) {
+TEST(AffordanceConfig, TheShippedFileHoldsTheDefaults) {
   const AffordanceConfig c = AffordanceConfig::LoadFile(std::string(RBCP_SOURCE_DIR) + "/config/affordance.yaml");
-  const AffordanceConfig d;
-  EXPECT_DOUBLE_EQ(c.max_inclination_deg, d.max_inclination_deg);
-  EXPECT_DOUBLE_EQ(c.neighbour_angle_deg, d.neighbour_angle_deg);
-  EXPECT_DOUBLE_EQ(c.min_area, d.min_area);
-  EXPECT_DOUBLE_EQ(c.edge_margin, d.edge_margin);
-  EXPECT_EQ(d.Problem(), "");
+  EXPECT_EQ(DifferingFields(c, AffordanceConfig()), std::vector<std::string>{});
+  EXPECT_NO_THROW(AffordanceConfig().Validate());
 }
 
 TEST(AffordanceConfig, ReadsEveryKey) {
@@ -42,13 +38,13 @@ TEST(AffordanceConfig, StrictAboutKeysAndRanges) {
   EXPECT_EQ(LoadError("{max_inclination_deg: 30, neighbour_angle_deg: 5, min_area: 1e-3, edge_margin: 0.05, foo: 1}"),
             "aff.yaml: 'foo': unknown key");
   EXPECT_EQ(LoadError("{max_inclination_deg: 95, neighbour_angle_deg: 5, min_area: 1e-3, edge_margin: 0.05}"),
-            "aff.yaml: 'max_inclination_deg': expected an angle in (0, 90) deg, got 95");
+            "aff.yaml: 'max_inclination_deg': expected a number in (0, 90) [deg], got 95");
   EXPECT_EQ(LoadError("{max_inclination_deg: 30, neighbour_angle_deg: 0, min_area: 1e-3, edge_margin: 0.05}"),
-            "aff.yaml: 'neighbour_angle_deg': expected an angle in (0, 90) deg, got 0");
+            "aff.yaml: 'neighbour_angle_deg': expected a number in (0, 90) [deg], got 0");
   EXPECT_EQ(LoadError("{max_inclination_deg: 30, neighbour_angle_deg: 5, min_area: -1, edge_margin: 0.05}"),
-            "aff.yaml: 'min_area': expected an area >= 0 m^2, got -1");
+            "aff.yaml: 'min_area': expected a non-negative number [m^2], got -1");
   EXPECT_EQ(LoadError("{max_inclination_deg: 30, neighbour_angle_deg: 5, min_area: 0, edge_margin: -0.01}"),
-            "aff.yaml: 'edge_margin': expected a distance >= 0 m, got -0.01");
+            "aff.yaml: 'edge_margin': expected a non-negative number [m], got -0.01");
   EXPECT_EQ(LoadError("{max_inclination_deg: 30, neighbour_angle_deg: 5, min_area: 0, edge_margin: x}"),
             "aff.yaml: 'edge_margin': expected a number, got 'x'");
 }
@@ -60,7 +56,7 @@ TEST(AffordanceConfig, ExtractorRejectsAnOutOfRangeConfig) {
     AffordanceExtractor extractor(c);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "affordance config: 'edge_margin': expected a distance >= 0 m, got -0.5");
+    EXPECT_STREQ(e.what(), "affordance config: 'edge_margin': expected a non-negative number [m], got -0.5");
   }
 }
 

@@ -24,8 +24,9 @@ void ExpectRejectedNaming(const YAML::Node& node, const std::string& key) {
   }
 }
 
-TEST(ContactPlannerConfigTest, LoadsTheCommittedFile) {
+TEST(ContactPlannerConfigTest, TheShippedFileHoldsTheDefaults) {
   const ContactPlannerConfig c = ContactPlannerConfig::LoadFile(kFile);
+  EXPECT_EQ(DifferingFields(c, ContactPlannerConfig()), std::vector<std::string>{});
   EXPECT_EQ(c.path_step_s, 0.02);
   EXPECT_EQ(c.foothold.lead_time_s, 0.6);
   EXPECT_EQ(c.base_pose.pitch_follow, 0.6);
@@ -101,7 +102,9 @@ TEST(ContactPlannerConfigTest, RejectsUnknownMissingAndOutOfRangeKeys) {
   {
     YAML::Node n = YAML::LoadFile(kFile);
     n["base_shift"]["lateral_offsets_m"] = std::vector<double>{0.5, -0.1};  // beyond max_base_shift_m
-    ExpectRejectedNaming(n, "lateral_offsets_m");
+    ExpectRejectedNaming(n, "test: base_shift: 'lateral_offsets_m[0]': expected a number in "
+                            "[-max_base_shift_m, max_base_shift_m] [m] (-max_base_shift_m = -0.16, "
+                            "max_base_shift_m = 0.16), got 0.5");
   }
   {
     YAML::Node n = YAML::LoadFile(kFile);
@@ -111,7 +114,7 @@ TEST(ContactPlannerConfigTest, RejectsUnknownMissingAndOutOfRangeKeys) {
   {
     YAML::Node n = YAML::LoadFile(kFile);
     n["merge"]["workspace_scale"] = 0.8;  // a merge would keep a foot only where the search does not
-    ExpectRejectedNaming(n, "merge.workspace_scale");
+    ExpectRejectedNaming(n, "test: merge: 'workspace_scale'");
   }
   {
     YAML::Node n = YAML::LoadFile(kFile);

@@ -494,7 +494,7 @@ JointVector PlanController::Torques(const Measured& m) {
     }
     SetLegJoints(tau, leg, t);
   }
-  const double limit = config_.torque_limit_Nm;
+  const double limit = robot_.ContinuousTorqueLimit();
   return tau.cwiseMax(-limit).cwiseMin(limit);
 }
 

@@ -1,18 +1,12 @@
 #include "rbcp/core/config_checks.h"
 
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
 #include "rbcp/core/error.h"
 
 namespace rbcp {
-namespace {
-
-std::string WithUnit(const std::string& what, const std::string& unit) {
-  return unit.empty() ? what : what + " [" + unit + "]";
-}
-
-}  // namespace
 
 std::string ConfigNumber(double value) {
   std::ostringstream os;
@@ -20,36 +14,72 @@ std::string ConfigNumber(double value) {
   return os.str();
 }
 
+std::string ExactNumber(double value) {
+  char text[64];
+  const std::to_chars_result r = std::to_chars(text, text + sizeof(text), value);
+  return std::string(text, r.ptr);
+}
+
+Bounds Bounds::WithLow(End end) const {
+  Bounds b = *this;
+  b.low_ = std::move(end);
+  return b;
+}
+
+Bounds Bounds::WithHigh(End end) const {
+  Bounds b = *this;
+  b.high_ = std::move(end);
+  return b;
+}
+
+bool Bounds::Holds(double value) const {
+  if (!std::isfinite(value)) return false;
+  if (low_ && !(low_->inclusive ? value >= low_->value : value > low_->value)) return false;
+  if (high_ && !(high_->inclusive ? value <= high_->value : value < high_->value)) return false;
+  return true;
+}
+
+std::string Bounds::EndText(const End& end) const { return end.name.empty() ? ConfigNumber(end.value) : end.name; }
+
+std::string Bounds::Text() const {
+  if (low_ && high_) {
+    return (low_->inclusive ? "[" : "(") + EndText(*low_) + ", " + EndText(*high_) + (high_->inclusive ? "]" : ")");
+  }
+  if (low_) return (low_->inclusive ? ">= " : "> ") + EndText(*low_);
+  if (high_) return (high_->inclusive ? "<= " : "< ") + EndText(*high_);
+  return "any";
+}
+
+std::string Bounds::Expected(bool integer, const std::string& unit) const {
+  const std::string noun = integer ? "integer" : "number";
+  std::string what;
+  if (!low_ && !high_) {
+    what = integer ? "an integer" : "a finite number";
+  } else if (low_ && !high_ && low_->name.empty() && low_->value == 0.0) {
+    what = (low_->inclusive ? "a non-negative " : "a positive ") + noun;
+  } else {
+    what = (integer ? "an integer " : "a number ") + std::string(low_ && high_ ? "in " : "") + Text();
+  }
+  if (!unit.empty()) what += " [" + unit + "]";
+  std::string named;
+  for (const std::optional<End>& end : {low_, high_}) {
+    if (!end || end->name.empty()) continue;
+    named += (named.empty() ? "" : ", ") + end->name + " = " + ConfigNumber(end->value);
+  }
+  return named.empty() ? what : what + " (" + named + ")";
+}
+
 void ConfigChecks::Fail(const std::string& key, const std::string& expected, const std::string& got) const {
   throw InputError(where_ + ": '" + key + "': expected " + expected + ", got " + got);
 }
 
-void ConfigChecks::Positive(const std::string& key, double value, const std::string& unit) const {
-  if (!(std::isfinite(value) && value > 0.0)) Fail(key, WithUnit("a positive number", unit), ConfigNumber(value));
+void ConfigChecks::Check(const std::string& key, double value, const Bounds& bounds, const std::string& unit) const {
+  if (!bounds.Holds(value)) Fail(key, bounds.Expected(false, unit), ConfigNumber(value));
 }
 
-void ConfigChecks::NonNegative(const std::string& key, double value, const std::string& unit) const {
-  if (!(std::isfinite(value) && value >= 0.0)) Fail(key, WithUnit("a non-negative number", unit), ConfigNumber(value));
-}
-
-void ConfigChecks::Finite(const std::string& key, double value) const {
-  if (!std::isfinite(value)) Fail(key, "a finite number", ConfigNumber(value));
-}
-
-void ConfigChecks::InRange(const std::string& key, double value, double lo, double hi, const std::string& unit) const {
-  if (!(std::isfinite(value) && value >= lo && value <= hi)) {
-    Fail(key, WithUnit("a number in [" + ConfigNumber(lo) + ", " + ConfigNumber(hi) + "]", unit), ConfigNumber(value));
-  }
-}
-
-void ConfigChecks::AtLeast(const std::string& key, int value, int min) const {
-  if (value < min) Fail(key, "an integer >= " + std::to_string(min), std::to_string(value));
-}
-
-void ConfigChecks::InRange(const std::string& key, int value, int lo, int hi) const {
-  if (value < lo || value > hi) {
-    Fail(key, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", std::to_string(value));
-  }
+void ConfigChecks::CheckInteger(const std::string& key, long long value, const Bounds& bounds,
+                                const std::string& unit) const {
+  if (!bounds.Holds(static_cast<double>(value))) Fail(key, bounds.Expected(true, unit), std::to_string(value));
 }
 
 }  // namespace rbcp

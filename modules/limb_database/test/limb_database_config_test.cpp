@@ -17,8 +17,9 @@ const char* kValid =
     "samples_per_leg: 1000\noctree_resolution: 0.02\nseed: 7\nweight_haa: 100\nweight_hfe: 1\n"
     "weight_kfe: 0.5\ncache_dir: /tmp/x\n";
 
-TEST(LimbDatabaseConfig, ShippedFileHasThePaperValues) {
+TEST(LimbDatabaseConfig, TheShippedFileHoldsTheDefaultsThePapersValues) {
   const LimbDatabaseConfig c = LimbDatabaseConfig::LoadFile(test::ConfigDir() + "/limb_database.yaml");
+  EXPECT_EQ(DifferingFields(c, LimbDatabaseConfig()), std::vector<std::string>{});
   EXPECT_EQ(c.samples_per_leg, 50000);
   EXPECT_DOUBLE_EQ(c.octree_resolution, 0.01);
   EXPECT_DOUBLE_EQ(c.weight_haa, 1.0);

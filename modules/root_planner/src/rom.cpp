@@ -2,7 +2,6 @@
 
 #include <optional>
 #include <random>
-#include <sstream>
 
 #include "rbcp/collision/robot_self_collision.h"
 #include "rbcp/core/error.h"
@@ -10,69 +9,20 @@
 
 namespace rbcp {
 
-RomGenerationConfig RomGenerationConfig::Load(const YamlMap& map) {
-  RomGenerationConfig c;
-  c.samples = map.Int("samples");
-  if (c.samples < 100) map.Fail("samples", "expected at least 100, got " + std::to_string(c.samples));
-  const int seed = map.Int("seed");
-  if (seed < 0) map.Fail("seed", "expected a non-negative integer, got " + std::to_string(seed));
-  c.seed = static_cast<std::uint64_t>(seed);
-  c.max_triangles = map.Int("max_triangles");
-  if (c.max_triangles < 4) map.Fail("max_triangles", "expected at least 4, got " + std::to_string(c.max_triangles));
-  c.tolerance = map.Double("tolerance");
-  if (!(c.tolerance >= 0.0)) map.Fail("tolerance", "expected a length >= 0 m, got " + std::to_string(c.tolerance));
-  c.scale = map.Double("scale");
-  if (!(c.scale > 0.0 && c.scale <= 1.0)) map.Fail("scale", "expected a factor in (0, 1], got " + std::to_string(c.scale));
-  const std::string center = map.String("scale_center");
-  if (center == "centroid") {
-    c.scale_center = ScaleCenter::kCentroid;
-  } else if (center == "hip") {
-    c.scale_center = ScaleCenter::kHip;
-  } else {
-    map.Fail("scale_center", "expected 'centroid' or 'hip', got '" + center + "'");
-  }
-  c.reject_self_collisions = map.Bool("reject_self_collisions");
-  if (map.Has("foot_box")) {
-    const YamlMap box = map.Map("foot_box");
-    FootBox b;
-    const auto extent = [&](const char* key) {
-      const double v = box.Double(key);
-      if (!(v > 0.0)) box.Fail(key, "expected a positive length [m], got " + std::to_string(v));
-      return v;
-    };
-    b.forward = extent("forward");
-    b.backward = extent("backward");
-    b.outward = extent("outward");
-    b.inward = extent("inward");
-    b.up = extent("up");
-    b.down = extent("down");
-    box.RejectUnknownKeys();
-    c.foot_box = b;
-  }
-  map.RejectUnknownKeys();
-  return c;
-}
-
-RomGenerationConfig RomGenerationConfig::LoadFile(const std::string& path) { return Load(YamlMap::LoadFile(path)); }
-
 std::vector<std::string> RomGenerationConfig::Describe() const {
-  std::ostringstream scale_text;
-  scale_text << scale;
-  std::ostringstream tolerance_text;
-  tolerance_text << tolerance;
-  std::vector<std::string> lines = {"samples: " + std::to_string(samples),
-          "seed: " + std::to_string(seed),
-          "max_triangles: " + std::to_string(max_triangles),
-          "tolerance: " + tolerance_text.str(),
-          "scale: " + scale_text.str(),
-          std::string("scale_center: ") + (scale_center == ScaleCenter::kCentroid ? "centroid" : "hip"),
-          std::string("reject_self_collisions: ") + (reject_self_collisions ? "true" : "false")};
-  if (foot_box) {
-    std::ostringstream box;
-    box << "foot_box: {forward: " << foot_box->forward << ", backward: " << foot_box->backward
-        << ", outward: " << foot_box->outward << ", inward: " << foot_box->inward << ", up: " << foot_box->up
-        << ", down: " << foot_box->down << "}";
-    lines.push_back(box.str());
+  // The fields in file order; a map's keys on its own line, as a flow map.
+  std::vector<std::string> lines;
+  bool in_left_out_map = false;
+  for (const ConfigField& f : DescribeConfig(*this).fields) {
+    const std::size_t dot = f.key.find('.');
+    if (dot == std::string::npos) {
+      in_left_out_map = f.value == "(left out)";
+      const bool map = f.bounds.rfind("map", 0) == 0;
+      if (!in_left_out_map) lines.push_back(f.key + ": " + (map ? "{}" : f.value));
+    } else if (!in_left_out_map) {
+      std::string& line = lines.back();
+      line.insert(line.size() - 1, (line[line.size() - 2] == '{' ? "" : ", ") + f.key.substr(dot + 1) + ": " + f.value);
+    }
   }
   return lines;
 }

@@ -30,14 +30,6 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
 
-AxisLimits LoadAxis(const YamlMap& map) {
-  AxisLimits axis;
-  axis.v_max = map.Double("v_max");
-  axis.a_max = map.Double("a_max");
-  map.RejectUnknownKeys();
-  return axis;
-}
-
 // The rest yaw that gives the yaw `yaw` at velocity v (the yaw model inverted): the direction r
 // with w v/|v| + (1 - w) e(r) parallel to e(yaw). When the speed is at or above the blend speed,
 // or no such r exists, the yaw itself.
@@ -347,12 +339,12 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> PositionBounds(const RootPlannerConf
   for (const auto& s : surfaces) {
     for (const auto& v : s.vertices) {
       const Eigen::Vector3d raised = v + Eigen::Vector3d(0.0, 0.0, standing_height);
-      lo = lo.cwiseMin(raised + Eigen::Vector3d(0.0, 0.0, config.height_offset_min));
-      hi = hi.cwiseMax(raised + Eigen::Vector3d(0.0, 0.0, config.height_offset_max));
+      lo = lo.cwiseMin(raised + Eigen::Vector3d(0.0, 0.0, config.sampler.height_offset[0]));
+      hi = hi.cwiseMax(raised + Eigen::Vector3d(0.0, 0.0, config.sampler.height_offset[1]));
     }
   }
-  lo -= Eigen::Vector3d::Constant(config.bounds_margin);
-  hi += Eigen::Vector3d::Constant(config.bounds_margin);
+  lo -= Eigen::Vector3d::Constant(config.sampler.bounds_margin);
+  hi += Eigen::Vector3d::Constant(config.sampler.bounds_margin);
   return {lo, hi};
 }
 
@@ -360,13 +352,13 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> PositionBounds(const RootPlannerConf
 detail::SamplerSettings SamplerSettingsOf(const RootPlannerConfig& config, double standing_height, const PlanEnds& ends) {
   detail::SamplerSettings sampler;
   sampler.standing_height = standing_height;
-  sampler.area_weighted_probability = config.area_weighted_probability;
-  sampler.height_offset_min = config.height_offset_min;
-  sampler.height_offset_max = config.height_offset_max;
-  sampler.zero_velocity_probability = config.zero_velocity_probability;
-  sampler.attempts = config.sample_attempts;
-  sampler.repair_moves = config.repair_moves;
-  sampler.repair_step = config.repair_step;
+  sampler.area_weighted_probability = config.sampler.area_weighted_probability;
+  sampler.height_offset_min = config.sampler.height_offset[0];
+  sampler.height_offset_max = config.sampler.height_offset[1];
+  sampler.zero_velocity_probability = config.sampler.zero_velocity_probability;
+  sampler.attempts = config.sampler.attempts;
+  sampler.repair_moves = config.sampler.repair_moves;
+  sampler.repair_step = config.sampler.repair_step;
   sampler.rest_yaw = ends.rest_start;
   sampler.vertical_fixed = config.limits.VerticalFixed();
   sampler.fixed_height = ends.start.p.z();
@@ -464,39 +456,7 @@ unsigned GuideSeed(unsigned seed, int k) {
 }
 
 RootPlannerConfig RootPlannerConfig::Load(const YamlMap& map, const std::string& config_dir) {
-  RootPlannerConfig c;
-  c.rom_folder = map.String("rom_folder");
-  c.trunk = TrunkShapeConfig::Load(map.Map("trunk"));
-  c.surface_depth = map.Double("surface_depth");
-  const YamlMap limits = map.Map("limits");
-  c.limits.horizontal = LoadAxis(limits.Map("horizontal"));
-  c.limits.vertical = LoadAxis(limits.Map("vertical"));
-  limits.RejectUnknownKeys();
-  c.yaw.blend_speed = map.Double("yaw_blend_speed");
-  c.max_yaw_rate = map.Double("max_yaw_rate");
-  c.time_step = map.Double("time_step");
-  c.validation_substeps = map.Int("validation_substeps");
-  const YamlMap sampler = map.Map("sampler");
-  c.area_weighted_probability = sampler.Double("area_weighted_probability");
-  const Eigen::Vector2d offsets = sampler.Vector2("height_offset");
-  c.height_offset_min = offsets[0];
-  c.height_offset_max = offsets[1];
-  c.zero_velocity_probability = sampler.Double("zero_velocity_probability");
-  c.sample_attempts = sampler.Int("attempts");
-  c.repair_moves = sampler.Int("repair_moves");
-  c.repair_step = sampler.Double("repair_step");
-  c.bounds_margin = sampler.Double("bounds_margin");
-  sampler.RejectUnknownKeys();
-  c.max_iterations = map.Int("max_iterations");
-  c.shortcut_iterations = map.Int("shortcut_iterations");
-  c.straighten_iterations = map.Int("straighten_iterations");
-  c.straighten_knot_spacing = map.Double("straighten_knot_spacing");
-  c.max_piece_duration = map.Double("max_piece_duration");
-  c.max_surface_gap = map.Double("max_surface_gap");
-  c.guide_retries = map.Int("guide_retries");
-  map.RejectUnknownKeys();
-  const std::string problem = c.Problem();
-  if (!problem.empty()) map.Fail("", problem);
+  RootPlannerConfig c = LoadConfig<RootPlannerConfig>(map);
   const std::string folder = (!c.rom_folder.empty() && c.rom_folder[0] == '/') ? c.rom_folder : config_dir + "/" + c.rom_folder;
   c.roms = LoadRoms(folder);
   return c;
@@ -506,59 +466,9 @@ RootPlannerConfig RootPlannerConfig::LoadFile(const std::string& path, const std
   return Load(YamlMap::LoadFile(path), config_dir);
 }
 
-std::string RootPlannerConfig::Problem() const {
-  const std::string trunk_problem = trunk.Problem();
-  if (!trunk_problem.empty()) return "trunk: " + trunk_problem;
-  if (!(surface_depth > 0.0)) return "'surface_depth': expected a depth > 0 m, got " + ConfigNumber(surface_depth);
-  if (!(limits.horizontal.v_max > 0.0 && limits.horizontal.a_max > 0.0)) {
-    return "'limits.horizontal': expected v_max > 0 and a_max > 0, got " + ConfigNumber(limits.horizontal.v_max) + ", " +
-           ConfigNumber(limits.horizontal.a_max);
-  }
-  if (!(limits.vertical.v_max >= 0.0 && limits.vertical.a_max >= 0.0) ||
-      (limits.vertical.a_max > 0.0) != (limits.vertical.v_max > 0.0)) {
-    return "'limits.vertical': expected v_max, a_max both > 0 (z moves) or both 0 (z fixed), got " +
-           ConfigNumber(limits.vertical.v_max) + ", " + ConfigNumber(limits.vertical.a_max);
-  }
-  if (!(yaw.blend_speed > 0.0)) return "'yaw_blend_speed': expected a speed > 0 m/s, got " + ConfigNumber(yaw.blend_speed);
-  if (!(max_yaw_rate > 0.0)) return "'max_yaw_rate': expected a rate > 0 rad/s, got " + ConfigNumber(max_yaw_rate);
-  if (!(time_step > 0.0)) return "'time_step': expected a duration > 0 s, got " + ConfigNumber(time_step);
-  if (validation_substeps < 1) return "'validation_substeps': expected at least 1, got " + std::to_string(validation_substeps);
-  if (!(area_weighted_probability >= 0.0 && area_weighted_probability <= 1.0)) {
-    return "'sampler.area_weighted_probability': expected a probability in [0, 1], got " + ConfigNumber(area_weighted_probability);
-  }
-  if (!(height_offset_min <= height_offset_max)) {
-    return "'sampler.height_offset': expected [min, max] with min <= max, got [" + ConfigNumber(height_offset_min) + ", " +
-           ConfigNumber(height_offset_max) + "]";
-  }
-  if (!(zero_velocity_probability >= 0.0 && zero_velocity_probability <= 1.0)) {
-    return "'sampler.zero_velocity_probability': expected a probability in [0, 1], got " + ConfigNumber(zero_velocity_probability);
-  }
-  if (sample_attempts < 1) return "'sampler.attempts': expected at least 1, got " + std::to_string(sample_attempts);
-  if (repair_moves < 0) return "'sampler.repair_moves': expected at least 0, got " + std::to_string(repair_moves);
-  if (!(repair_step > 0.0)) return "'sampler.repair_step': expected a length > 0 m, got " + ConfigNumber(repair_step);
-  if (!(bounds_margin >= 0.0)) return "'sampler.bounds_margin': expected a length >= 0 m, got " + ConfigNumber(bounds_margin);
-  if (max_iterations < 1) return "'max_iterations': expected at least 1, got " + std::to_string(max_iterations);
-  if (shortcut_iterations < 0) return "'shortcut_iterations': expected at least 0, got " + std::to_string(shortcut_iterations);
-  if (straighten_iterations < 0) return "'straighten_iterations': expected at least 0, got " + std::to_string(straighten_iterations);
-  if (!(straighten_knot_spacing >= time_step)) {
-    return "'straighten_knot_spacing': expected at least time_step, got " + ConfigNumber(straighten_knot_spacing);
-  }
-  if (!(std::isfinite(max_surface_gap) && max_surface_gap > 0.0)) {
-    return "'max_surface_gap': expected a distance > 0 m, got " + ConfigNumber(max_surface_gap);
-  }
-  if (!(max_piece_duration > time_step)) {
-    return "'max_piece_duration': expected more than time_step, got " + ConfigNumber(max_piece_duration);
-  }
-  if (guide_retries < 0 || guide_retries > 100) {
-    return "'guide_retries': expected a count in [0, 100], got " + std::to_string(guide_retries);
-  }
-  return "";
-}
-
 RootPlanner::RootPlanner(const RobotModel& robot, RootPlannerConfig config)
     : config_(std::move(config)), nominal_base_height_(robot.NominalBaseHeight()) {
-  const std::string problem = config_.Problem();
-  if (!problem.empty()) throw InputError("root planner config: " + problem);
+  config_.Validate("root planner config");
   for (const auto& rom : config_.roms) {
     if (rom.triangles.size() < 4) throw InputError("root planner config: expected four leg ROMs, got an empty shape");
   }

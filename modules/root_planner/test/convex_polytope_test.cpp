@@ -112,7 +112,9 @@ TEST(ObjTest, RoundTripAndValidation) {
 }
 
 TEST(TrunkShapeTest, BoxWithKeel) {
-  const TrunkShapeConfig config;
+  TrunkShapeConfig config;  // the bare trunk's width
+  config.box_min = {-0.30, -0.165, -0.15};
+  config.box_max = {0.30, 0.165, 0.24};
   const ConvexPolytope trunk = MakeTrunkShape(config);
   EXPECT_EQ(trunk.vertices.size(), 12u);
   const auto [lo, hi] = trunk.Bounds();
@@ -130,10 +132,10 @@ TEST(TrunkShapeTest, BoxWithKeel) {
 
   TrunkShapeConfig bad = config;
   bad.keel_bottom_z = -0.1;
-  EXPECT_FALSE(bad.Problem().empty());
+  EXPECT_THROW(bad.Validate(), InputError);
   bad = config;
   bad.box_max.y() = -0.2;
-  EXPECT_FALSE(bad.Problem().empty());
+  EXPECT_THROW(bad.Validate(), InputError);
 }
 
 }  // namespace

@@ -3,12 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 
 #include "rbcp/core/error.h"
 #include "rbcp/robot/robot_model.h"
+#include "rbcp/test_support/error_of.h"
 
 namespace rbcp {
 namespace {
+
+using test_support::ErrorOf;
 
 const std::string kConfigDir = std::string(RBCP_SOURCE_DIR) + "/config";
 const std::string kRomDir = kConfigDir + "/robots/anymal_b_roms";
@@ -49,6 +53,32 @@ TEST(RomTest, NominalStanceIsInsideEveryShape) {
   }
 }
 
+TEST(RomTest, TheShippedParametersHoldTheDefaultsAndHeadTheShapes) {
+  const RomGenerationConfig config = RomGenerationConfig::LoadFile(kRomDir + "/rom_generation.yaml");
+  EXPECT_EQ(DifferingFields(config, RomGenerationConfig()), std::vector<std::string>{});
+  // generate_roms writes these lines into the header of every shape.
+  std::ifstream obj(kRomDir + "/LF.obj");
+  std::vector<std::string> header;
+  for (std::string line; std::getline(obj, line) && line.rfind("# ", 0) == 0;) header.push_back(line.substr(2));
+  ASSERT_GT(header.size(), 2u);
+  EXPECT_EQ(std::vector<std::string>(header.begin() + 2, header.end()), config.Describe());
+  RomGenerationConfig without_box = config;
+  without_box.foot_box.reset();
+  EXPECT_EQ(without_box.Describe().back(), "reject_self_collisions: true");
+}
+
+TEST(RomTest, ScaleCentreIsOneOfItsNames) {
+  YAML::Node n = YAML::LoadFile(kRomDir + "/rom_generation.yaml");
+  n["scale_center"] = "middle";
+  EXPECT_EQ(ErrorOf([&] { RomGenerationConfig::Load(YamlMap(n, "roms")); }),
+            "roms: 'scale_center': expected 'centroid' or 'hip', got 'middle'");
+  n["scale_center"] = "hip";
+  n.remove("foot_box");
+  const RomGenerationConfig hip = RomGenerationConfig::Load(YamlMap(n, "roms"));
+  EXPECT_EQ(hip.scale_center, RomGenerationConfig::ScaleCenter::kHip);
+  EXPECT_FALSE(hip.foot_box.has_value());
+}
+
 TEST(RomTest, FootBoxKeysAreChecked) {
   YAML::Node n = YAML::Load(
       "{samples: 1000, seed: 1, max_triangles: 50, tolerance: 0.0, scale: 1.0, scale_center: centroid, "
@@ -71,6 +101,7 @@ RomGenerationConfig SmallConfig() {
   config.max_triangles = 60;
   config.tolerance = 0.0;
   config.scale = 1.0;
+  config.foot_box.reset();
   return config;
 }
 

@@ -10,12 +10,14 @@
 #include "rbcp/core/error.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/scenario/scenario.h"
+#include "rbcp/test_support/error_of.h"
 #include "test_terrains.h"
 
 namespace rbcp {
 namespace {
 
 using test::kConfigDir;
+using test_support::ErrorOf;
 
 const RobotModel& Robot() {
   static const RobotModel robot = RobotModel::LoadDefault(kConfigDir);
@@ -72,6 +74,10 @@ void ExpectSoundPath(const RootPlanner& planner, const TriangleMesh& terrain,
   }
 }
 
+TEST(RootPlannerConfigTest, TheShippedFileHoldsTheDefaults) {
+  EXPECT_EQ(DifferingFields(DefaultConfig(), RootPlannerConfig()), std::vector<std::string>{});
+}
+
 TEST(RootPlannerConfigTest, LoadsTheCommittedFileStrictly) {
   const RootPlannerConfig& config = DefaultConfig();
   EXPECT_EQ(config.limits.horizontal.v_max, 0.3);
@@ -90,7 +96,9 @@ TEST(RootPlannerConfigTest, LoadsTheCommittedFileStrictly) {
   EXPECT_THROW(RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir), InputError);
   node = YAML::LoadFile(kConfigDir + "/root_planner.yaml");
   node["limits"]["vertical"]["a_max"] = 0.0;
-  EXPECT_THROW(RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir), InputError);
+  EXPECT_EQ(ErrorOf([&] { RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir); }),
+            "test: limits: vertical: 'a_max': expected v_max and a_max both > 0 (z moves) or both 0 (z fixed), got 0 "
+            "with v_max 0.3");
   node["limits"]["vertical"]["v_max"] = 0.0;
   EXPECT_TRUE(RootPlannerConfig::Load(YamlMap(node, "test"), kConfigDir).limits.VerticalFixed());
 }

@@ -11,8 +11,9 @@ using test_support::ErrorOf;
 
 const std::string kConfigFile = std::string(RBCP_SOURCE_DIR) + "/config/stance.yaml";
 
-TEST(StanceConfig, TheShippedFileLoads) {
+TEST(StanceConfig, TheShippedFileHoldsTheDefaults) {
   const StanceConfig c = StanceConfig::LoadFile(kConfigFile);
+  EXPECT_EQ(DifferingFields(c, StanceConfig()), std::vector<std::string>{});
   EXPECT_EQ(c.support_margin_m, 0.04);
   EXPECT_EQ(c.torque_limit_fraction, 0.85);
   EXPECT_EQ(c.swing.height_m, 0.08);

@@ -5,9 +5,10 @@
 ///
 /// Physics (PhysicsConfig, config/sim.yaml `physics:`): gravity, URDF masses and inertias, a
 /// fixed step (stepSimulation(dt, 0)), the foot-terrain friction as the combined coefficient,
-/// implicit cone friction off, the commanded torque saturated at the actuators' command limit
-/// and cut when a joint is at its speed limit, joint position limits from the URDF. Bullet types
-/// do not leave this header's implementation.
+/// implicit cone friction off, the commanded torque saturated at the robot's continuous torque
+/// limit and cut when a joint is at the robot's joint speed limit (both RobotModel's, from the
+/// planning parameters beside the URDF), joint position limits from the URDF. Bullet types do not
+/// leave this header's implementation.
 ///
 /// The robot as built: a floating base (the URDF "base" link) and one Bullet link per revolute
 /// joint, in the whole-robot joint order; each shank carries its adapter tube (fixed joint
@@ -32,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "rbcp/core/config_fields.h"
 #include "rbcp/core/leg.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/robot/robot_model.h"
@@ -40,22 +42,32 @@
 
 namespace rbcp::sim {
 
-/// Physical parameters of the simulation. Every field is required in the YAML map.
+/// Physical parameters of the simulation (the `physics` map of config/sim.yaml).
 struct PhysicsConfig {
-  double gravity_mps2 = 9.81;              ///< magnitude, along world -z [m/s^2]
-  double time_step_s = 1.0 / 1200.0;       ///< fixed integration step [s], at most 1e-3
-  int solver_iterations = 30;              ///< constraint solver iterations per step
-  double friction = 0.8;                   ///< combined Coulomb friction foot-terrain (and body-terrain) [-]
-  double torque_limit_Nm = 40.0;           ///< command torque limit of every joint [N m]
-  double joint_velocity_limit_radps = 15.0;  ///< joint speed bound [rad/s]
+  double gravity_mps2 = 9.81;
+  /// 1/1200 s, to the digits sim.yaml gives.
+  double time_step_s = 0.000833333333333;
+  int solver_iterations = 30;
+  double friction = 0.8;
 
   static constexpr double kMaxTimeStep_s = 1e-3;  ///< largest accepted time_step_s [s]
 
-  /// Reads the map (e.g. the `physics` map of config/sim.yaml): every key above is required,
-  /// unknown keys are rejected, then Validate. Throws InputError.
-  static PhysicsConfig Load(const YamlMap& map);
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    v->Visit("gravity_mps2", &gravity_mps2, "m/s^2", bounds::NonNegative(), "gravity along world -z");
+    v->Visit("time_step_s", &time_step_s, "s", bounds::Positive().AtMost(kMaxTimeStep_s),
+             "fixed integration step (stiff joint PD and contacts need a small one)");
+    v->Visit("solver_iterations", &solver_iterations, "", bounds::AtLeast(1),
+             "contact and limit solver iterations per step");
+    v->Visit("friction", &friction, "", bounds::Positive(),
+             "Coulomb friction of every robot-terrain contact (the combined coefficient: terrain colliders use 1)");
+  }
+
+  /// Reads the map: every key above is required, unknown keys are rejected, then Validate.
+  /// Throws InputError.
+  static PhysicsConfig Load(const YamlMap& map) { return LoadConfig<PhysicsConfig>(map); }
   /// Throws InputError naming the first out-of-range value.
-  void Validate(const std::string& where = "PhysicsConfig") const;
+  void Validate(const std::string& where = "PhysicsConfig") const { ValidateConfig(*this, where); }
 };
 
 /// The torque a joint actuator delivers for a command [N m]: the command saturated at
@@ -98,7 +110,7 @@ class BulletWorld {
                   const JointVector& q);
 
   /// Commands joint torques [N m] for the following steps (held until the next call). Each is
-  /// saturated at torque_limit_Nm; at or beyond the speed limit a torque that would speed the
+  /// saturated at the robot's continuous torque limit; at or beyond its joint speed limit a torque that would speed the
   /// joint up further is cut to zero (ActuatorTorque, re-evaluated in every step with the joint
   /// velocity of that step). Returns the torques the next step will apply. Throws InputError for
   /// a non-finite torque.

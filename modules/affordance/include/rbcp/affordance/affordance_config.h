@@ -1,33 +1,41 @@
 #pragma once
-/// Parameters of affordance extraction: which terrain surfaces the feet may push on.
+/// Parameters of affordance extraction (config/affordance.yaml): which parts of the terrain the
+/// feet may push on. Every key is required and no other key is accepted.
 
 #include <string>
 
+#include "rbcp/core/config_fields.h"
 #include "rbcp/core/yaml_reader.h"
 
 namespace rbcp {
 
-/// Support-surface parameters. The defaults are those of the reference ANYmal runs
-/// (hpp-affordance 'Support' [0.5, 0.03, 0.00005]) with a true edge erosion of one foot radius
-/// plus a centimetre.
+/// Support surfaces: planar regions of the terrain, eroded from their boundary.
 struct AffordanceConfig {
-  /// Steepest accepted surface: angle between the surface normal and world +z [deg], in (0, 90).
   double max_inclination_deg = 41.4;
-  /// Largest angle between a triangle's normal and its region's seed-triangle normal [deg], in (0, 90).
   double neighbour_angle_deg = 9.9;
-  /// Regions, and eroded surfaces, with this area or less are dropped [m^2], >= 0.
   double min_area = 0.5e-4;
-  /// Every point of a surface is at least this far from its region's boundary [m], >= 0.
   double edge_margin = 0.04;
 
-  /// Reads the four keys above from `map`; a missing, unknown or out-of-range key throws
-  /// InputError naming the source and the key ("expected an angle in (0, 90) deg, got 95").
-  static AffordanceConfig Load(const YamlMap& map);
-  /// Load() on a YAML file whose top level holds exactly the keys above.
-  static AffordanceConfig LoadFile(const std::string& path);
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    v->Visit("max_inclination_deg", &max_inclination_deg, "deg", bounds::Open(0, 90),
+             "steepest support surface: angle between its normal and world +z");
+    v->Visit("neighbour_angle_deg", &neighbour_angle_deg, "deg", bounds::Open(0, 90),
+             "a triangle joins a region if its normal is within this angle of the region's seed-triangle normal");
+    v->Visit("min_area", &min_area, "m^2", bounds::NonNegative(),
+             "regions and eroded surfaces of this area or less are dropped");
+    v->Visit("edge_margin", &edge_margin, "m", bounds::NonNegative(),
+             "every surface point is at least this far from its region's boundary (a foot sphere on it stays on "
+             "the terrain)");
+  }
 
-  /// The first out-of-range field as "'key': expected X, got Y", or an empty string when valid.
-  std::string Problem() const;
+  /// Reads the keys above from `map`; a missing, unknown or out-of-range key throws InputError
+  /// naming the source and the key ("expected a number in (0, 90) [deg], got 95").
+  static AffordanceConfig Load(const YamlMap& map) { return LoadConfig<AffordanceConfig>(map); }
+  /// Load() on a YAML file whose top level holds exactly the keys above.
+  static AffordanceConfig LoadFile(const std::string& path) { return Load(YamlMap::LoadFile(path)); }
+  /// Throws InputError naming `where` and the first out-of-range key.
+  void Validate(const std::string& where = "AffordanceConfig") const { ValidateConfig(*this, where); }
 };
 
 }  // namespace rbcp

@@ -69,7 +69,7 @@ struct AffordanceStats {
 /// one extractor per thread; Extract on the same input always gives the same output.
 class AffordanceExtractor {
  public:
-  /// Throws InputError if `config` is out of range (see AffordanceConfig::Problem).
+  /// Throws InputError if `config` is out of range (AffordanceConfig::Validate).
   explicit AffordanceExtractor(AffordanceConfig config);
   ~AffordanceExtractor();
   AffordanceExtractor(AffordanceExtractor&&) noexcept;

@@ -30,7 +30,8 @@
 /// over the feet within friction cones (DistributeWrench); their torques are -J^T f plus the
 /// legs' gravity torques plus a joint PD towards the inverse kinematics of the measured feet at
 /// the desired base pose. Swing legs follow the inverse kinematics of their path under joint PD
-/// with gravity compensation. Every torque is clipped at torque_limit_Nm.
+/// with gravity compensation. Every torque is clipped at the robot's continuous torque limit
+/// (RobotModel::ContinuousTorqueLimit).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

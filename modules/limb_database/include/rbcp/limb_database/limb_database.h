@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "rbcp/core/config_fields.h"
 #include "rbcp/core/leg.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/robot/robot_model.h"
@@ -45,30 +46,45 @@ namespace rbcp {
 
 /// Parameters of the limb database (config/limb_database.yaml).
 struct LimbDatabaseConfig {
-  /// Configurations per leg, the reference configuration included (the paper: 50,000).
   int samples_per_leg = 50000;
-  /// Edge of an octree leaf cell [m] (the paper: 0.01).
   double octree_resolution = 0.01;
-  /// Seed of the configuration sampler; leg l draws from a generator seeded by (seed, l).
   unsigned seed = 1;
-  /// Weights [1/rad^2] of the joint-space distance to the reference configuration in the offline
-  /// score. The 2019 ANYmal runs used (1, 1, 1); earlier ones (100, 1, 1).
   double weight_haa = 1.0;
   double weight_hfe = 1.0;
   double weight_kfe = 1.0;
-  /// Folder of the cache files. Empty: $XDG_CACHE_HOME/rbcp/limb_database (an absolute
-  /// XDG_CACHE_HOME), else $HOME/.cache/rbcp/limb_database, else the same below the user's home
-  /// folder in the password database, else no cache. A relative path is taken from the working
-  /// directory. The folder is created owner-only (0700) and used only when it is a real folder
-  /// (no symbolic link) of the user that no one else may write to. Not part of the cache key.
+  /// Empty: $XDG_CACHE_HOME/rbcp/limb_database (an absolute XDG_CACHE_HOME), else
+  /// $HOME/.cache/rbcp/limb_database, else the same below the user's home folder in the password
+  /// database, else no cache. A relative path is taken from the working directory. The folder is
+  /// created owner-only (0700) and used only when it is a real folder (no symbolic link) of the
+  /// user that no one else may write to. Not part of the cache key.
   std::string cache_dir;
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    // Sample indices are stored as 32-bit integers; ten million per leg is far beyond any use.
+    v->Visit("samples_per_leg", &samples_per_leg, "", bounds::Closed(1, 10'000'000),
+             "configurations per leg, the reference configuration included");
+    // The octree spans 65536 cells per axis around the base; 1 mm cells still cover +-32 m.
+    v->Visit("octree_resolution", &octree_resolution, "m", bounds::Closed(0.001, 0.5), "edge of an octree leaf cell");
+    v->Visit("seed", &seed, "", bounds::NonNegative(), "sampler seed; leg l draws from a generator seeded by (seed, l)");
+    v->Visit("weight_haa", &weight_haa, "1/rad^2", bounds::NonNegative(),
+             "offline score: 100 - sqrt(sum_j w_j (q_j - q_ref_j)^2), min-max normalised per leg to [0, 1]; the "
+             "weight of HAA");
+    v->Visit("weight_hfe", &weight_hfe, "1/rad^2", bounds::NonNegative(), "the weight of HFE");
+    v->Visit("weight_kfe", &weight_kfe, "1/rad^2", bounds::NonNegative(), "the weight of KFE");
+    v->Rule("weight_haa + weight_hfe + weight_kfe", weight_haa + weight_hfe + weight_kfe > 0.0, "a positive sum",
+            ConfigNumber(weight_haa + weight_hfe + weight_kfe));
+    v->Visit("cache_dir", &cache_dir,
+             "folder of the cache files, keyed by the content of the robot files and the values above (\"\": the "
+             "user's cache folder, see LimbDatabaseConfig::cache_dir)");
+  }
 
   /// Reads every key strictly (missing or unknown keys, wrong types and out-of-range values throw
   /// InputError naming the key).
-  static LimbDatabaseConfig Load(const YamlMap& map);
-  static LimbDatabaseConfig LoadFile(const std::string& path);
+  static LimbDatabaseConfig Load(const YamlMap& map) { return LoadConfig<LimbDatabaseConfig>(map); }
+  static LimbDatabaseConfig LoadFile(const std::string& path) { return Load(YamlMap::LoadFile(path)); }
   /// Throws InputError describing the first out-of-range value.
-  void Validate(const std::string& where = "LimbDatabaseConfig") const;
+  void Validate(const std::string& where = "LimbDatabaseConfig") const { ValidateConfig(*this, where); }
   /// The folder cache files go to (cache_dir, or the default described above); "" for none.
   std::string ResolvedCacheDir() const;
 };

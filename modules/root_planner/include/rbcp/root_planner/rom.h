@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "rbcp/core/config_fields.h"
 #include "rbcp/core/leg.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/root_planner/convex_polytope.h"
@@ -23,31 +24,59 @@ namespace rbcp {
 
 class RobotModel;
 
-/// Parameters of ROM generation.
+/// Parameters of ROM generation (robots/anymal_b_roms/rom_generation.yaml).
 struct RomGenerationConfig {
   enum class ScaleCenter { kCentroid, kHip };
-
-  int samples = 20000;                       ///< leg configurations drawn per leg, >= 100
-  std::uint64_t seed = 1;                    ///< seed of the configuration sampler
-  int max_triangles = 200;                   ///< triangle budget of the simplified hull, >= 4
-  double tolerance = 0.002;                  ///< [m] simplification stops when no hull vertex is farther out
-  double scale = 0.85;                       ///< scale factor, in (0, 1]
-  ScaleCenter scale_center = ScaleCenter::kCentroid;
-  bool reject_self_collisions = true;        ///< reject configurations where the leg hits the trunk
-  /// Optional foot box relative to the leg's reference foot position (base frame): samples whose
-  /// foot lies outside it are dropped, so the shape covers only the footholds the contact planner
-  /// may use (its explicit step workspace) instead of everything the joints can reach.
+  /// A box relative to the leg's reference foot position (base frame): samples whose foot lies
+  /// outside it are dropped, so the shape covers only the footholds the contact planner may use
+  /// (its explicit step workspace) instead of everything the joints can reach.
   struct FootBox {
-    double forward = 0.0, backward = 0.0;  ///< [m] along base +x / -x
-    double outward = 0.0, inward = 0.0;    ///< [m] away from / toward the body's centre line
-    double up = 0.0, down = 0.0;           ///< [m] along base +z / -z
-  };
-  std::optional<FootBox> foot_box;
+    double forward = 1.0, backward = 1.0;
+    double outward = 0.12, inward = 0.1;
+    double up = 1.0, down = 1.0;
 
-  /// Reads every key above (scale_center: "centroid" or "hip"); strict.
-  static RomGenerationConfig Load(const YamlMap& map);
-  static RomGenerationConfig LoadFile(const std::string& path);
-  /// One line per parameter ("samples: 20000"), as written in the ROM file header.
+    template <class Visitor>
+    void Serialize(Visitor* v) {
+      v->Visit("forward", &forward, "m", bounds::Positive(), "along base +x");
+      v->Visit("backward", &backward, "m", bounds::Positive(), "along base -x");
+      v->Visit("outward", &outward, "m", bounds::Positive(), "away from the body's centre line");
+      v->Visit("inward", &inward, "m", bounds::Positive(), "toward the body's centre line");
+      v->Visit("up", &up, "m", bounds::Positive(), "along base +z");
+      v->Visit("down", &down, "m", bounds::Positive(), "along base -z");
+    }
+  };
+
+  int samples = 50000;
+  std::uint64_t seed = 2019;
+  int max_triangles = 200;
+  double tolerance = 0.002;
+  double scale = 1.0;
+  ScaleCenter scale_center = ScaleCenter::kCentroid;
+  bool reject_self_collisions = true;
+  std::optional<FootBox> foot_box = FootBox();
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    v->Visit("samples", &samples, "", bounds::AtLeast(100), "leg configurations drawn per leg");
+    v->Visit("seed", &seed, "", bounds::NonNegative(),
+             "seed of the configuration sampler (each leg derives its own stream from it)");
+    v->Visit("max_triangles", &max_triangles, "", bounds::AtLeast(4), "triangle budget of the simplified hull");
+    v->Visit("tolerance", &tolerance, "m", bounds::NonNegative(),
+             "the simplification stops once no hull vertex lies farther outside");
+    v->Visit("scale", &scale, "", bounds::Positive().AtMost(1.0), "scale factor of the shape");
+    v->Visit("scale_center", &scale_center, EnumNames<ScaleCenter>{{ScaleCenter::kCentroid, "centroid"},
+                                                                  {ScaleCenter::kHip, "hip"}},
+             "the point the shape is scaled about: its volume centroid or the HAA joint origin");
+    v->Visit("reject_self_collisions", &reject_self_collisions,
+             "configurations where the thigh, shank or foot hits the trunk are dropped");
+    v->Visit("foot_box", &foot_box, "feet outside this box around the reference foot position are dropped");
+  }
+
+  /// Reads every key above (foot_box may be left out); strict.
+  static RomGenerationConfig Load(const YamlMap& map) { return LoadConfig<RomGenerationConfig>(map); }
+  static RomGenerationConfig LoadFile(const std::string& path) { return Load(YamlMap::LoadFile(path)); }
+  /// One line per parameter ("samples: 50000", "foot_box: {forward: 1, ...}"), as written in the
+  /// ROM file header.
   std::vector<std::string> Describe() const;
 };
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "rbcp/core/affordance_surface.h"
+#include "rbcp/core/config_fields.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/root_planner/convex_polytope.h"
@@ -30,67 +31,124 @@ namespace rbcp {
 
 class RobotModel;
 
-/// Parameters of root planning (config/root_planner.yaml).
+/// The sampler of the RRT: a point on a contact surface (area-weighted with a probability,
+/// otherwise a surface chosen uniformly), raised by the nominal base height plus a uniform offset.
+struct RootSamplerConfig {
+  double area_weighted_probability = 0.3;
+  std::array<double, 2> height_offset = {-0.05, 0.05};  ///< [min, max]
+  double zero_velocity_probability = 0.3;
+  int attempts = 20;
+  int repair_moves = 8;
+  double repair_step = 0.03;
+  double bounds_margin = 0.5;
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    v->Visit("area_weighted_probability", &area_weighted_probability, "", bounds::Closed(0, 1),
+             "probability of choosing a contact surface by area (otherwise uniformly among the surfaces)");
+    v->Visit("height_offset", &height_offset, "m", bounds::Any(),
+             "[min, max] of the uniform offset added to the surface point plus the nominal base height");
+    v->Rule("height_offset", height_offset[0] <= height_offset[1], "[min, max] with min <= max",
+            "[" + ConfigNumber(height_offset[0]) + ", " + ConfigNumber(height_offset[1]) + "]");
+    v->Visit("zero_velocity_probability", &zero_velocity_probability, "", bounds::Closed(0, 1),
+             "probability of a sample at rest; otherwise a horizontal velocity of random direction and a speed "
+             "uniform in [0, horizontal v_max]");
+    v->Visit("attempts", &attempts, "", bounds::AtLeast(1),
+             "a sample is redrawn until it satisfies the reachability condition, at most this often");
+    v->Visit("repair_moves", &repair_moves, "", bounds::AtLeast(0),
+             "an invalid sample is first moved vertically at most this often: up while the trunk collides, down "
+             "while a leg reaches no surface");
+    v->Visit("repair_step", &repair_step, "m", bounds::Positive(),
+             "the first such move; then the bracket between a too-low and a too-high height is halved");
+    v->Visit("bounds_margin", &bounds_margin, "m", bounds::NonNegative(),
+             "the state space extends this far beyond the surfaces, start and goal");
+  }
+};
+
+/// Parameters of root planning (config/root_planner.yaml). Frames: base frame x forward, y left,
+/// z up; world frame z up.
 struct RootPlannerConfig {
   /// Folder of the leg ROMs (LF.obj, RF.obj, LH.obj, RH.obj), as written in the file (relative
   /// to the configuration folder unless absolute), and the shapes read from it.
   std::string rom_folder = "robots/anymal_b_roms";
   std::array<ConvexPolytope, kNumLegs> roms;
   TrunkShapeConfig trunk;
-  double surface_depth = 0.005;  ///< [m] contact surfaces become prisms this deep
-
+  double surface_depth = 0.005;
   KinodynamicLimits limits{{0.3, 1.0}, {0.3, 5.0}};
   YawModel yaw{0.3};
-  /// [rad/s] the yaw may change by at most this rate times the interval between validation
-  /// samples (keeps the trunk from swinging round when it speeds up against its rest yaw).
   double max_yaw_rate = 15.0;
-
-  double time_step = 0.05;       ///< [s] steering durations are multiples of it; output sampling step
-  int validation_substeps = 2;   ///< states are validated every time_step / validation_substeps
-
-  /// Sampler: a point on a contact surface (area-weighted with this probability, otherwise a
-  /// surface chosen uniformly), raised by the nominal base height plus a uniform offset.
-  double area_weighted_probability = 0.3;
-  double height_offset_min = -0.05;  ///< [m]
-  double height_offset_max = 0.05;   ///< [m]
-  /// Probability of a zero sampled velocity; otherwise horizontal velocity with a uniform
-  /// direction and a speed uniform in [0, horizontal v_max], vertical velocity zero.
-  double zero_velocity_probability = 0.3;
-  int sample_attempts = 20;          ///< a sample is redrawn until valid, at most this often
-  /// An invalid sample is first moved vertically, at most this often: up while the trunk
-  /// collides, down while a leg reaches no surface (first by repair_step [m], then halving).
-  int repair_moves = 8;
-  double repair_step = 0.03;
-  double bounds_margin = 0.5;        ///< [m] the state space extends this far beyond the surfaces
-
-  /// The search stops after this many RRT iterations: with the iteration counts of the smoothing
-  /// below, the path depends only on the inputs and the seed, never on the machine's load. The
-  /// request's time budget is a safety limit; reaching it is a timeout.
+  double time_step = 0.05;
+  int validation_substeps = 1;
+  RootSamplerConfig sampler;
   int max_iterations = 20000;
-  int shortcut_iterations = 100;     ///< random-shortcut iterations after a path is found
-  /// Horizontal straightening after the shortcuts: runs of knots (every straighten_knot_spacing
-  /// [s] of path time) moved onto the straight line between the run's ends, heights and times
-  /// kept, while the path stays valid and gets no longer (0: none).
-  int straighten_iterations = 0;
-  double straighten_knot_spacing = 0.5;  ///< [s]
-  double max_piece_duration = 50.0;  ///< [s] longer steered pieces are rejected
-  /// [m] two contact surfaces this close are joined (a step bridges the gap); a goal whose
-  /// surfaces are joined to none of the start's is answered kGoalUnreachable before any search.
+  int shortcut_iterations = 500;
+  int straighten_iterations = 200;
+  double straighten_knot_spacing = 0.5;
+  double max_piece_duration = 50.0;
   double max_surface_gap = 0.45;
   /// A root path is a guide for the contact planner. When the contact planner finds no plan
   /// along it (no foothold, or out of its budget), the pipeline (the offline pipeline, and the
   /// root planner process on the contact planner's FAILED status) plans the same request again
-  /// with the next guide seed (GuideSeed), at most this many times (0: never): per request
-  /// offline, per stance the robot waits in for the process.
+  /// with the next guide seed (GuideSeed), at most this many times: per request offline, per
+  /// stance the robot waits in for the process.
   int guide_retries = 2;
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    v->Visit("rom_folder", &rom_folder,
+             "folder of the legs' range-of-motion shapes LF.obj, RF.obj, LH.obj, RH.obj (base frame), relative "
+             "to the configuration folder unless absolute");
+    v->Visit("trunk", &trunk, "the trunk's collision shape: a box with a keel under the belly");
+    v->Visit("surface_depth", &surface_depth, "m", bounds::Positive(),
+             "contact surfaces become convex prisms this deep below their polygon");
+    v->Map("limits", "double-integrator bounds per axis: |v| <= v_max, |a| <= a_max", [this](auto* m) {
+      m->Map("horizontal", "x and y", [this](auto* h) {
+        h->Visit("v_max", &limits.horizontal.v_max, "m/s", bounds::Positive(), "speed bound");
+        h->Visit("a_max", &limits.horizontal.a_max, "m/s^2", bounds::Positive(), "acceleration bound");
+      });
+      m->Map("vertical", "z (v_max = a_max = 0 keeps the base at the start height)", [this](auto* z) {
+        z->Visit("v_max", &limits.vertical.v_max, "m/s", bounds::NonNegative(), "speed bound");
+        z->Visit("a_max", &limits.vertical.a_max, "m/s^2", bounds::NonNegative(), "acceleration bound");
+        z->Rule("a_max", (limits.vertical.a_max > 0.0) == (limits.vertical.v_max > 0.0),
+                "v_max and a_max both > 0 (z moves) or both 0 (z fixed)",
+                ConfigNumber(limits.vertical.a_max) + " with v_max " + ConfigNumber(limits.vertical.v_max));
+      });
+    });
+    v->Visit("yaw_blend_speed", &yaw.blend_speed, "m/s", bounds::Positive(),
+             "horizontal speed from which the yaw fully follows the velocity; below it the heading is blended "
+             "with the yaw the trunk keeps at rest");
+    v->Visit("max_yaw_rate", &max_yaw_rate, "rad/s", bounds::Positive(),
+             "largest yaw rate along the path, checked between validation samples");
+    v->Visit("time_step", &time_step, "s", bounds::Positive(),
+             "steered pieces last multiples of it; also the output sampling step");
+    v->Visit("validation_substeps", &validation_substeps, "", bounds::AtLeast(1),
+             "every piece is validated every time_step / validation_substeps");
+    v->Visit("sampler", &sampler, "the RRT's samples");
+    v->Visit("max_iterations", &max_iterations, "", bounds::AtLeast(1),
+             "the search stops after this many RRT iterations (the path depends only on the inputs and the seed)");
+    v->Visit("shortcut_iterations", &shortcut_iterations, "", bounds::AtLeast(0),
+             "random-shortcut iterations after a path is found");
+    v->Visit("straighten_iterations", &straighten_iterations, "", bounds::AtLeast(0),
+             "then horizontal straightening: runs of knots moved onto the straight line between the run's ends");
+    v->Visit("straighten_knot_spacing", &straighten_knot_spacing, "s", bounds::Any().AtLeast(time_step, "time_step"),
+             "path time between the knots of the straightening");
+    v->Visit("max_piece_duration", &max_piece_duration, "s", bounds::Any().Above(time_step, "time_step"),
+             "steered pieces longer than this are rejected");
+    v->Visit("max_surface_gap", &max_surface_gap, "m", bounds::Positive(),
+             "two contact surfaces this close are joined; a goal no chain of joined surfaces reaches from the "
+             "start's is answered goal_unreachable before any search");
+    v->Visit("guide_retries", &guide_retries, "", bounds::Closed(0, 100),
+             "when no contact plan follows a root path, the request is planned again with the next guide seed, at "
+             "most this many times");
+  }
 
   /// Reads the keys of config/root_planner.yaml (strict) and the ROMs of rom_folder, resolved
   /// against config_dir when relative. Throws InputError.
   static RootPlannerConfig Load(const YamlMap& map, const std::string& config_dir);
   /// Load() on a file.
   static RootPlannerConfig LoadFile(const std::string& path, const std::string& config_dir);
-  /// The first out-of-range parameter as "'key': expected X, got Y", or empty when valid.
-  std::string Problem() const;
+  /// Throws InputError naming `where` and the first out-of-range key.
+  void Validate(const std::string& where = "RootPlannerConfig") const { ValidateConfig(*this, where); }
 };
 
 enum class RootPlanStatus {
