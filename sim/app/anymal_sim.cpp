@@ -68,8 +68,8 @@ int main(int argc, char** argv) {
         controller_config_path.empty() ? common.config_dir + "/controller.yaml" : controller_config_path);
     const RobotModel robot = RobotModel::LoadDefault(common.config_dir);
     const Scenario scenario = LoadScenario(scenario_path);
-    sim::PlanExecution execution(robot, common.config_dir + "/robots/anymal_b.urdf", scenario, sim_config,
-                                 controller_config, StanceRules::LoadFromDir(common.config_dir));
+    sim::PlanExecution execution(robot, scenario, sim_config, controller_config,
+                                 StanceRules::LoadFromDir(common.config_dir));
     if (!plan_path.empty()) {
       const ContactPlan plan = LoadContactPlanFile(plan_path);
       execution.Start(plan);

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 
 #include "bullet_eigen.h"
@@ -38,11 +37,6 @@ constexpr double kWarmStartingFactor = 0.85;
 // Generalized velocity clamp of the btMultiBody [m/s, rad/s], as a multiple of the joint speed
 // bound (and at least 50): a numerical safety net only.
 double MaxCoordinateVelocity(const PhysicsConfig& c) { return std::max(50.0, 4.0 * c.joint_velocity_limit_radps); }
-
-/// The planning parameters next to the URDF (same name, .yaml): the reference configuration.
-std::string RobotYamlPath(const std::string& urdf_path) {
-  return std::filesystem::path(urdf_path).replace_extension(".yaml").string();
-}
 
 /// Result callback recording the deepest overlap of one shape pair.
 struct OverlapCallback : btCollisionWorld::ContactResultCallback {
@@ -205,14 +199,14 @@ struct BulletWorld::Impl {
   }
 };
 
-BulletWorld::BulletWorld(const std::string& urdf_path, const std::vector<TerrainElement>& terrain,
+BulletWorld::BulletWorld(const RobotModel& robot, const std::vector<TerrainElement>& terrain,
                          const PhysicsConfig& config)
     : impl_(std::make_unique<Impl>()) {
   config.Validate();
   Impl& m = *impl_;
   m.config = config;
-  m.description = RobotDescription::FromUrdf(urdf_path);
-  m.q_reference = RobotModel::Load(urdf_path, RobotYamlPath(urdf_path)).ReferenceConfiguration();
+  m.description = RobotDescription::FromModel(robot);
+  m.q_reference = robot.ReferenceConfiguration();
   m.base_com_from_link = m.description.bodies[RobotDescription::kBase].inertial_frame.inverse();
 
   m.collision_configuration = std::make_unique<btDefaultCollisionConfiguration>();
