@@ -70,8 +70,8 @@ void AddOptions(CLI::App& app, Options& o) {
       "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input.");
 }
 
-/// The simulated world: its configuration, the robot, the scenario, and the execution of plans
-/// on them (which keeps references to them: a World is not copied).
+/// The simulated world: its configuration, the robot, the scenario, the stance rules, and the
+/// execution of plans on them (which keeps references to them: a World is not copied).
 struct World {
   explicit World(const Options& o)
       : sim_config(sim::SimConfig::LoadFile(o.sim_config_path.empty() ? o.common.config_dir + "/sim.yaml"
@@ -80,8 +80,8 @@ struct World {
             o.controller_config_path.empty() ? o.common.config_dir + "/controller.yaml" : o.controller_config_path)),
         robot(RobotModel::LoadDefault(o.common.config_dir)),
         scenario(LoadScenario(o.scenario_path)),
-        execution(robot, o.common.config_dir + "/robots/anymal_b.urdf", scenario, sim_config, controller_config,
-                  StanceRules::LoadFromDir(o.common.config_dir)) {}
+        stance(StanceRules::LoadFromDir(o.common.config_dir)),
+        execution(robot, scenario, sim_config, controller_config, stance) {}
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
@@ -89,6 +89,7 @@ struct World {
   const ControllerConfig controller_config;
   const RobotModel robot;
   const Scenario scenario;
+  const StanceRules stance;
   sim::PlanExecution execution;
 };
 

@@ -23,8 +23,7 @@ std::unique_ptr<rbcp::sim::BulletWorld> StandingWorld() {
   rbcp::TerrainBox floor;
   floor.size = Eigen::Vector3d(5.0, 3.0, 0.5);
   floor.position = Eigen::Vector3d(0.75, 0.0, -0.25);
-  auto world = std::make_unique<rbcp::sim::BulletWorld>(kConfig + "/robots/anymal_b.urdf",
-                                                        std::vector<rbcp::TerrainElement>{floor}, physics);
+  auto world = std::make_unique<rbcp::sim::BulletWorld>(Model(), std::vector<rbcp::TerrainElement>{floor}, physics);
   world->ResetRobot(Eigen::Vector3d(0, 0, Model().NominalBaseHeight() + 0.01), Eigen::Quaterniond::Identity(),
                     Model().ReferenceConfiguration());
   return world;

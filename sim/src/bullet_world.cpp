@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 
 #include "bullet_eigen.h"
@@ -38,12 +37,6 @@ constexpr double kWarmStartingFactor = 0.85;
 // Generalized velocity clamp of the btMultiBody [m/s, rad/s], as a multiple of the joint speed
 // bound (and at least 50): a numerical safety net only.
 double MaxCoordinateVelocity(double joint_velocity_limit_radps) { return std::max(50.0, 4.0 * joint_velocity_limit_radps); }
-
-/// The planning parameters next to the URDF (same name, .yaml): the reference configuration and
-/// the torque and joint speed limits.
-std::string RobotYamlPath(const std::string& urdf_path) {
-  return std::filesystem::path(urdf_path).replace_extension(".yaml").string();
-}
 
 /// Result callback recording the deepest overlap of one shape pair.
 struct OverlapCallback : btCollisionWorld::ContactResultCallback {
@@ -208,14 +201,13 @@ struct BulletWorld::Impl {
   }
 };
 
-BulletWorld::BulletWorld(const std::string& urdf_path, const std::vector<TerrainElement>& terrain,
+BulletWorld::BulletWorld(const RobotModel& robot, const std::vector<TerrainElement>& terrain,
                          const PhysicsConfig& config)
     : impl_(std::make_unique<Impl>()) {
   config.Validate();
   Impl& m = *impl_;
   m.config = config;
-  m.description = RobotDescription::FromUrdf(urdf_path);
-  const RobotModel robot = RobotModel::Load(urdf_path, RobotYamlPath(urdf_path));
+  m.description = RobotDescription::FromModel(robot);
   m.q_reference = robot.ReferenceConfiguration();
   m.torque_limit_Nm = robot.ContinuousTorqueLimit();
   m.joint_velocity_limit_radps = robot.JointVelocityLimit();

@@ -19,12 +19,11 @@ double AngleDiff(double a, double b) { return std::abs(std::remainder(a - b, 2.0
 
 }  // namespace
 
-PlanExecution::PlanExecution(const RobotModel& robot, const std::string& urdf_path, const Scenario& scenario,
-                             const SimConfig& sim_config, const ControllerConfig& controller_config,
-                             const StanceRules& stance_rules)
+PlanExecution::PlanExecution(const RobotModel& robot, const Scenario& scenario, const SimConfig& sim_config,
+                             const ControllerConfig& controller_config, const StanceRules& stance_rules)
     : robot_(robot), config_(sim_config), scenario_(scenario) {
   config_.Validate();
-  world_ = std::make_unique<BulletWorld>(urdf_path, scenario_.terrain, config_.physics);
+  world_ = std::make_unique<BulletWorld>(robot_, scenario_.terrain, config_.physics);
   controller_ = std::make_unique<PlanController>(robot_, controller_config, stance_rules, &scenario_.terrain_mesh);
 }
 

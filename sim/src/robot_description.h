@@ -1,5 +1,6 @@
 #pragma once
-/// The robot as the simulator builds it: rigid bodies joined by joints, read from the URDF.
+/// The robot as the simulator builds it: rigid bodies joined by joints, regrouped from the links
+/// and joints of the robot model (RobotModel::Load reads and checks the URDF).
 ///
 /// Bodies: the floating base ("base" and every link fixed to it), one body per revolute joint
 /// (its child link plus the links fixed to it, e.g. the shank with its adapter tube), and each
@@ -25,15 +26,10 @@
 
 namespace rbcp::sim {
 
-/// One collision primitive of the URDF, placed in its body's frame.
+/// One collision primitive of the model, placed in its body's frame.
 struct BodyShape {
-  CollisionShape::Kind kind = CollisionShape::Kind::kBox;
-  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();  ///< full extents [m] (box)
-  double radius = 0.0;                                 ///< [m] (cylinder, sphere)
-  double length = 0.0;                                 ///< [m], along the shape frame's z (cylinder)
+  CollisionShape primitive;                                     ///< as the model has it, on its link
   Eigen::Isometry3d pose_body = Eigen::Isometry3d::Identity();  ///< shape frame in the body frame
-  std::string link;                                    ///< URDF link the primitive belongs to
-  std::string name;                                    ///< URDF collision name (may be empty)
 };
 
 struct RobotBody {
@@ -71,10 +67,9 @@ struct RobotDescription {
   static int FootBody(Leg leg) { return 1 + kNumJoints + Index(leg); }
   static constexpr int kNumBodies = 1 + kNumJoints + kNumLegs;
 
-  /// Reads the URDF. Throws InputError naming the file and the problem: unreadable or invalid
-  /// URDF, root link other than "base", a missing, misplaced or non-revolute leg joint, another
-  /// movable joint, a missing foot link, a body without mass, an unsupported collision geometry.
-  static RobotDescription FromUrdf(const std::string& urdf_path);
+  /// The bodies of a loaded model (whose loading checked everything these bodies need: the leg
+  /// joints, the feet fixed to the shanks, a mass and inertia for every link).
+  static RobotDescription FromModel(const RobotModel& model);
 };
 
 /// Principal axes of a symmetric inertia tensor: `inertia = R diag(principal) R^T` with R a proper

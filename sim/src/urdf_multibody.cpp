@@ -1,5 +1,5 @@
 // The robot description as a Bullet btMultiBody: links in principal inertial frames, compound
-// colliders of the URDF primitives, joint limit constraints.
+// colliders of the robot's collision primitives, joint limit constraints.
 
 #include "urdf_multibody.h"
 
@@ -31,7 +31,7 @@ bool ChildPairCollides(const btCollisionShape* a, const btCollisionShape* b) {
   return !ta->filter->Excluded(ta->id, tb->id);
 }
 
-std::unique_ptr<btCollisionShape> MakePrimitive(const BodyShape& s) {
+std::unique_ptr<btCollisionShape> MakePrimitive(const CollisionShape& s) {
   std::unique_ptr<btCollisionShape> shape;
   switch (s.kind) {
     case CollisionShape::Kind::kBox:
@@ -83,11 +83,11 @@ void AddCollider(const RobotDescription& d, int b, double friction, MultiBodyRob
   const Eigen::Isometry3d com_from_body = body.inertial_frame.inverse();
   for (const BodyShape& s : body.shapes) {
     const int id = static_cast<int>(r.shapes.size());
-    std::unique_ptr<btCollisionShape> primitive = MakePrimitive(s);
+    std::unique_ptr<btCollisionShape> primitive = MakePrimitive(s.primitive);
     r.tags[static_cast<std::size_t>(id)] = ShapeTag{r.filter.get(), id};
     primitive->setUserPointer(&r.tags[static_cast<std::size_t>(id)]);
     r.body_shapes[static_cast<std::size_t>(b)].push_back(id);
-    r.shapes.push_back(MultiBodyRobot::Shape{b, compound->getNumChildShapes(), s.link, s.name});
+    r.shapes.push_back(MultiBodyRobot::Shape{b, compound->getNumChildShapes(), s.primitive.link, s.primitive.name});
     compound->addChildShape(ToBt(com_from_body * s.pose_body), primitive.get());
     r.primitives.push_back(std::move(primitive));
   }

@@ -39,14 +39,14 @@ void ResetStanding(BulletWorld& world, double clearance = 0.01) {
 }
 
 TEST(BulletWorld, MassAsBuiltIsTheUrdfs) {
-  const BulletWorld world(test::UrdfPath(), test::FlatGround(), test::ShippedPhysics());
+  const BulletWorld world(test::Model(), test::FlatGround(), test::ShippedPhysics());
   EXPECT_NEAR(world.RobotMass(), kUrdfMass, 1e-9);
   EXPECT_NEAR(world.RobotMass(), 30.42, 0.01);
   EXPECT_NEAR(world.RobotMass(), Model().TotalMass(), 1e-9);
 }
 
 TEST(BulletWorld, StartsAtRestInTheReferenceConfigurationOneMetreUp) {
-  const BulletWorld world(test::UrdfPath(), test::FlatGround(), test::ShippedPhysics());
+  const BulletWorld world(test::Model(), test::FlatGround(), test::ShippedPhysics());
   const RobotState s = world.State();
   EXPECT_EQ(s.t, 0.0);
   EXPECT_NEAR((s.base_position_W - Eigen::Vector3d(0, 0, 1)).norm(), 0.0, 1e-12);
@@ -57,7 +57,7 @@ TEST(BulletWorld, StartsAtRestInTheReferenceConfigurationOneMetreUp) {
 }
 
 TEST(BulletWorld, KinematicsAgreeWithThePlanningModel) {
-  BulletWorld world(test::UrdfPath(), test::FlatGround(), test::ShippedPhysics());
+  BulletWorld world(test::Model(), test::FlatGround(), test::ShippedPhysics());
   JointVector q_bent = Model().ReferenceConfiguration();
   q_bent << 0.3, 1.1, -1.9, -0.2, 0.4, -0.6, 0.5, -1.2, 2.0, -0.4, -0.3, 0.7;
   JointVector q_odd = JointVector::Zero();
@@ -90,7 +90,7 @@ TEST(BulletWorld, KinematicsAgreeWithThePlanningModel) {
 }
 
 TEST(BulletWorld, TimeStepIsExactlyTheConfiguredOne) {
-  BulletWorld world(test::UrdfPath(), test::FlatGround(), test::ShippedPhysics());
+  BulletWorld world(test::Model(), test::FlatGround(), test::ShippedPhysics());
   const double dt = world.Config().time_step_s;
   const double g = world.Config().gravity_mps2;
   // Free fall from rest: Bullet's semi-implicit Euler with step dt gives v_n = -g n dt and
@@ -113,7 +113,7 @@ TEST(BulletWorld, TimeStepIsExactlyTheConfiguredOne) {
 
 TEST(BulletWorld, WithoutTorquesTheRobotCollapses) {
   const Scenario flat = LoadScenario(test::ConfigDir() + "/scenarios/flat_ground.yaml");
-  BulletWorld world(test::UrdfPath(), flat.terrain, test::ShippedPhysics());
+  BulletWorld world(test::Model(), flat.terrain, test::ShippedPhysics());
   ResetStanding(world);
   std::set<std::string> touching;
   for (int k = 0; k < test::StepsFor(world, 2.0); ++k) {
@@ -131,7 +131,7 @@ TEST(BulletWorld, WithoutTorquesTheRobotCollapses) {
 }
 
 TEST(BulletWorld, AJointPdHoldKeepsItStanding) {
-  BulletWorld world(test::UrdfPath(), test::FlatGround(), test::ShippedPhysics());
+  BulletWorld world(test::Model(), test::FlatGround(), test::ShippedPhysics());
   ResetStanding(world);
   test::RunPdHold(world, test::StepsFor(world, 2.0));
   const RobotState s = world.State();
@@ -184,7 +184,7 @@ TEST(BulletWorld, StandsOnATriangleMeshFloor) {
   mesh.file = path;
   mesh.resolved_path = path;
   mesh.position = Eigen::Vector3d(0.75, 0.0, -0.25);
-  BulletWorld world(test::UrdfPath(), {mesh}, test::ShippedPhysics());
+  BulletWorld world(test::Model(), {mesh}, test::ShippedPhysics());
   ResetStanding(world);
   test::RunPdHold(world, test::StepsFor(world, 1.5));
   const RobotState s = world.State();
@@ -202,7 +202,7 @@ TEST(BulletWorld, StandsOnATriangleMeshFloor) {
 
 TEST(BulletWorld, CrossedLegsAreSelfContacts) {
   // In the air, the fore legs swung under the trunk towards each other until they cross.
-  BulletWorld world(test::UrdfPath(), {}, test::ShippedPhysics());
+  BulletWorld world(test::Model(), {}, test::ShippedPhysics());
   JointVector q = Model().ReferenceConfiguration();
   q[0] = -0.9;  // LF_HAA: foot towards -y
   q[3] = 0.9;   // RF_HAA: foot towards +y
@@ -216,7 +216,7 @@ TEST(BulletWorld, CrossedLegsAreSelfContacts) {
 }
 
 TEST(BulletWorld, TorquesSaturateAtTheCommandLimit) {
-  BulletWorld world(test::UrdfPath(), test::FlatGround(), test::ShippedPhysics());
+  BulletWorld world(test::Model(), test::FlatGround(), test::ShippedPhysics());
   JointVector command = JointVector::Constant(100.0);
   command[4] = -100.0;
   command[7] = 12.5;
@@ -233,7 +233,7 @@ TEST(BulletWorld, TorqueIsCutAtTheSpeedLimit) {
   // In the air, the other joints held by a PD, a full torque on LF_KFE spins the knee up; from
   // 15 rad/s on the accelerating torque is cut to zero (checked in every step), a braking
   // torque is delivered in full.
-  BulletWorld world(test::UrdfPath(), {}, test::ShippedPhysics());
+  BulletWorld world(test::Model(), {}, test::ShippedPhysics());
   world.ResetRobot(Eigen::Vector3d(0, 0, 5), Eigen::Quaterniond::Identity(), Model().ReferenceConfiguration());
   const int knee = 2;
   const double limit = Model().JointVelocityLimit();
@@ -266,7 +266,7 @@ TEST(BulletWorld, TorqueIsCutAtTheSpeedLimit) {
 TEST(BulletWorld, JointsStopAtTheUrdfLimits) {
   // LF_KFE folded to 9.3 rad (its URDF range is +-9.42) in the air, pushed on by the full torque.
   for (const double sign : {1.0, -1.0}) {
-    BulletWorld world(test::UrdfPath(), {}, test::ShippedPhysics());
+    BulletWorld world(test::Model(), {}, test::ShippedPhysics());
     JointVector q = Model().ReferenceConfiguration();
     q[2] = sign * 9.3;
     world.ResetRobot(Eigen::Vector3d(0, 0, 5), Eigen::Quaterniond::Identity(), q);
@@ -305,8 +305,8 @@ bool BitIdentical(const RobotState& a, const RobotState& b) {
 }
 
 TEST(BulletWorld, IdenticalRunsGiveBitIdenticalStates) {
-  BulletWorld a(test::UrdfPath(), test::FlatGround(), test::ShippedPhysics());
-  BulletWorld b(test::UrdfPath(), test::FlatGround(), test::ShippedPhysics());
+  BulletWorld a(test::Model(), test::FlatGround(), test::ShippedPhysics());
+  BulletWorld b(test::Model(), test::FlatGround(), test::ShippedPhysics());
   ResetStanding(a, 0.03);
   ResetStanding(b, 0.03);
   // Interleaved, so that any shared state between worlds would show.
@@ -334,7 +334,7 @@ struct InclineRun {
 /// Stands the robot on an incline of `pitch` (facing downhill, base parallel to the slope) and
 /// holds the reference configuration with a joint PD for 1.5 s.
 InclineRun StandOnIncline(double pitch) {
-  BulletWorld world(test::UrdfPath(), test::Incline(pitch), test::ShippedPhysics());
+  BulletWorld world(test::Model(), test::Incline(pitch), test::ShippedPhysics());
   const Eigen::Matrix3d R = RotationFromRpy(Eigen::Vector3d(0.0, pitch, 0.0));
   world.ResetRobot(R * Eigen::Vector3d(0, 0, Model().NominalBaseHeight() + 0.005), Eigen::Quaterniond(R),
                    Model().ReferenceConfiguration());

@@ -66,7 +66,7 @@ TEST(PhysicsConfig, RejectsOutOfRangeValues) {
 TEST(PhysicsConfig, TheWorldRejectsAnInvalidConfig) {
   PhysicsConfig c;
   c.time_step_s = 0.002;
-  EXPECT_EQ(ErrorOf([&] { BulletWorld(test::UrdfPath(), test::FlatGround(), c); }),
+  EXPECT_EQ(ErrorOf([&] { BulletWorld(test::Model(), test::FlatGround(), c); }),
             "PhysicsConfig: 'time_step_s': expected a number in (0, 0.001] [s], got 0.002");
 }
 

@@ -25,7 +25,6 @@ struct Models {
   SimConfig sim = SimConfig::LoadFile(ConfigDir() + "/sim.yaml");
   ControllerConfig controller = ControllerConfig::LoadFile(ConfigDir() + "/controller.yaml");
   StanceRules stance = StanceRules::LoadFromDir(ConfigDir());
-  std::string urdf = ConfigDir() + "/robots/anymal_b.urdf";
 };
 
 const Models& Get() {
@@ -49,7 +48,7 @@ RobotModel RobotWithTorqueLimit(double limit_Nm) {
   EXPECT_EQ(replaced, 1) << "the robot file names its continuous torque limit once";
   const std::string path = ::testing::TempDir() + "/anymal_b_torque_limit.yaml";
   std::ofstream(path) << text;
-  return RobotModel::Load(Get().urdf, path);
+  return RobotModel::Load(ConfigDir() + "/robots/anymal_b.urdf", path);
 }
 
 /// What ended a run, for the message of a failed expectation.
@@ -77,7 +76,7 @@ Scenario FloorWithHole(const Eigen::Vector2d& hole_xy) {
 TEST(PlanExecution, StandingWithoutAPlanHoldsTheBaseWithinOneCentimetre) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
-  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+  PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
   run.StandAt(scenario.start);
   // Let the drop settle, then measure the drift over 10 s.
   while (run.Time() < 0.5) run.Tick();
@@ -93,7 +92,7 @@ TEST(PlanExecution, AShortFlatGroundPlanReachesItsGoal) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
   const ContactPlan plan = BuildFlatGroundPlan(g.robot, 4, 0.08);
-  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+  PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
   run.Start(plan);
   const ExecutionOutcome& o = run.Run();
   ASSERT_TRUE(o.ok()) << Why(o);
@@ -114,7 +113,7 @@ TEST(PlanExecution, APlanWalkedWholeReachesTheScenarioGoalOnlyWhereItEnds) {
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));  // goal 5 m ahead
   ContactPlan plan = BuildFlatGroundPlan(g.robot, 1, 0.08);
   plan.states.resize(1);  // stand where it starts
-  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+  PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
   run.Start(plan);
   ExecutionOutcome o = run.Run();
   ASSERT_TRUE(o.ok()) << "the plan of one state is walked at once: " << Why(o);
@@ -141,7 +140,7 @@ TEST(PlanExecution, AHindLegSteppingDownFromCloseBelowItsHipKeepsItsThighOffTheT
       LoadContactPlanFile(std::string(RBCP_SOURCE_DIR) + "/tests/data/plinth_hind_step_down.json");
   ASSERT_EQ(plan.states.size(), 2u);
   ASSERT_EQ(plan.states[1].moving_leg, Index(Leg::kLH));
-  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+  PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
   run.Start(plan);
   const ExecutionOutcome& o = run.Run();
   ASSERT_TRUE(o.ok()) << Why(o);
@@ -153,7 +152,7 @@ TEST(PlanExecution, ANewPlanReplacesTheRestAtAStepBoundary) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
   const ContactPlan first = BuildFlatGroundPlan(g.robot, 6, 0.08);
-  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+  PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
   run.Start(first);
   // During the first step's swing a plan arrives that goes on from the stance after that step.
   while (run.Controller().Status().phase != ControllerPhase::kSwing) ASSERT_TRUE(run.Tick());
@@ -176,7 +175,7 @@ TEST(PlanExecution, AFootThatRollsOverItsContactHasNotSlipped) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
   const ContactPlan plan = BuildFlatGroundPlan(g.robot, 4, 0.08);
-  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+  PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
   run.Start(plan);
   // The LH foot stands until the fourth step; follow its centre and its rotation meanwhile.
   const std::size_t lh = static_cast<std::size_t>(Index(Leg::kLH));
@@ -201,7 +200,7 @@ TEST(PlanExecution, FeetOnIceSlideAndTheJudgeSaysFootSlip) {
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
   SimConfig ice = g.sim;
   ice.physics.friction = 0.05;
-  PlanExecution run(g.robot, g.urdf, scenario, ice, g.controller, g.stance);
+  PlanExecution run(g.robot, scenario, ice, g.controller, g.stance);
   run.Start(BuildFlatGroundPlan(g.robot, 4, 0.08));
   const ExecutionOutcome& o = run.Run();
   ASSERT_TRUE(o.failure.has_value());
@@ -216,7 +215,7 @@ TEST(PlanExecution, TheTraceCarriesJointsTorquesAndTheSupportMargin) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
   const ContactPlan plan = BuildFlatGroundPlan(g.robot, 2, 0.08);
-  PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+  PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
   run.Start(plan);
   const ExecutionOutcome& o = run.Run();
   ASSERT_TRUE(o.ok()) << Why(o);
@@ -254,7 +253,7 @@ TEST(PlanExecution, TwoRunsGiveTheSameTrace) {
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
   const ContactPlan plan = BuildFlatGroundPlan(g.robot, 2, 0.08);
   auto trace = [&] {
-    PlanExecution run(g.robot, g.urdf, scenario, g.sim, g.controller, g.stance);
+    PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
     run.Start(plan);
     return OutcomeToJson(run.Run()).dump();
   };
@@ -267,7 +266,7 @@ TEST(PlanExecution, AFootholdThatIsNotThereEndsTheRunAsNoGround) {
   // The plan was made on the whole floor; the world lacks the floor under the first step's foot.
   const WholeBodyState& first_step = plan.states[1];
   const Eigen::Vector2d hole = first_step.feet[static_cast<std::size_t>(first_step.moving_leg)].position.head<2>();
-  PlanExecution run(g.robot, g.urdf, FloorWithHole(hole), g.sim, g.controller, g.stance);
+  PlanExecution run(g.robot, FloorWithHole(hole), g.sim, g.controller, g.stance);
   run.Start(plan);
   const ExecutionOutcome& o = run.Run();
   ASSERT_TRUE(o.failure.has_value());
@@ -285,7 +284,7 @@ TEST(PlanExecution, WithoutTorquesTheRobotCollapsesAndTheJudgeSaysFall) {
   SimConfig patient = g.sim;
   patient.outcome.max_saturation_s = 100.0;  // ... which is not to count as saturation here,
   patient.outcome.max_slip_m = 1.0;          // nor the feet sliding apart as it sinks
-  PlanExecution run(limp, g.urdf, scenario, patient, g.controller, g.stance);
+  PlanExecution run(limp, scenario, patient, g.controller, g.stance);
   run.Start(BuildFlatGroundPlan(g.robot, 4, 0.08));
   const ExecutionOutcome& o = run.Run();
   ASSERT_TRUE(o.failure.has_value());

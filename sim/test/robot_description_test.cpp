@@ -12,7 +12,7 @@ namespace {
 using test::Model;
 
 const RobotDescription& Description() {
-  static const RobotDescription d = RobotDescription::FromUrdf(test::UrdfPath());
+  static const RobotDescription d = RobotDescription::FromModel(Model());
   return d;
 }
 
@@ -37,8 +37,8 @@ TEST(RobotDescription, BodiesFollowTheJointOrder) {
     EXPECT_EQ(foot.joint, RobotBody::Joint::kFixed);
     EXPECT_EQ(foot.parent, RobotDescription::JointBody(3 * Index(leg) + 2));
     ASSERT_EQ(foot.shapes.size(), 1u);
-    EXPECT_EQ(foot.shapes[0].kind, CollisionShape::Kind::kSphere);
-    EXPECT_DOUBLE_EQ(foot.shapes[0].radius, 0.031);
+    EXPECT_EQ(foot.shapes[0].primitive.kind, CollisionShape::Kind::kSphere);
+    EXPECT_DOUBLE_EQ(foot.shapes[0].primitive.radius, 0.031);
   }
 }
 
@@ -50,7 +50,7 @@ TEST(RobotDescription, MassesAndPrimitivesAreTheUrdfs) {
   std::map<std::string, int> model_count, sim_count;
   for (const CollisionShape& s : Model().CollisionShapes()) ++model_count[s.link];
   for (const RobotBody& b : d.bodies) {
-    for (const BodyShape& s : b.shapes) ++sim_count[s.link];
+    for (const BodyShape& s : b.shapes) ++sim_count[s.primitive.link];
   }
   EXPECT_EQ(sim_count, model_count);
 }
@@ -148,8 +148,15 @@ TEST(RobotDescription, PrincipalAxesOfADiagonalTensorAreTheCoordinateAxes) {
   EXPECT_NEAR((R - Q).norm(), 0.0, 1e-12);
 }
 
-TEST(RobotDescription, RejectsAMissingFile) {
-  EXPECT_THROW(RobotDescription::FromUrdf("/nonexistent/robot.urdf"), InputError);
+TEST(RobotDescription, EveryLinkOfTheModelIsInOneBody) {
+  std::map<std::string, int> count;
+  for (const RobotBody& b : Description().bodies) {
+    ASSERT_FALSE(b.links.empty());
+    EXPECT_EQ(b.links.front(), b.name);
+    for (const std::string& link : b.links) ++count[link];
+  }
+  EXPECT_EQ(count.size(), Model().Links().size());
+  for (const RobotLink& link : Model().Links()) EXPECT_EQ(count[link.name], 1) << link.name;
 }
 
 }  // namespace

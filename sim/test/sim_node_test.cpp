@@ -38,8 +38,7 @@ class SimWorld : public ::testing::Test {
   RobotModel robot_ = RobotModel::LoadDefault(ConfigDir());
   SimConfig config_ = SimConfig::LoadFile(ConfigDir() + "/sim.yaml");
   Scenario scenario_ = LoadScenario(ScenarioPath("flat_ground"));
-  PlanExecution execution_{robot_, ConfigDir() + "/robots/anymal_b.urdf", scenario_, config_,
-                           ControllerConfig::LoadFile(ConfigDir() + "/controller.yaml"),
+  PlanExecution execution_{robot_, scenario_, config_, ControllerConfig::LoadFile(ConfigDir() + "/controller.yaml"),
                            StanceRules::LoadFromDir(ConfigDir())};
   lcm::LCM lcm_{"memq://"};
   transport::LatestMessage<rbcp_msgs::robot_state_t> states_{lcm_, channels::kRobotState};

@@ -15,7 +15,6 @@
 namespace rbcp::sim::test {
 
 inline std::string ConfigDir() { return std::string(RBCP_SOURCE_DIR) + "/config"; }
-inline std::string UrdfPath() { return ConfigDir() + "/robots/anymal_b.urdf"; }
 
 inline const RobotModel& Model() {
   static const RobotModel model = RobotModel::LoadDefault(ConfigDir());

@@ -1,20 +1,16 @@
 // scene_json: what a viewer needs besides a plan, as one JSON object on stdout: the scenario's
 // terrain mesh, its contact surfaces (affordance extraction with the given parameters) and the
-// robot (joint tree from the URDF, collision primitives, planning parameters, torque limits, and
+// robot (joint tree, collision primitives, planning parameters, torque limits, and
 // the link poses of the reference stance from rbcp::RobotModel so a viewer can check its own
 // kinematics). Without a scenario, the robot alone.
 //
 // Rotations are quaternions [x, y, z, w]; every pose is {"xyz", "quaternion"}.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <urdf_parser/urdf_parser.h>
 
 #include <Eigen/Geometry>
-#include <deque>
 #include <exception>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -40,44 +36,26 @@ json Pose(const Eigen::Isometry3d& pose) {
   return {{"xyz", Vec(pose.translation())}, {"quaternion", json::array({q.x(), q.y(), q.z(), q.w()})}};
 }
 
-json Pose(const urdf::Pose& pose) {
-  const urdf::Rotation& r = pose.rotation;
-  return {{"xyz", json::array({pose.position.x, pose.position.y, pose.position.z})},
-          {"quaternion", json::array({r.x, r.y, r.z, r.w})}};
-}
-
-std::string JointType(int type) {
+std::string JointType(rbcp::RobotJoint::Type type) {
   switch (type) {
-    case urdf::Joint::REVOLUTE: return "revolute";
-    case urdf::Joint::CONTINUOUS: return "continuous";
-    case urdf::Joint::PRISMATIC: return "prismatic";
-    case urdf::Joint::FIXED: return "fixed";
-    default: return "other";
+    case rbcp::RobotJoint::Type::kRevolute: return "revolute";
+    case rbcp::RobotJoint::Type::kContinuous: return "continuous";
+    case rbcp::RobotJoint::Type::kFixed: return "fixed";
   }
+  return "other";
 }
 
-/// The URDF's joints, breadth first from the root link: a joint never precedes the joint that
+/// The robot's joints, breadth first from the root link: a joint never precedes the joint that
 /// places its parent link.
-json Joints(const std::string& urdf_path) {
-  std::ifstream file(urdf_path);
-  std::stringstream xml;
-  xml << file.rdbuf();
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(xml.str());
-  if (!model) throw rbcp::InputError(urdf_path + ": the URDF does not parse");
+json Joints(const rbcp::RobotModel& robot) {
   json joints = json::array();
-  std::deque<urdf::LinkConstSharedPtr> queue = {model->getRoot()};
-  while (!queue.empty()) {
-    const urdf::LinkConstSharedPtr link = queue.front();
-    queue.pop_front();
-    for (const urdf::JointSharedPtr& j : link->child_joints) {
-      joints.push_back({{"name", j->name},
-                        {"type", JointType(j->type)},
-                        {"parent", j->parent_link_name},
-                        {"child", j->child_link_name},
-                        {"origin", Pose(j->parent_to_joint_origin_transform)},
-                        {"axis", json::array({j->axis.x, j->axis.y, j->axis.z})}});
-    }
-    for (const urdf::LinkSharedPtr& child : link->child_links) queue.push_back(child);
+  for (const rbcp::RobotJoint& j : robot.Joints()) {
+    joints.push_back({{"name", j.name},
+                      {"type", JointType(j.type)},
+                      {"parent", j.parent_link},
+                      {"child", j.child_link},
+                      {"origin", Pose(j.origin)},
+                      {"axis", Vec(j.axis)}});
   }
   return joints;
 }
@@ -125,7 +103,7 @@ json Robot(const std::string& config_dir) {
 
   return {{"urdf", urdf_path},
           {"links", links},
-          {"joints", Joints(urdf_path)},
+          {"joints", Joints(robot)},
           {"shapes", shapes},
           {"joint_order", joint_order},
           {"reference_configuration", q_reference},

@@ -53,6 +53,13 @@ class RobotLoadTest : public ::testing::Test {
     text.replace(at, from.size(), to);
   }
 
+  /// Replaces the first `from` in the URDF after the start of `element`, e.g. "<joint name=\"LF_HFE\"".
+  void EditUrdfAfter(const std::string& element, const std::string& from, const std::string& to) {
+    const std::size_t at = urdf_text_.find(element);
+    ASSERT_NE(at, std::string::npos) << element;
+    Replace(urdf_text_, from, to, at);
+  }
+
   std::string UrdfPath() const { return (dir_ / "robot.urdf").string(); }
   std::string YamlPath() const { return (dir_ / "robot.yaml").string(); }
 
@@ -95,17 +102,13 @@ TEST_F(RobotLoadTest, MissingJointNamesTheFileAndJoint) {
 }
 
 TEST_F(RobotLoadTest, WrongAxisIsRejected) {
-  const std::size_t joint = urdf_text_.find("<joint name=\"RH_HFE\"");
-  ASSERT_NE(joint, std::string::npos);
-  Replace(urdf_text_, "<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 0 1\"/>", joint);
+  EditUrdfAfter("<joint name=\"RH_HFE\"", "<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 0 1\"/>");
   const std::string error = LoadError();
   EXPECT_EQ(error, UrdfPath() + ": joint 'RH_HFE': expected axis (0 1 0), got (0 0 1)");
 }
 
 TEST_F(RobotLoadTest, RotatedJointOriginIsRejected) {
-  const std::size_t joint = urdf_text_.find("<joint name=\"LH_KFE\"");
-  ASSERT_NE(joint, std::string::npos);
-  Replace(urdf_text_, "rpy=\"0 0 0\"", "rpy=\"0 0 0.1\"", joint);
+  EditUrdfAfter("<joint name=\"LH_KFE\"", "rpy=\"0 0 0\"", "rpy=\"0 0 0.1\"");
   const std::string error = LoadError();
   EXPECT_TRUE(Contains(error, UrdfPath() + ": joint 'LH_KFE': expected an origin without rotation")) << error;
 }
@@ -125,6 +128,30 @@ TEST_F(RobotLoadTest, LinkWithoutInertiaIsRejected) {
   urdf_text_.erase(begin, end - begin);
   const std::string error = LoadError();
   EXPECT_EQ(error, UrdfPath() + ": link 'RF_FOOT': missing <inertial> (every link needs a mass)");
+}
+
+TEST_F(RobotLoadTest, LinkWithoutPositiveMassIsRejected) {
+  EditUrdfAfter("<link name=\"LH_FOOT\">", "<mass value=\"0.001\"/>", "<mass value=\"0\"/>");
+  const std::string error = LoadError();
+  EXPECT_EQ(error, UrdfPath() + ": link 'LH_FOOT': expected a positive mass, got 0");
+}
+
+TEST_F(RobotLoadTest, InertiaNotPositiveDefiniteIsRejected) {
+  EditUrdfAfter("<link name=\"RF_FOOT\">", "izz=\"4.9e-07\"", "izz=\"0.0\"");
+  const std::string error = LoadError();
+  EXPECT_TRUE(Contains(error, UrdfPath() + ": link 'RF_FOOT': expected a positive definite inertia")) << error;
+}
+
+TEST_F(RobotLoadTest, UnorderedJointLimitsAreRejected) {
+  EditUrdfAfter("<joint name=\"RF_HFE\"", "lower=\"-9.42\" upper=\"9.42\"", "lower=\"1.0\" upper=\"-1.0\"");
+  const std::string error = LoadError();
+  EXPECT_EQ(error, UrdfPath() + ": joint 'RF_HFE': expected lower < upper limit, got [1, -1]");
+}
+
+TEST_F(RobotLoadTest, EmptyCollisionGeometryIsRejected) {
+  EditUrdfAfter("<collision name=\"LF_foot\">", "<sphere radius=\"0.031\"/>", "<sphere radius=\"0\"/>");
+  const std::string error = LoadError();
+  EXPECT_EQ(error, UrdfPath() + ": link 'LF_FOOT': expected a sphere of positive radius");
 }
 
 TEST_F(RobotLoadTest, UnknownYamlKeyNamesTheFileAndKey) {

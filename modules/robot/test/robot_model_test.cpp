@@ -4,6 +4,7 @@
 
 #include <map>
 #include <random>
+#include <set>
 
 #include "robot_test_util.h"
 
@@ -56,6 +57,46 @@ TEST(RobotModel, LinksAreOrderedTrunkThenLegsHipToFoot) {
   EXPECT_EQ(JointName(0), "LF_HAA");
   EXPECT_EQ(JointName(5), "RF_KFE");
   EXPECT_EQ(JointName(Leg::kLH, 1), "LH_HFE");
+  EXPECT_EQ(JointIndex("RF_KFE"), 5);
+  EXPECT_EQ(JointIndex("LF_SHANK_TO_ADAPTER"), -1);
+}
+
+TEST(RobotModel, JointsAreTheUrdfTreeBreadthFirst) {
+  const auto& joints = Anymal().Joints();
+  ASSERT_EQ(joints.size(), 20u);  // 12 leg joints, per leg SHANK_TO_ADAPTER and ADAPTER_TO_FOOT
+  std::set<std::string> placed = {"base"};
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const RobotJoint& j = joints[i];
+    EXPECT_TRUE(placed.count(j.parent_link)) << j.name << ": parent placed by an earlier joint";
+    placed.insert(j.child_link);
+    if (i < 4) {
+      EXPECT_EQ(j.parent_link, "base");  // the base's children first, in name order
+    }
+    if (j.type == RobotJoint::Type::kFixed) {
+      EXPECT_EQ(j.axis, Eigen::Vector3d::Zero()) << j.name;
+      continue;
+    }
+    EXPECT_EQ(j.type, RobotJoint::Type::kRevolute) << j.name;
+    EXPECT_EQ(j.lower_limit, -9.42);
+    EXPECT_EQ(j.upper_limit, 9.42);
+  }
+  EXPECT_EQ(joints[0].name, "LF_HAA");
+  EXPECT_EQ(joints[3].name, "RH_HAA");
+  EXPECT_EQ(placed.size(), Anymal().Links().size());
+
+  for (const RobotJoint& j : joints) {
+    if (j.name == "LF_KFE") {
+      EXPECT_EQ(j.parent_link, "LF_THIGH");
+      EXPECT_EQ(j.child_link, "LF_SHANK");
+      EXPECT_EQ(j.axis, Eigen::Vector3d::UnitY());
+      EXPECT_TRUE(j.origin.isApprox(Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.109, -0.25))));
+    }
+    if (j.name == "RH_ADAPTER_TO_FOOT") {
+      EXPECT_EQ(j.parent_link, "RH_ADAPTER");
+      EXPECT_EQ(j.child_link, "RH_FOOT");
+      EXPECT_TRUE(j.origin.translation().isApprox(Eigen::Vector3d(0.0, 0.0, -0.32125)));
+    }
+  }
 }
 
 TEST(RobotModel, HipPositionsFollowTheSignPattern) {

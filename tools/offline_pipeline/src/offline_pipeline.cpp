@@ -106,8 +106,7 @@ PipelineResult OfflinePipeline::Run(const Scenario& scenario, PipelineStage stag
   if (stage == PipelineStage::kContact) return result;
 
   start = std::chrono::steady_clock::now();
-  sim::PlanExecution execution(*robot_, config_dir_ + "/robots/anymal_b.urdf", scenario, sim_config_,
-                               controller_config_, stance_rules_);
+  sim::PlanExecution execution(*robot_, scenario, sim_config_, controller_config_, stance_rules_);
   execution.Start(result.contact->plan);
   result.sim = execution.Run();
   result.sim_wall_s = MsSince(start) / 1000.0;

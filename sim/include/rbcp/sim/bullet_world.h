@@ -91,14 +91,13 @@ struct TerrainContact {
 
 class BulletWorld {
  public:
-  /// Builds the world: the robot from `urdf_path` (every link with mass and inertia, every
-  /// collision primitive, fixed joints merged into their parent, the feet as fixed links), the
-  /// terrain elements (boxes as exact box shapes, meshes as static triangle meshes). The
-  /// reference configuration comes from the planning parameters beside the URDF (same name,
-  /// .yaml, as RobotModel::Load reads them). The robot starts at rest in the reference
-  /// configuration 1 m above the origin until ResetRobot is called. Throws InputError for a bad
-  /// URDF, robot parameters, terrain or config.
-  BulletWorld(const std::string& urdf_path, const std::vector<TerrainElement>& terrain, const PhysicsConfig& config);
+  /// Builds the world: the robot from the model's links and joints (every link with mass and
+  /// inertia, every collision primitive, fixed joints merged into their parent, the feet as fixed
+  /// links), the terrain elements (boxes as exact box shapes, meshes as static triangle meshes).
+  /// The robot starts at rest in the model's reference configuration 1 m above the origin until
+  /// ResetRobot is called. The world keeps no reference to `robot`. Throws InputError for a bad
+  /// terrain or config.
+  BulletWorld(const RobotModel& robot, const std::vector<TerrainElement>& terrain, const PhysicsConfig& config);
   ~BulletWorld();
   BulletWorld(const BulletWorld&) = delete;
   BulletWorld& operator=(const BulletWorld&) = delete;

@@ -107,8 +107,8 @@ class PlanExecution {
   /// Builds the world of `scenario` (its terrain: the world may differ from the one the plan was
   /// made on) and a controller that knows that terrain and walks by `stance_rules` (those the
   /// plans were checked with). The models must outlive this object.
-  PlanExecution(const RobotModel& robot, const std::string& urdf_path, const Scenario& scenario,
-                const SimConfig& sim_config, const ControllerConfig& controller_config, const StanceRules& stance_rules);
+  PlanExecution(const RobotModel& robot, const Scenario& scenario, const SimConfig& sim_config,
+                const ControllerConfig& controller_config, const StanceRules& stance_rules);
   ~PlanExecution();
 
   /// Puts the robot at rest in the plan's first state (lifted by drop_height_m over the terrain)

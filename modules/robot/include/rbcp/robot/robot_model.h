@@ -1,5 +1,5 @@
 #pragma once
-/// The ANYmal robot model: kinematic tree, masses and collision primitives from a URDF, planning
+/// The ANYmal robot model: joint tree, masses and collision primitives from a URDF, planning
 /// parameters (reference stance, planning joint bounds, foot contact point, limits) from a YAML
 /// file. Leg kinematics (forward, Jacobian, analytic inverse) and whole-body centre of mass.
 ///
@@ -34,6 +34,9 @@ inline void SetLegJoints(JointVector& q, Leg leg, const Eigen::Vector3d& q_leg) 
 std::string JointName(int joint_index);
 /// URDF name of joint j (0 HAA, 1 HFE, 2 KFE) of a leg, e.g. "LH_HFE".
 std::string JointName(Leg leg, int j);
+/// Index in the whole-robot joint vector of a joint name, e.g. JointIndex("RF_KFE") == 5; -1 for
+/// a name that is not a leg joint's.
+int JointIndex(const std::string& joint_name);
 
 /// Outcome of a leg inverse-kinematics query. `q` is meaningful when ok(); for
 /// kOutsideJointBounds it holds the exact (unclamped) solution that violates the bounds.
@@ -43,6 +46,21 @@ struct IkResult {
   Eigen::Vector3d q = Eigen::Vector3d::Zero();  ///< (HAA, HFE, KFE) [rad]
   std::string reason;                           ///< empty when ok()
   bool ok() const { return status == Status::kOk; }
+};
+
+/// One joint of the URDF. A loaded model has the 12 leg joints (revolute or continuous, named by
+/// JointName) and any number of fixed joints.
+struct RobotJoint {
+  enum class Type { kRevolute, kContinuous, kFixed };
+  std::string name;
+  Type type = Type::kFixed;
+  std::string parent_link;
+  std::string child_link;
+  /// The joint frame in the parent link frame: the child link's frame at zero joint position.
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();  ///< unit rotation axis in the joint frame; zero when fixed
+  double lower_limit = 0.0;  ///< position limits [rad] of a revolute joint; -inf, +inf when continuous
+  double upper_limit = 0.0;
 };
 
 /// One link of the URDF with its inertial data.
@@ -88,10 +106,14 @@ struct BodyPoseData {
 
 class RobotModel {
  public:
-  /// Loads the URDF and the planning parameters. Throws rbcp::InputError naming the file and the
-  /// problem: unreadable or malformed file, missing or unexpected joint, joint axis or origin
-  /// rotation the leg model does not support, link without inertia, unsupported collision
-  /// geometry, missing/unknown/invalid YAML key.
+  /// Loads the URDF and the planning parameters. The URDF is read here only: the simulator and
+  /// the tools build from the model. Throws rbcp::InputError naming the file and the problem:
+  /// unreadable or malformed file, missing or unexpected joint, joint axis or origin rotation
+  /// the leg model does not support, revolute joint limits not ordered, a missing foot link,
+  /// unsupported or empty collision geometry, missing/unknown/invalid YAML key, a link without
+  /// a positive, finite mass or a positive definite inertia. Every link needs both (the shipped
+  /// URDF gives every link an <inertial>): a link may be a rigid body of its own, as each foot is
+  /// in the simulator, and a rigid body without mass or rotational inertia has no dynamics.
   static RobotModel Load(const std::string& urdf_path, const std::string& yaml_path);
   /// Loads config_dir/robots/anymal_b.urdf and config_dir/robots/anymal_b.yaml.
   static RobotModel LoadDefault(const std::string& config_dir);
@@ -150,6 +172,9 @@ class RobotModel {
   /// joints q_leg (HAA, HFE, KFE), leaving the other links as they are: the links of a
   /// configuration that differs from the vector's only in that leg, at a quarter of the cost.
   void SetLegLinkPoses(Leg leg, const Eigen::Vector3d& q_leg, std::vector<Eigen::Isometry3d>* poses_base) const;
+  /// Every joint of the URDF, fixed ones included, breadth first from the base link, each link's
+  /// child joints in name order: a joint never precedes the joint that places its parent link.
+  const std::vector<RobotJoint>& Joints() const { return joints_; }
   /// Collision primitives of all links, in link order then URDF order.
   const std::vector<CollisionShape>& CollisionShapes() const { return collision_shapes_; }
 
@@ -229,6 +254,7 @@ class RobotModel {
     Eigen::Isometry3d body_to_link = Eigen::Isometry3d::Identity();
   };
   struct Branch;
+  struct Loader;  ///< the steps of Load (robot_model_load.cpp)
 
   void BodyPoses(const JointVector& q, std::array<Eigen::Isometry3d, kNumBodies>* poses) const;
   /// The mass-weighted mean of the bodies' centres of mass at these poses.
@@ -239,6 +265,7 @@ class RobotModel {
   bool BoundsReason(Leg leg, const Eigen::Vector3d& q_leg, std::string* reason) const;
 
   std::array<LegChain, kNumLegs> legs_;
+  std::vector<RobotJoint> joints_;
   std::vector<RobotLink> links_;
   std::vector<LinkPlacement> placements_;
   std::vector<CollisionShape> collision_shapes_;
