@@ -271,35 +271,50 @@ ContactPlanResult ContactPlanner::PlanHorizon(const WholeBodyState& current,
   return result_from;
 }
 
-std::optional<WholeBodyState> ContactPlanner::StandingStance(const Eigen::Vector3d& base_position_W, double yaw,
-                                                             std::string* reason) {
-  impl_->budget.Start(impl_->config.time_budget_s);
-  if (!impl_->context) {
-    if (reason) *reason = "no terrain set";
-    return std::nullopt;
-  }
-  StandingResult stance = StandingAt(impl_->ctx(), base_position_W, yaw);
-  if (!stance.state && reason) *reason = stance.failure->Describe();
-  return std::move(stance.state);
+namespace {
+
+StanceResult StanceFailure(ContactPlanStatus status, std::string reason) {
+  StanceResult result;
+  result.status = status;
+  result.reason = std::move(reason);
+  return result;
 }
 
-std::optional<WholeBodyState> ContactPlanner::MeasuredStance(const Eigen::Vector3d& base_position_W,
-                                                             const Eigen::Vector3d& base_rpy,
-                                                             const std::array<Eigen::Vector3d, kNumLegs>& feet_W,
-                                                             double max_offset_m, std::string* reason) const {
-  const auto fail = [&](std::string why) -> std::optional<WholeBodyState> {
-    if (reason) *reason = std::move(why);
-    return std::nullopt;
-  };
-  if (!impl_->context) return fail("no terrain set");
-  if (!base_position_W.allFinite() || !base_rpy.allFinite()) return fail("the base pose is not finite");
+StanceResult StanceFound(WholeBodyState state) {
+  StanceResult result;
+  result.status = ContactPlanStatus::kOk;
+  result.state = std::move(state);
+  return result;
+}
+
+}  // namespace
+
+StanceResult ContactPlanner::StandingStance(const Eigen::Vector3d& base_position_W, double yaw) {
+  impl_->budget.Start(impl_->config.time_budget_s);
+  if (!impl_->context) return StanceFailure(ContactPlanStatus::kInvalidInput, "no terrain set");
+  StandingResult stance = StandingAt(impl_->ctx(), base_position_W, yaw);
+  if (stance.state) return StanceFound(std::move(*stance.state));
+  const bool out_of_time = stance.failure->kind == StandingFailure::Kind::kTimeBudget;
+  return StanceFailure(out_of_time ? ContactPlanStatus::kTimeout : ContactPlanStatus::kNoStartStance,
+                       stance.failure->Describe());
+}
+
+StanceResult ContactPlanner::MeasuredStance(const Eigen::Vector3d& base_position_W, const Eigen::Vector3d& base_rpy,
+                                            const std::array<Eigen::Vector3d, kNumLegs>& feet_W,
+                                            double max_offset_m) const {
+  if (!impl_->context) return StanceFailure(ContactPlanStatus::kInvalidInput, "no terrain set");
+  if (!base_position_W.allFinite() || !base_rpy.allFinite()) {
+    return StanceFailure(ContactPlanStatus::kInvalidInput, "the base pose is not finite");
+  }
   WholeBodyState state;
   state.base_position = base_position_W;
   state.base_rpy = base_rpy;
   for (Leg leg : kAllLegs) {
     const std::size_t i = static_cast<std::size_t>(Index(leg));
     const Eigen::Vector3d& p = feet_W[i];
-    if (!p.allFinite()) return fail(std::string(LegName(leg)) + " foot position is not finite");
+    if (!p.allFinite()) {
+      return StanceFailure(ContactPlanStatus::kInvalidInput, std::string(LegName(leg)) + " foot position is not finite");
+    }
     double best = std::numeric_limits<double>::infinity();
     for (const ConvexPolygon3d& surface : impl_->surfaces) {
       const Eigen::Vector3d c = surface.ClosestPoint(p);
@@ -311,12 +326,13 @@ std::optional<WholeBodyState> ContactPlanner::MeasuredStance(const Eigen::Vector
       }
     }
     if (!(best <= max_offset_m)) {
-      return fail(std::string(LegName(leg)) + " foot at (" + FixedNumber(p.x()) + ", " + FixedNumber(p.y()) + ", " +
-                  FixedNumber(p.z()) + ") is " + FixedNumber(best) + " m from the nearest contact surface (at most " +
-                  FixedNumber(max_offset_m) + " m)");
+      return StanceFailure(ContactPlanStatus::kNoStartStance,
+                           std::string(LegName(leg)) + " foot at (" + FixedNumber(p.x()) + ", " + FixedNumber(p.y()) +
+                               ", " + FixedNumber(p.z()) + ") is " + FixedNumber(best) +
+                               " m from the nearest contact surface (at most " + FixedNumber(max_offset_m) + " m)");
     }
   }
-  return state;
+  return StanceFound(std::move(state));
 }
 
 namespace {

@@ -581,15 +581,39 @@ TEST(ContactPlannerTest, StandingStanceIsAtTheReference) {
   const World& world = ScenarioWorld("flat_ground");
   ContactPlanner planner = MakePlanner(world);
   const Eigen::Vector3d base(0.3, -0.2, Robot().NominalBaseHeight());
-  std::string reason;
-  const auto stance = planner.StandingStance(base, 0.5, &reason);
-  ASSERT_TRUE(stance.has_value()) << reason;
-  const Eigen::Isometry3d pose = BasePose(*stance);
+  const StanceResult result = planner.StandingStance(base, 0.5);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  const WholeBodyState& stance = *result.state;
+  const Eigen::Isometry3d pose = BasePose(stance);
   for (Leg leg : kAllLegs) {
     const Eigen::Vector3d ref = pose * Robot().ReferenceFootPosition(leg);
-    EXPECT_LT((stance->feet[static_cast<std::size_t>(Index(leg))].position - ref).norm(), 0.02) << LegName(leg);
-    EXPECT_NEAR(stance->feet[static_cast<std::size_t>(Index(leg))].position.z(), 0.0, 1e-9);
+    EXPECT_LT((stance.feet[static_cast<std::size_t>(Index(leg))].position - ref).norm(), 0.02) << LegName(leg);
+    EXPECT_NEAR(stance.feet[static_cast<std::size_t>(Index(leg))].position.z(), 0.0, 1e-9);
   }
+}
+
+TEST(ContactPlannerTest, AMeasuredStanceSnapsTheFeetOrNamesTheFootOffEverySurface) {
+  const World& world = ScenarioWorld("flat_ground");
+  ContactPlanner planner = MakePlanner(world);
+  const Eigen::Vector3d base(0.3, -0.2, Robot().NominalBaseHeight());
+  const Eigen::Vector3d rpy(0.0, 0.0, 0.5);
+  std::array<Eigen::Vector3d, kNumLegs> feet;
+  for (Leg leg : kAllLegs) {
+    feet[static_cast<std::size_t>(Index(leg))] = PoseFromRpy(base, rpy) * Robot().ReferenceFootPosition(leg) +
+                                                  Eigen::Vector3d(0.0, 0.0, 0.01);  // 1 cm above the floor
+  }
+  const StanceResult snapped = planner.MeasuredStance(base, rpy, feet, 0.05);
+  ASSERT_TRUE(snapped.ok()) << snapped.reason;
+  for (Leg leg : kAllLegs) EXPECT_NEAR(snapped.state->feet[static_cast<std::size_t>(Index(leg))].position.z(), 0.0, 1e-9);
+
+  feet[static_cast<std::size_t>(Index(Leg::kRH))].z() = 0.2;
+  const StanceResult lifted = planner.MeasuredStance(base, rpy, feet, 0.05);
+  EXPECT_EQ(lifted.status, ContactPlanStatus::kNoStartStance);
+  EXPECT_FALSE(lifted.state.has_value());
+  EXPECT_EQ(lifted.reason.rfind("RH foot at", 0), 0u) << lifted.reason;
+
+  feet[static_cast<std::size_t>(Index(Leg::kRH))].x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(planner.MeasuredStance(base, rpy, feet, 0.05).status, ContactPlanStatus::kInvalidInput);
 }
 
 }  // namespace

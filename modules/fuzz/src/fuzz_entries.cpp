@@ -81,8 +81,7 @@ Outcome ReadAffordanceSet(const std::uint8_t* data, std::size_t size) {
 
 Outcome ReadPlanRequest(const std::uint8_t* data, std::size_t size) {
   return Message<rbcp_msgs::plan_request_t>(data, size, [](const auto& m) {
-    const std::string problem = transport::CheckPlanRequest(m, kMaxTimeBudget_s);
-    if (!problem.empty()) throw InputError(problem);
+    if (auto problem = transport::CheckPlanRequest(m, kMaxTimeBudget_s)) throw InputError(problem->Describe());
   });
 }
 

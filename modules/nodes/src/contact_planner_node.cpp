@@ -365,11 +365,11 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   }
   const Eigen::Vector3d rpy = RpyFromRotation(measured.base_orientation_W.toRotationMatrix());
   const std::array<Eigen::Vector3d, kNumLegs> feet_W = MeasuredFeetW(robot_, measured);
-  std::string why;
-  std::optional<WholeBodyState> stance =
-      planner_.MeasuredStance(measured.base_position_W, rpy, feet_W, options_.max_foot_offset_m, &why);
-  if (!stance) return fail("measured stance: " + why);
-  SnapToLastPlan(controller, &*stance);
+  StanceResult measured_stance =
+      planner_.MeasuredStance(measured.base_position_W, rpy, feet_W, options_.max_foot_offset_m);
+  if (!measured_stance.ok()) return fail("measured stance: " + measured_stance.reason);
+  WholeBodyState& stance = *measured_stance.state;
+  SnapToLastPlan(controller, &stance);
   double offset_xy = 0.0;
   const std::size_t nearest = PathProgress(measured.base_position_W, rpy.z(), &offset_xy);
   if (offset_xy > options_.max_path_offset_m) {
@@ -383,7 +383,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   // taken when the robot stands there (the same footholds, the base within base_match_m and
   // base_match_rad); otherwise a new plan from the measured stance.
   std::optional<PlanMadeAhead> ahead = std::exchange(plan_made_ahead_, std::nullopt);
-  const std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, *stance, controller.plan_seq);
+  const std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, stance, controller.plan_seq);
   if (!missed) {
     path_progress_ = ahead->progress;
     last_result_ = std::move(ahead->result);
@@ -401,7 +401,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
                    measured.base_position_W.x(), measured.base_position_W.y(), remaining.size());
     }
     try {
-      last_result_ = planner_.PlanHorizon(*stance, remaining, k + options_.lookahead_steps);
+      last_result_ = planner_.PlanHorizon(stance, remaining, k + options_.lookahead_steps);
     } catch (const std::exception& e) {
       return fail(std::string("internal error: ") + e.what());
     }

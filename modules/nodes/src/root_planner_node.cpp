@@ -57,8 +57,9 @@ std::optional<RejectedInput> RootPlannerNode::TakeInputs() {
   if (auto e = world_.Take(&clock_)) return e;
   if (auto msg = request_.Take()) {
     if (auto bad = clock_.Input(msg->utime, options_.request_channel)) return RejectedInput::Time(std::move(*bad));
-    std::string problem = transport::CheckPlanRequest(*msg, options_.max_time_budget_s);
-    if (!problem.empty()) return RejectedInput::Content(std::move(problem));
+    if (auto problem = transport::CheckPlanRequest(*msg, options_.max_time_budget_s)) {
+      return RejectedInput::Content(problem->Describe());
+    }
     // The operator repeats its request when an answer got lost, or for a restarted planner: a
     // repeat of the request already handled is answered again, and one still pending stays so.
     if (pending_ && transport::SameRequest(*pending_, *msg)) return std::nullopt;
@@ -200,12 +201,16 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     // The measured base is where the robot is: one inside the terrain is not lifted onto its top.
     const auto& state = *robot_state_.Latest();
     const Eigen::Vector3d base(state.base_position[0], state.base_position[1], state.base_position[2]);
-    const std::string problem = std::isfinite(base.z()) ? planner_.MeasuredBaseProblem(*world_.terrain(), base)
-                                                        : "robot state: base pose is not finite";
-    if (!problem.empty()) {
+    std::optional<std::string> problem;
+    if (!base.allFinite()) {
+      problem = "robot state: base pose is not finite";
+    } else if (auto bad = planner_.CheckMeasuredBase(*world_.terrain(), base)) {
+      problem = bad->Describe();
+    }
+    if (problem) {
       last_result_.reset();
       published_.reset();
-      status_.Failed(Now(), request.utime, 0.0, "start_invalid: " + problem);
+      status_.Failed(Now(), request.utime, 0.0, "start_invalid: " + *problem);
       return;
     }
   }

@@ -481,12 +481,19 @@ std::optional<Eigen::Vector3d> RootPlanner::StandingPosition(const TriangleMesh&
   return Eigen::Vector3d(xy.x(), xy.y(), *height + nominal_base_height_);
 }
 
-std::string RootPlanner::MeasuredBaseProblem(const TriangleMesh& terrain, const Eigen::Vector3d& base_W) const {
-  const std::optional<double> height = TerrainHeightAt(terrain, base_W.head<2>());
-  if (!height) return "no terrain under the measured base";
-  if (*height <= base_W.z()) return "";
+std::string MeasuredBaseProblem::Describe() const {
+  if (kind == Kind::kNoTerrain) return "no terrain under the measured base";
   return "the measured base at (" + FixedNumber(base_W.x(), 2) + ", " + FixedNumber(base_W.y(), 2) + ", " +
-         FixedNumber(base_W.z(), 2) + ") is inside the terrain, which rises to z " + FixedNumber(*height, 2) + " there";
+         FixedNumber(base_W.z(), 2) + ") is inside the terrain, which rises to z " + FixedNumber(terrain_top_z, 2) +
+         " there";
+}
+
+std::optional<MeasuredBaseProblem> RootPlanner::CheckMeasuredBase(const TriangleMesh& terrain,
+                                                                  const Eigen::Vector3d& base_W) const {
+  const std::optional<double> height = TerrainHeightAt(terrain, base_W.head<2>());
+  if (!height) return MeasuredBaseProblem{MeasuredBaseProblem::Kind::kNoTerrain, base_W};
+  if (*height <= base_W.z()) return std::nullopt;
+  return MeasuredBaseProblem{MeasuredBaseProblem::Kind::kInsideTerrain, base_W, *height};
 }
 
 ReachabilityChecker RootPlanner::MakeChecker(const TriangleMesh& terrain,

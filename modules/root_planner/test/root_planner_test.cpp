@@ -282,6 +282,21 @@ TEST(RootPlannerTest, InvalidStartOrGoalIsReported) {
   EXPECT_EQ(ToString(sunk.status), "start_invalid");
 }
 
+TEST(RootPlannerTest, AMeasuredBaseInsideTheTerrainOrOverNoneIsNamed) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const double h = Robot().NominalBaseHeight();
+  EXPECT_FALSE(planner.CheckMeasuredBase(world.terrain, {-1.0, 0.0, h}).has_value());
+  const auto inside = planner.CheckMeasuredBase(world.terrain, {-1.0, 0.0, -0.1});
+  ASSERT_TRUE(inside.has_value());
+  EXPECT_EQ(inside->kind, MeasuredBaseProblem::Kind::kInsideTerrain);
+  EXPECT_DOUBLE_EQ(inside->terrain_top_z, 0.0);
+  EXPECT_EQ(inside->Describe(), "the measured base at (-1.00, 0.00, -0.10) is inside the terrain, which rises to z 0.00 there");
+  const auto over_pit = planner.CheckMeasuredBase(world.terrain, {0.75, 0.0, h});
+  ASSERT_TRUE(over_pit.has_value());
+  EXPECT_EQ(over_pit->kind, MeasuredBaseProblem::Kind::kNoTerrain);
+}
+
 TEST(RootPlannerTest, PlansFromAMovingStart) {
   const RootPlanner planner(Robot(), DefaultConfig());
   const test::Platforms ground = test::MakePlatforms({{-2.0, 3.0}});

@@ -37,10 +37,11 @@ std::string Point(const Eigen::Vector3d& p) {
 }
 
 /// "" when p is finite and within kMaxCoordinate_m; otherwise the reason, naming `what`.
-std::string CheckPosition(const Eigen::Vector3d& p, const std::string& what) {
-  if (!p.allFinite()) return what + " is not finite";
-  if (!Sane(p)) return what + " " + Point(p) + " is beyond " + FixedNumber(kMaxCoordinate_m, 0) + " m of the origin";
-  return "";
+/// What is wrong with a position in a message, e.g. "is not finite", or nullopt.
+std::optional<std::string> PositionProblem(const Eigen::Vector3d& p) {
+  if (!p.allFinite()) return std::string("is not finite");
+  if (!Sane(p)) return Point(p) + " is beyond " + FixedNumber(kMaxCoordinate_m, 0) + " m of the origin";
+  return std::nullopt;
 }
 
 double Norm4(const double q[4]) { return std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]); }
@@ -103,8 +104,9 @@ TriangleMesh FromTerrainMsg(const rbcp_msgs::terrain_mesh_t& msg) {
   const std::string problem = ValidateMesh(mesh);
   if (!problem.empty()) throw InputError("terrain mesh: " + problem);
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const std::string bad = CheckPosition(mesh.vertices[i], "vertex " + std::to_string(i));
-    if (!bad.empty()) throw InputError("terrain mesh: " + bad);
+    if (auto bad = PositionProblem(mesh.vertices[i])) {
+      throw InputError("terrain mesh: vertex " + std::to_string(i) + " " + *bad);
+    }
   }
   if (const int64_t id = TerrainId(mesh); id != msg.terrain_id) {
     throw InputError("terrain mesh: terrain_id " + std::to_string(msg.terrain_id) + " is not its content's (" +
@@ -152,8 +154,9 @@ std::vector<AffordanceSurface> FromAffordanceMsg(const rbcp_msgs::affordance_set
     for (const auto& v : surface.vertices) finite = finite && v.allFinite();
     if (!finite) throw InputError(what + ": expected finite values");
     for (std::size_t k = 0; k < surface.vertices.size(); ++k) {
-      const std::string bad = CheckPosition(surface.vertices[k], "vertex " + std::to_string(k));
-      if (!bad.empty()) throw InputError(what + ": " + bad);
+      if (auto bad = PositionProblem(surface.vertices[k])) {
+        throw InputError(what + ": vertex " + std::to_string(k) + " " + *bad);
+      }
     }
     if (std::abs(surface.normal.norm() - 1.0) > kUnitTolerance) {
       throw InputError(what + ": expected a unit normal, got " + Point(surface.normal) + " of norm " +
@@ -222,11 +225,12 @@ ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg) {
       finite = finite && foot.position.allFinite() && foot.normal.allFinite();
     }
     if (!finite) throw InputError(what + ": expected finite values");
-    std::string bad = CheckPosition(s.base_position, "base position");
-    for (int leg = 0; leg < kNumLegs && bad.empty(); ++leg) {
-      bad = CheckPosition(s.feet[static_cast<std::size_t>(leg)].position, "foot " + std::to_string(leg));
+    if (auto bad = PositionProblem(s.base_position)) throw InputError(what + ": base position " + *bad);
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      if (auto bad = PositionProblem(s.feet[static_cast<std::size_t>(leg)].position)) {
+        throw InputError(what + ": foot " + std::to_string(leg) + " " + *bad);
+      }
     }
-    if (!bad.empty()) throw InputError(what + ": " + bad);
     if (in.moving_leg < -1 || in.moving_leg >= kNumLegs) {
       throw InputError(what + ": moving_leg expected -1..3, got " + std::to_string(in.moving_leg));
     }
@@ -278,8 +282,7 @@ RobotState FromRobotStateMsg(const rbcp_msgs::robot_state_t& msg) {
                       AllFinite(msg.joint_position, kNumJoints) && AllFinite(msg.joint_velocity, kNumJoints) &&
                       AllFinite(msg.joint_torque, kNumJoints) && AllFinite(&msg.foot_force[0][0], 3 * kNumLegs);
   if (!finite) throw InputError("robot state: expected finite values");
-  const std::string bad = CheckPosition(Vec3(msg.base_position), "base position");
-  if (!bad.empty()) throw InputError("robot state: " + bad);
+  if (auto bad = PositionProblem(Vec3(msg.base_position))) throw InputError("robot state: base position " + *bad);
   const Eigen::Quaterniond q(msg.base_orientation[0], msg.base_orientation[1], msg.base_orientation[2],
                              msg.base_orientation[3]);
   if (std::abs(q.norm() - 1.0) > kUnitTolerance) {
@@ -362,8 +365,7 @@ std::vector<RootPathSample> FromRootPathMsg(const rbcp_msgs::root_path_t& msg, d
         !AllFinite(in.orientation, 4)) {
       throw InputError(what + " is not finite");
     }
-    const std::string bad = CheckPosition(Vec3(in.position), "position");
-    if (!bad.empty()) throw InputError(what + ": " + bad);
+    if (auto bad = PositionProblem(Vec3(in.position))) throw InputError(what + ": position " + *bad);
     if (std::abs(Norm4(in.orientation) - 1.0) > kUnitTolerance) {
       throw InputError(what + ": orientation is not a unit quaternion");
     }
@@ -387,19 +389,32 @@ std::vector<RootPathSample> FromRootPathMsg(const rbcp_msgs::root_path_t& msg, d
   return samples;
 }
 
-std::string CheckPlanRequest(const rbcp_msgs::plan_request_t& msg, double max_time_budget_s) {
-  std::string bad = CheckPosition(Vec3(msg.goal_position), "goal");
-  if (bad.empty() && !std::isfinite(msg.goal_yaw)) bad = "goal yaw is not finite";
-  if (bad.empty() && msg.use_start) {
-    bad = CheckPosition(Vec3(msg.start_position), "start");
-    if (bad.empty() && !std::isfinite(msg.start_yaw)) bad = "start yaw is not finite";
+std::string PlanRequestProblem::Describe() const {
+  std::string field;
+  switch (kind) {
+    case Kind::kGoal: field = "goal"; break;
+    case Kind::kGoalYaw: field = "goal yaw"; break;
+    case Kind::kStart: field = "start"; break;
+    case Kind::kStartYaw: field = "start yaw"; break;
+    case Kind::kTimeBudget: field = "time_budget"; break;
   }
-  if (bad.empty() && !std::isfinite(msg.time_budget)) bad = "time_budget is not finite";
-  if (bad.empty() && msg.time_budget > max_time_budget_s) {
-    bad = "time_budget " + std::to_string(msg.time_budget) + " s exceeds the limit of " +
-          FixedNumber(max_time_budget_s, 0) + " s";
+  return "plan request: " + field + " " + detail;
+}
+
+std::optional<PlanRequestProblem> CheckPlanRequest(const rbcp_msgs::plan_request_t& msg, double max_time_budget_s) {
+  using Kind = PlanRequestProblem::Kind;
+  if (auto bad = PositionProblem(Vec3(msg.goal_position))) return PlanRequestProblem{Kind::kGoal, *bad};
+  if (!std::isfinite(msg.goal_yaw)) return PlanRequestProblem{Kind::kGoalYaw, "is not finite"};
+  if (msg.use_start) {
+    if (auto bad = PositionProblem(Vec3(msg.start_position))) return PlanRequestProblem{Kind::kStart, *bad};
+    if (!std::isfinite(msg.start_yaw)) return PlanRequestProblem{Kind::kStartYaw, "is not finite"};
   }
-  return bad.empty() ? "" : "plan request: " + bad;
+  if (!std::isfinite(msg.time_budget)) return PlanRequestProblem{Kind::kTimeBudget, "is not finite"};
+  if (msg.time_budget > max_time_budget_s) {
+    return PlanRequestProblem{Kind::kTimeBudget, std::to_string(msg.time_budget) + " s exceeds the limit of " +
+                                                     FixedNumber(max_time_budget_s, 0) + " s"};
+  }
+  return std::nullopt;
 }
 
 }  // namespace rbcp::transport

@@ -268,23 +268,26 @@ TEST(Convert, RootPathsAreValidatedAndTheirDurationCapped) {
   EXPECT_EQ(RootPathProblem(StraightPath(0, 1.0), 10.0), "root path: no point");
 }
 
+std::string Problem(const std::optional<PlanRequestProblem>& problem) { return problem ? problem->Describe() : "none"; }
+
 TEST(Convert, PlanRequestsAreValidatedAndTheirBudgetCapped) {
   rbcp_msgs::plan_request_t r{};
   r.goal_position[0] = 2.0;
   r.time_budget = 5.0;
-  EXPECT_EQ(CheckPlanRequest(r, 60.0), "");
+  EXPECT_EQ(Problem(CheckPlanRequest(r, 60.0)), "none");
   r.time_budget = 1e9;
-  EXPECT_EQ(CheckPlanRequest(r, 60.0), "plan request: time_budget 1000000000.000000 s exceeds the limit of 60 s");
+  EXPECT_EQ(Problem(CheckPlanRequest(r, 60.0)), "plan request: time_budget 1000000000.000000 s exceeds the limit of 60 s");
   r.time_budget = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(CheckPlanRequest(r, 60.0), "plan request: time_budget is not finite");
+  EXPECT_EQ(Problem(CheckPlanRequest(r, 60.0)), "plan request: time_budget is not finite");
   r.time_budget = 0.0;  // the planner's default
   r.goal_position[1] = std::numeric_limits<double>::infinity();
-  EXPECT_EQ(CheckPlanRequest(r, 60.0), "plan request: goal is not finite");
+  EXPECT_EQ(Problem(CheckPlanRequest(r, 60.0)), "plan request: goal is not finite");
+  EXPECT_EQ(CheckPlanRequest(r, 60.0)->kind, PlanRequestProblem::Kind::kGoal);
   r.goal_position[1] = 0.0;
   r.start_position[0] = 5e5;
-  EXPECT_EQ(CheckPlanRequest(r, 60.0), "") << "the start is ignored without use_start";
+  EXPECT_EQ(Problem(CheckPlanRequest(r, 60.0)), "none") << "the start is ignored without use_start";
   r.use_start = true;
-  EXPECT_EQ(CheckPlanRequest(r, 60.0), "plan request: start (500000, 0, 0) is beyond 100000 m of the origin");
+  EXPECT_EQ(Problem(CheckPlanRequest(r, 60.0)), "plan request: start (500000, 0, 0) is beyond 100000 m of the origin");
 }
 
 TEST(Convert, ContactPlanRoundTripAndValidation) {

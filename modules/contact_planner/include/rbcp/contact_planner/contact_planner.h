@@ -157,6 +157,17 @@ struct ContactPlanResult {
   ContactPlanStats stats;
 };
 
+/// A stance the planner made (StandingStance, MeasuredStance), or why there is none.
+struct StanceResult {
+  /// kOk with a state; kInvalidInput (no terrain set, a value not finite), kNoStartStance (no
+  /// valid stance there), kTimeout (the time budget ended the search for one).
+  ContactPlanStatus status = ContactPlanStatus::kInvalidInput;
+  std::string reason;  ///< when not ok: what failed, naming the leg
+  std::optional<WholeBodyState> state;
+
+  bool ok() const { return status == ContactPlanStatus::kOk; }
+};
+
 /// Plans contact sequences for one robot over one terrain at a time. Holds the equilibrium LP
 /// workspace and the terrain collision structure, so queries are not const and an instance
 /// must not be shared between threads. The robot model and limb database must outlive it.
@@ -195,17 +206,15 @@ class ContactPlanner {
                                 int max_steps);
 
   /// The standing stance at a base pose: for each leg, the best foothold near the reference foot
-  /// position below the hip; nullopt with *reason when none is valid. Requires SetTerrain().
-  std::optional<WholeBodyState> StandingStance(const Eigen::Vector3d& base_position_W, double yaw,
-                                               std::string* reason = nullptr);
+  /// position below the hip; kNoStartStance when none is valid. Requires SetTerrain().
+  StanceResult StandingStance(const Eigen::Vector3d& base_position_W, double yaw);
 
   /// The stance of a measured state, for PlanHorizon: the base pose as given and each foot's
   /// contact point (world frame, e.g. by forward kinematics of the measured joints) moved to the
-  /// closest point of the nearest contact surface, with that surface's normal. nullopt with
-  /// *reason when a foot is farther than max_offset_m from every surface. Requires SetTerrain().
-  std::optional<WholeBodyState> MeasuredStance(const Eigen::Vector3d& base_position_W, const Eigen::Vector3d& base_rpy,
-                                               const std::array<Eigen::Vector3d, kNumLegs>& feet_W,
-                                               double max_offset_m, std::string* reason = nullptr) const;
+  /// closest point of the nearest contact surface, with that surface's normal. kNoStartStance
+  /// when a foot is farther than max_offset_m from every surface. Requires SetTerrain().
+  StanceResult MeasuredStance(const Eigen::Vector3d& base_position_W, const Eigen::Vector3d& base_rpy,
+                              const std::array<Eigen::Vector3d, kNumLegs>& feet_W, double max_offset_m) const;
 
   /// `plan` with the steps removed that step merging can remove (ContactPlannerConfig::merge):
   /// a leg that steps A -> B and later B -> C stands on A until it steps to C, or steps to C at

@@ -197,6 +197,20 @@ struct RootPlanResult {
 
 /// Plans root paths for one robot. Holds no per-terrain state: Plan() builds the reachability
 /// checker for the terrain it is given. Thread-compatible (one Plan at a time per instance).
+/// Why the robot cannot be planned from where it was measured.
+struct MeasuredBaseProblem {
+  enum class Kind {
+    kNoTerrain,      ///< no terrain under the base
+    kInsideTerrain,  ///< the terrain rises above the base, to terrain_top_z
+  };
+  Kind kind;
+  Eigen::Vector3d base_W;      ///< the measured base [m]
+  double terrain_top_z = 0.0;  ///< kInsideTerrain: the terrain's height at the base's xy [m]
+
+  /// E.g. "the measured base at (1.00, 0.00, 0.40) is inside the terrain, which rises to z 0.60 there".
+  std::string Describe() const;
+};
+
 class RootPlanner {
  public:
   /// Throws InputError if the config is out of range (RootPlannerConfig::Problem).
@@ -206,10 +220,10 @@ class RootPlanner {
   /// robot's nominal base height; nullopt when there is no terrain at xy.
   std::optional<Eigen::Vector3d> StandingPosition(const TriangleMesh& terrain, const Eigen::Vector2d& xy) const;
 
-  /// Why a measured base at `base_W` cannot be planned from, or empty: terrain at its xy rising
-  /// above the base means the robot is inside it (a box added where it stands, a terrain that
-  /// changed under it), and StandingPosition would silently lift it onto the top.
-  std::string MeasuredBaseProblem(const TriangleMesh& terrain, const Eigen::Vector3d& base_W) const;
+  /// Why a measured base at `base_W` cannot be planned from, or nullopt when it can: terrain at
+  /// its xy rising above the base means the robot is inside it (a box added where it stands, a
+  /// terrain that changed under it), and StandingPosition would silently lift it onto the top.
+  std::optional<MeasuredBaseProblem> CheckMeasuredBase(const TriangleMesh& terrain, const Eigen::Vector3d& base_W) const;
 
   /// Plans from the request's start to its goal over `terrain` with the given contact surfaces.
   /// A request with a non-finite number or a time budget <= 0 is answered with kInvalidInput.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,9 +90,25 @@ ControllerProgress FromControllerStatusMsg(const rbcp_msgs::controller_status_t&
 /// path lasts longer than max_duration_s.
 std::vector<RootPathSample> FromRootPathMsg(const rbcp_msgs::root_path_t& msg, double max_duration_s);
 
-/// Why a plan request cannot be planned ("" if it can): a goal (or, with use_start, a start) not
-/// finite or beyond kMaxCoordinate_m, or a time budget that is not finite or exceeds
+/// Why a plan request cannot be planned: the field at fault and what is wrong with it.
+struct PlanRequestProblem {
+  enum class Kind {
+    kGoal,        ///< the goal position is not finite or beyond kMaxCoordinate_m
+    kGoalYaw,     ///< the goal yaw is not finite
+    kStart,       ///< with use_start: the start position, as kGoal
+    kStartYaw,    ///< with use_start: the start yaw is not finite
+    kTimeBudget,  ///< the time budget is not finite or exceeds the limit
+  };
+  Kind kind;
+  std::string detail;  ///< what is wrong with the field, e.g. "is not finite"
+
+  /// E.g. "plan request: goal is not finite".
+  std::string Describe() const;
+};
+
+/// Why a plan request cannot be planned, or nullopt when it can: a goal (or, with use_start, a
+/// start) not finite or beyond kMaxCoordinate_m, or a time budget that is not finite or exceeds
 /// max_time_budget_s.
-std::string CheckPlanRequest(const rbcp_msgs::plan_request_t& msg, double max_time_budget_s);
+std::optional<PlanRequestProblem> CheckPlanRequest(const rbcp_msgs::plan_request_t& msg, double max_time_budget_s);
 
 }  // namespace rbcp::transport
