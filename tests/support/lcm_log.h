@@ -19,7 +19,7 @@ struct RecordedEvent {
 
   template <typename Msg>
   bool DecodeInto(Msg& msg) const {
-    return transport::DecodeMessage(data.data(), data.size(), msg).empty();
+    return !transport::DecodeMessage(data.data(), data.size(), msg);
   }
 };
 

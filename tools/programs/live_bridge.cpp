@@ -234,7 +234,7 @@ class Hub {
  private:
   template <typename Msg>
   bool Decode(Msg& msg, const void* data, unsigned size) {
-    if (rbcp::transport::DecodeMessage(data, size, msg).empty()) return true;
+    if (!rbcp::transport::DecodeMessage(data, size, msg)) return true;
     ++malformed_;
     return false;
   }

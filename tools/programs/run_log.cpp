@@ -44,7 +44,7 @@ struct Event {
 
 template <typename Msg>
 bool Decode(const Event& e, Msg* msg) {
-  return transport::DecodeMessage(e.data, e.size, *msg).empty();
+  return !transport::DecodeMessage(e.data, e.size, *msg);
 }
 
 /// The answers of one planning process: the wall time of each input it handled (OK) and how many

@@ -62,7 +62,7 @@ constexpr std::size_t kMaxPlanStates = 2;
 /// The JSON seeds of a recorded plan's first states: the bare array and the document form.
 std::vector<std::string> PlanJsonSeeds(const Bytes& data) {
   rbcp_msgs::contact_plan_t msg;
-  if (!rbcp::transport::DecodeMessage(data.data(), data.size(), msg).empty()) return {};
+  if (rbcp::transport::DecodeMessage(data.data(), data.size(), msg)) return {};
   try {
     rbcp::ContactPlan plan = rbcp::transport::FromContactPlanMsg(msg);
     plan.states.resize(std::min(plan.states.size(), kMaxPlanStates));

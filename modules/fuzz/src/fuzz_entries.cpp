@@ -66,8 +66,7 @@ Outcome ReadPlanJson(const std::uint8_t* data, std::size_t size) {
 template <typename Msg>
 Outcome Message(const std::uint8_t* data, std::size_t size, const std::function<void(const Msg&)>& validate) {
   Msg msg;
-  const std::string problem = transport::DecodeMessage(data, size, msg);
-  if (!problem.empty()) return {false, problem};
+  if (auto problem = transport::DecodeMessage(data, size, msg)) return {false, *problem};
   return Guard([&] { validate(msg); });
 }
 

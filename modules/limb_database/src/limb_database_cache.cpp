@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -115,9 +116,9 @@ std::string ReadWholeFile(const std::string& path, bool* ok) {
   return bytes;
 }
 
-/// Creates `dir` and its missing parents owner-only (0700) when `create`. "" when `dir` is then a
-/// real folder (no symbolic link) of this user that no other user may write to; else why not.
-std::string PrivateFolderProblem(const std::filesystem::path& dir, bool create) {
+/// Creates `dir` and its missing parents owner-only (0700) when `create`. nullopt when `dir` is
+/// then a real folder (no symbolic link) of this user that no other user may write to; else why not.
+std::optional<std::string> PrivateFolderProblem(const std::filesystem::path& dir, bool create) {
   if (create) {
     std::filesystem::path partial;
     for (const auto& part : dir) {
@@ -133,16 +134,16 @@ std::string PrivateFolderProblem(const std::filesystem::path& dir, bool create) 
   if (!S_ISDIR(st.st_mode)) return dir.string() + " is not a folder";
   if (st.st_uid != ::geteuid()) return dir.string() + " belongs to another user";
   if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) return dir.string() + " may be written by other users";
-  return "";
+  return std::nullopt;
 }
 
 /// Reads the file at `path` (a regular file of this user, no symbolic link, at most `max_bytes`
-/// when > 0, checked before reading). Returns "" and fills *bytes, or why not.
-std::string ReadCacheFile(const std::string& path, std::uint64_t max_bytes, std::string* bytes) {
+/// when > 0, checked before reading). Returns nullopt and fills *bytes, or why not.
+std::optional<std::string> ReadCacheFile(const std::string& path, std::uint64_t max_bytes, std::string* bytes) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) {
-    if (errno == ENOENT) return "no cache file";
-    if (errno == ELOOP) return "a symbolic link, not read";
+    if (errno == ENOENT) return std::string("no cache file");
+    if (errno == ELOOP) return std::string("a symbolic link, not read");
     return std::string("unreadable: ") + std::strerror(errno);
   }
   struct Closer {
@@ -151,8 +152,8 @@ std::string ReadCacheFile(const std::string& path, std::uint64_t max_bytes, std:
   } closer{fd};
   struct stat st {};
   if (::fstat(fd, &st) != 0) return std::string("unreadable: ") + std::strerror(errno);
-  if (!S_ISREG(st.st_mode)) return "not a regular file";
-  if (st.st_uid != ::geteuid()) return "belongs to another user, not read";
+  if (!S_ISREG(st.st_mode)) return std::string("not a regular file");
+  if (st.st_uid != ::geteuid()) return std::string("belongs to another user, not read");
   const auto size = static_cast<std::uint64_t>(st.st_size);
   if (max_bytes > 0 && size > max_bytes) {
     return std::to_string(size) + " bytes, more than the " + std::to_string(max_bytes) +
@@ -163,10 +164,10 @@ std::string ReadCacheFile(const std::string& path, std::uint64_t max_bytes, std:
   while (done < bytes->size()) {
     const ssize_t n = ::read(fd, bytes->data() + done, bytes->size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return "unreadable (shorter than its size)";
+    if (n <= 0) return std::string("unreadable (shorter than its size)");
     done += static_cast<std::size_t>(n);
   }
-  return "";
+  return std::nullopt;
 }
 
 bool AllFinite(const std::vector<double>& v) {
@@ -176,35 +177,35 @@ bool AllFinite(const std::vector<double>& v) {
   return true;
 }
 
-/// Structural checks of one leg read from a file; empty when consistent.
-std::string CheckLeg(const LegData& d, double resolution) {
+/// Structural checks of one leg read from a file: nullopt when consistent, else what is not.
+std::optional<std::string> CheckLeg(const LegData& d, double resolution) {
   const std::size_t n = d.score.size();
-  if (n == 0) return "a leg without samples";
-  if (!AllFinite(d.q) || !AllFinite(d.foot)) return "non-finite joint values or foot positions";
+  if (n == 0) return std::string("a leg without samples");
+  if (!AllFinite(d.q) || !AllFinite(d.foot)) return std::string("non-finite joint values or foot positions");
   for (double s : d.score) {
-    if (!(s >= 0.0 && s <= 1.0)) return "a score outside [0, 1]";
+    if (!(s >= 0.0 && s <= 1.0)) return std::string("a score outside [0, 1]");
   }
-  if (d.draws < static_cast<std::int64_t>(n) - 1) return "fewer draws than samples";
+  if (d.draws < static_cast<std::int64_t>(n) - 1) return std::string("fewer draws than samples");
   limb_database_detail::CellTree keyer(resolution);
   std::uint64_t next = 0;
   for (std::size_t c = 0; c < d.cells.size(); ++c) {
     const CellRecord& cell = d.cells[c];
     if (cell.first_sample != next || cell.num_samples == 0 || cell.num_samples > n - next) {
-      return "cell slices that do not tile the samples";
+      return std::string("cell slices that do not tile the samples");
     }
-    if (c > 0 && !(d.cells[c - 1].key < cell.key)) return "cells out of key order";
+    if (c > 0 && !(d.cells[c - 1].key < cell.key)) return std::string("cells out of key order");
     for (std::uint32_t k = cell.first_sample; k < cell.first_sample + cell.num_samples; ++k) {
       octomap::OcTreeKey key;
       const Eigen::Vector3d p = d.Foot(k);
       if (!keyer.coordToKeyChecked(p.x(), p.y(), p.z(), key) || key[0] != cell.key[0] || key[1] != cell.key[1] ||
           key[2] != cell.key[2]) {
-        return "a sample stored in a cell its foot does not lie in";
+        return std::string("a sample stored in a cell its foot does not lie in");
       }
     }
     next += cell.num_samples;
   }
-  if (next != n) return "cell slices that do not tile the samples";
-  return {};
+  if (next != n) return std::string("cell slices that do not tile the samples");
+  return std::nullopt;
 }
 
 std::string Hex(std::uint64_t v) {
@@ -277,8 +278,9 @@ void LimbDatabase::Save(const std::string& path, std::uint64_t key) const {
 
   const std::filesystem::path target(path);
   std::error_code ec;
-  const std::string unsafe = PrivateFolderProblem(target.has_parent_path() ? target.parent_path() : ".", true);
-  if (!unsafe.empty()) throw std::runtime_error(path + ": no private cache folder: " + unsafe);
+  if (auto unsafe = PrivateFolderProblem(target.has_parent_path() ? target.parent_path() : ".", true)) {
+    throw std::runtime_error(path + ": no private cache folder: " + *unsafe);
+  }
   static std::atomic<unsigned> counter{0};
   const std::string temp =
       path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
@@ -317,12 +319,12 @@ std::optional<LimbDatabase> LimbDatabase::Load(const std::string& path, std::uin
     return std::nullopt;
   };
   std::string bytes;
-  const std::string unreadable = ReadCacheFile(path, max_bytes, &bytes);
-  if (!unreadable.empty()) return fail(unreadable);
+  if (auto unreadable = ReadCacheFile(path, max_bytes, &bytes)) return fail(*unreadable);
   // A file in a folder others can write to may have been planted there.
   const std::filesystem::path file(path);
-  const std::string unsafe = PrivateFolderProblem(file.has_parent_path() ? file.parent_path() : ".", false);
-  if (!unsafe.empty()) return fail("the cache folder is not private: " + unsafe);
+  if (auto unsafe = PrivateFolderProblem(file.has_parent_path() ? file.parent_path() : ".", false)) {
+    return fail("the cache folder is not private: " + *unsafe);
+  }
   if (bytes.size() < kHeaderBytes) return fail("truncated header (" + std::to_string(bytes.size()) + " bytes)");
   if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) return fail("not a limb database cache (bad magic)");
   Reader header(bytes.data() + sizeof(kMagic), kHeaderBytes - sizeof(kMagic));
@@ -358,8 +360,7 @@ std::optional<LimbDatabase> LimbDatabase::Load(const std::string& path, std::uin
         !in.GetArray(&d.cells, cells)) {
       return fail("truncated sample arrays");
     }
-    const std::string problem = CheckLeg(d, impl->resolution);
-    if (!problem.empty()) return fail("leg " + std::string(LegName(leg)) + ": " + problem);
+    if (auto problem = CheckLeg(d, impl->resolution)) return fail("leg " + std::string(LegName(leg)) + ": " + *problem);
     d.Index(impl->resolution);
   }
   if (in.Left() != 0) return fail("trailing bytes after the last leg");

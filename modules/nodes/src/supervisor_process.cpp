@@ -38,7 +38,7 @@ class StatusListener {
  private:
   void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
     rbcp_msgs::process_status_t msg;
-    if (!transport::DecodeMessage(rbuf->data, rbuf->data_size, msg).empty()) {
+    if (transport::DecodeMessage(rbuf->data, rbuf->data_size, msg)) {
       ++malformed_;
       return;
     }

@@ -11,6 +11,7 @@
 #include <thread>
 #include <utility>
 
+#include "rbcp/core/error.h"
 #include "rbcp/transport/random_id.h"
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/message_part_t.hpp"
@@ -97,19 +98,18 @@ int64_t PartChecksum(const void* data, std::size_t size) {
   return out;
 }
 
-std::string PartOptions::Problem() const {
-  if (part_bytes == 0) return "part_bytes expected > 0";
+void PartOptions::Validate() const {
+  const auto fail = [](const std::string& what) { throw InputError("message parts: " + what); };
+  if (part_bytes == 0) fail("part_bytes expected > 0");
   if (max_message_bytes == 0 || max_message_bytes > kMaxPartedMessageBytes) {
-    return "max_message_bytes expected in (0, " + std::to_string(kMaxPartedMessageBytes) + "], got " +
-           std::to_string(max_message_bytes);
+    fail("max_message_bytes expected in (0, " + std::to_string(kMaxPartedMessageBytes) + "], got " +
+         std::to_string(max_message_bytes));
   }
-  if (!(pause_s >= 0.0) || pause_s > 1.0) return "pause_s expected in [0, 1] s, got " + std::to_string(pause_s);
-  return "";
+  if (!(pause_s >= 0.0) || pause_s > 1.0) fail("pause_s expected in [0, 1] s, got " + std::to_string(pause_s));
 }
 
 MessagePublisher::MessagePublisher(lcm::LCM& lcm, PartOptions options) : lcm_(lcm), options_(options) {
-  const std::string problem = options_.Problem();
-  if (!problem.empty()) throw std::invalid_argument("message parts: " + problem);
+  options_.Validate();
   if (options_.sender == 0) options_.sender = RandomId();
 }
 
@@ -241,9 +241,8 @@ std::optional<std::vector<uint8_t>> PartAssembler::Add(const void* data, std::si
   problem.clear();
   const std::string where = "a part of " + channel_ + " on " + PartChannel(channel_) + " (" + std::to_string(size) + " bytes)";
   rbcp_msgs::message_part_t part;
-  const std::string undecodable = DecodeMessage(data, size, part);
-  if (!undecodable.empty()) {
-    problem = "cannot decode " + where + ": " + undecodable;
+  if (auto undecodable = DecodeMessage(data, size, part)) {
+    problem = "cannot decode " + where + ": " + *undecodable;
     return std::nullopt;
   }
   const auto fail = [&](const std::string& why) -> std::optional<std::vector<uint8_t>> {

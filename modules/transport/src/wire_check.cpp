@@ -129,12 +129,12 @@ int64_t MinimumSize(const WireLayout& layout) {
   return total;
 }
 
-/// Walks one encoded `layout` from `pos`, advancing it; "" or the first field that does not fit.
-std::string Walk(const WireLayout& layout, const uint8_t* data, int64_t size, int64_t& pos) {
+/// Walks one encoded `layout` from `pos`, advancing it; nullopt, or the first field that does not fit.
+std::optional<std::string> Walk(const WireLayout& layout, const uint8_t* data, int64_t size, int64_t& pos) {
   std::array<int64_t, kMaxFields> counts{};
   if (layout.fields.size() > kMaxFields) return std::string(layout.name) + ": too many fields for the wire check";
-  const auto need = [&](int64_t bytes, const std::string& what) -> std::string {
-    if (bytes <= size - pos) return "";
+  const auto need = [&](int64_t bytes, const std::string& what) -> std::optional<std::string> {
+    if (bytes <= size - pos) return std::nullopt;
     return std::string(layout.name) + ": " + what + " needs " + std::to_string(bytes) + " bytes, " +
            std::to_string(size - pos) + " remain";
   };
@@ -142,11 +142,11 @@ std::string Walk(const WireLayout& layout, const uint8_t* data, int64_t size, in
     const WireField& f = layout.fields[i];
     switch (f.kind) {
       case WireField::Kind::kBytes:
-        if (auto e = need(f.bytes, f.name); !e.empty()) return e;
+        if (auto e = need(f.bytes, f.name)) return e;
         pos += f.bytes;
         break;
       case WireField::Kind::kCount: {
-        if (auto e = need(kInt32, f.name); !e.empty()) return e;
+        if (auto e = need(kInt32, f.name)) return e;
         counts[i] = ReadInt32(data + pos);
         pos += kInt32;
         if (counts[i] < 0) {
@@ -155,14 +155,14 @@ std::string Walk(const WireLayout& layout, const uint8_t* data, int64_t size, in
         break;
       }
       case WireField::Kind::kString: {
-        if (auto e = need(kInt32, std::string("the length of ") + f.name); !e.empty()) return e;
+        if (auto e = need(kInt32, std::string("the length of ") + f.name)) return e;
         const int64_t length = ReadInt32(data + pos);
         pos += kInt32;
         if (length < 1) {
           return std::string(layout.name) + ": " + f.name + " has length " + std::to_string(length) +
                  ", expected at least 1 (the terminating NUL)";
         }
-        if (auto e = need(length, f.name); !e.empty()) return e;
+        if (auto e = need(length, f.name)) return e;
         pos += length;
         break;
       }
@@ -184,15 +184,15 @@ std::string Walk(const WireLayout& layout, const uint8_t* data, int64_t size, in
           break;
         }
         for (int64_t k = 0; k < n; ++k) {
-          if (auto e = Walk(*f.element, data, size, pos); !e.empty()) {
-            return std::string(layout.name) + "." + f.name + "[" + std::to_string(k) + "]: " + e;
+          if (auto e = Walk(*f.element, data, size, pos)) {
+            return std::string(layout.name) + "." + f.name + "[" + std::to_string(k) + "]: " + *e;
           }
         }
         break;
       }
     }
   }
-  return "";
+  return std::nullopt;
 }
 
 }  // namespace
@@ -207,7 +207,7 @@ const WireLayout& LayoutOf(const rbcp_msgs::contact_plan_t*) { return kContactPl
 const WireLayout& LayoutOf(const rbcp_msgs::process_status_t*) { return kProcessStatus; }
 const WireLayout& LayoutOf(const rbcp_msgs::message_part_t*) { return kMessagePart; }
 
-std::string CheckEncoded(const void* data, std::size_t size, const WireLayout& layout, int64_t hash) {
+std::optional<std::string> CheckEncoded(const void* data, std::size_t size, const WireLayout& layout, int64_t hash) {
   if (size > static_cast<std::size_t>(INT_MAX)) {
     return std::string(layout.name) + ": " + std::to_string(size) + " bytes, more than a message can hold";
   }

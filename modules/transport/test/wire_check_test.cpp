@@ -25,10 +25,10 @@ void PutInt32(std::vector<uint8_t>& buf, std::size_t offset, uint32_t v) {
 template <typename Msg>
 void ExpectLayoutMatches(const Msg& msg) {
   const std::vector<uint8_t> buf = Encode(msg);
-  EXPECT_EQ(CheckEncoded<Msg>(buf.data(), buf.size()), "");
-  EXPECT_NE(CheckEncoded<Msg>(buf.data(), buf.size() - 1), "");
+  EXPECT_FALSE(CheckEncoded<Msg>(buf.data(), buf.size()).has_value());
+  EXPECT_TRUE(CheckEncoded<Msg>(buf.data(), buf.size() - 1).has_value());
   Msg back;
-  EXPECT_EQ(DecodeMessage(buf.data(), buf.size(), back), "");
+  EXPECT_FALSE(DecodeMessage(buf.data(), buf.size(), back).has_value());
   EXPECT_EQ(Encode(back), buf);
 }
 
@@ -95,7 +95,7 @@ std::vector<uint8_t> TerrainClaimingHugeCount() {
 TEST(WireCheck, AHugeClaimedCountIsRejectedBeforeDecoding) {
   const std::vector<uint8_t> buf = TerrainClaimingHugeCount();
   EXPECT_LT(buf.size(), 40u);
-  const std::string problem = CheckEncoded<rbcp_msgs::terrain_mesh_t>(buf.data(), buf.size());
+  const std::optional<std::string> problem = CheckEncoded<rbcp_msgs::terrain_mesh_t>(buf.data(), buf.size());
   EXPECT_EQ(problem, "terrain_mesh_t: num_vertices 2147483647 claims at least 51539607528 bytes of vertices, 4 remain");
   rbcp_msgs::terrain_mesh_t msg;
   EXPECT_EQ(DecodeMessage(buf.data(), buf.size(), msg), problem);

@@ -48,9 +48,8 @@ class LatestMessage {
  private:
   void Handle(const void* data, std::size_t size) {
     Msg msg;
-    const std::string problem = DecodeMessage(data, size, msg);
-    if (!problem.empty()) {
-      decode_error_ = "cannot decode " + channel_ + " (" + std::to_string(size) + " bytes): " + problem;
+    if (auto problem = DecodeMessage(data, size, msg)) {
+      decode_error_ = "cannot decode " + channel_ + " (" + std::to_string(size) + " bytes): " + *problem;
       return;
     }
     if (keep_ && !keep_(msg)) return;
@@ -93,13 +92,13 @@ class EveryMessage {
  private:
   void Handle(const void* data, std::size_t size) {
     Msg msg;
-    const std::string problem = DecodeMessage(data, size, msg);
-    if (problem.empty()) {
+    const std::optional<std::string> problem = DecodeMessage(data, size, msg);
+    if (!problem) {
       handle_(msg);
       return;
     }
     ++rejected_;
-    if (reject_) reject_("cannot decode " + channel_ + " (" + std::to_string(size) + " bytes): " + problem);
+    if (reject_) reject_("cannot decode " + channel_ + " (" + std::to_string(size) + " bytes): " + *problem);
   }
 
   std::string channel_;

@@ -47,8 +47,9 @@ struct PartOptions {
   double pause_s = 0.002;                              ///< wall-clock pause between two parts [s]
   std::size_t max_message_bytes = kMaxPartedMessageBytes;  ///< larger messages are not sent
   int64_t sender = 0;  ///< the sender named in the parts; 0: drawn at random when the publisher is made
-  /// "" or what is wrong (a part size of 0, a bound above kMaxPartedMessageBytes, ...).
-  std::string Problem() const;
+  /// Throws InputError naming what is wrong (a part size of 0, a bound above
+  /// kMaxPartedMessageBytes, a pause outside [0, 1] s).
+  void Validate() const;
 };
 
 /// Publishes messages whole or, above the threshold, in parts on CHANNEL/PART. Not thread-safe:

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <optional>
 #include <string>
 
 #include "rbcp_msgs/affordance_set_t.hpp"
@@ -35,29 +36,28 @@ const WireLayout& LayoutOf(const rbcp_msgs::contact_plan_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::process_status_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::message_part_t*);
 
-/// "" when the `size` bytes at `data` are an encoding of `layout` with the fingerprint `hash` that
+/// nullopt when the `size` bytes at `data` are an encoding of `layout` with the fingerprint `hash` that
 /// holds every element its counts and string lengths claim; otherwise why not, naming the field.
 /// Takes time linear in `size` and allocates nothing.
-std::string CheckEncoded(const void* data, std::size_t size, const WireLayout& layout, int64_t hash);
+std::optional<std::string> CheckEncoded(const void* data, std::size_t size, const WireLayout& layout, int64_t hash);
 
 /// CheckEncoded for the message type Msg.
 template <typename Msg>
-std::string CheckEncoded(const void* data, std::size_t size) {
+std::optional<std::string> CheckEncoded(const void* data, std::size_t size) {
   return CheckEncoded(data, size, LayoutOf(static_cast<const Msg*>(nullptr)), Msg::getHash());
 }
 
-/// Decodes `size` bytes into `msg` once CheckEncoded accepts them. Returns "" on success, otherwise
-/// why the bytes are no Msg (`msg` is then unspecified); never throws.
+/// Decodes `size` bytes into `msg` once CheckEncoded accepts them. Returns nullopt on success,
+/// otherwise why the bytes are no Msg (`msg` is then unspecified); never throws.
 template <typename Msg>
-std::string DecodeMessage(const void* data, std::size_t size, Msg& msg) {
-  std::string problem = CheckEncoded<Msg>(data, size);
-  if (!problem.empty()) return problem;
+std::optional<std::string> DecodeMessage(const void* data, std::size_t size, Msg& msg) {
+  if (auto problem = CheckEncoded<Msg>(data, size)) return problem;
   try {
-    if (msg.decode(data, 0, static_cast<int>(size)) < 0) return "malformed";
+    if (msg.decode(data, 0, static_cast<int>(size)) < 0) return std::string("malformed");
   } catch (const std::exception& e) {
-    return e.what();
+    return std::string(e.what());
   }
-  return "";
+  return std::nullopt;
 }
 
 }  // namespace rbcp::transport
