@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "crawl_order.h"
-#include "keep_phase.h"
+#include "feet_kept.h"
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
 #include "rbcp/robot/robot_model.h"

@@ -9,7 +9,7 @@
 #include <variant>
 #include <vector>
 
-#include "keep_phase.h"
+#include "feet_kept.h"
 #include "path_track.h"
 #include "planner_context.h"
 #include "rbcp/contact_planner/contact_planner.h"

@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "keep_phase.h"
+#include "feet_kept.h"
 #include "merge_steps.h"
 #include "planner_context.h"
 #include "rbcp/core/pose.h"
@@ -65,7 +65,7 @@ class SearchPieces : public ::testing::Test {
   std::unique_ptr<PathTrack> path_;
 };
 
-TEST_F(SearchPieces, TheKeepPhaseAdvancesUntilAFootCanNoLongerBeKept) {
+TEST_F(SearchPieces, TheTrunkAdvancesOnTheKeptFeetUntilOneCanNoLongerBeKept) {
   const Node start = Start();
   const KeptFeetAdvance keep = AdvanceWithFeetKept(ctx_, *path_, start);
   EXPECT_FALSE(keep.reached_end);

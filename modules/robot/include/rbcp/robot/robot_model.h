@@ -86,11 +86,12 @@ struct CollisionShape {
   Eigen::Isometry3d pose_link = Eigen::Isometry3d::Identity();  ///< shape frame in the link frame
 };
 
-/// How far from a straight leg a planned stance stays (a straight leg is at a singularity).
+/// How far from a straight leg a planned stance stays (a straight leg is at a singularity). The
+/// values are the robot file's (kinematic_margins in anymal_b.yaml); RobotModel::Load sets them.
 struct KinematicMargins {
-  double max_stance_hip_distance_m = 0.545;    ///< stance foot to its hip (HAA origin) [m]
-  double max_lift_off_hip_distance_m = 0.565;  ///< the foot about to lift, trunk at the step pose [m]
-  double min_knee_bend_rad = 0.2;              ///< least |KFE| [rad]
+  double max_stance_hip_distance_m = 0.0;    ///< stance foot to its hip (HAA origin) [m]
+  double max_lift_off_hip_distance_m = 0.0;  ///< the foot about to lift, trunk at the step pose [m]
+  double min_knee_bend_rad = 0.0;            ///< least |KFE| [rad]
 };
 
 /// Immutable robot model. Every query is const, allocation-free (except the reasons of failed

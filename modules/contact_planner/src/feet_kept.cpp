@@ -1,4 +1,4 @@
-#include "keep_phase.h"
+#include "feet_kept.h"
 
 #include <algorithm>
 #include <cmath>
