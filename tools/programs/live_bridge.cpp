@@ -396,7 +396,7 @@ class Listener : public std::enable_shared_from_this<Listener> {
 };
 
 /// Reads the events of an LCM log that another process is still writing: whole events only, from
-/// where the last read stopped (lcm-logger flushes every 100 ms, possibly mid-event).
+/// where the last read stopped (run_recorder flushes every 100 ms, possibly mid-event).
 class LogTail {
  public:
   explicit LogTail(std::string path) : path_(std::move(path)) {}
