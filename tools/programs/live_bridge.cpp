@@ -465,13 +465,18 @@ int64_t NowUs() {
 /// The pipeline's messages as LCM delivers them, handed to the hub whenever the LCM socket has one.
 class LcmFeed {
  public:
+  static constexpr int kQueueCapacity = 100000;  ///< received messages kept until handled
+
   LcmFeed(net::io_context& io, const std::string& lcm_url, Hub& hub) : lcm_(rbcp::transport::OpenLcm(lcm_url)) {
-    lcm_->subscribeFunction(
+    lcm::Subscription* every_channel = lcm_->subscribeFunction(
         ".*",
         +[](const lcm::ReceiveBuffer* buffer, const std::string& channel, Hub* h) {
           h->OnMessage(channel, NowUs(), buffer->data, buffer->data_size);
         },
         &hub);
+    // LCM keeps 30 received messages per subscription by default: one subscription to every
+    // channel would lose a plan amid a burst of robot states whenever the bridge is busy.
+    every_channel->setQueueCapacity(kQueueCapacity);
     socket_ = std::make_unique<net::posix::stream_descriptor>(io, ::dup(lcm_->getFileno()));
     Wait();
   }
