@@ -1,0 +1,78 @@
+#pragma once
+/// ZMP preview control of a linear inverted pendulum (Kajita et al., "Biped walking pattern
+/// generation by using preview control of zero-moment point", ICRA 2003): the CoM trajectory
+/// whose zero-moment point follows a reference known some time ahead (the coming support
+/// polygons of a contact plan). The CoM is a cart at constant height h driven by its jerk; its
+/// ZMP is p = c - (h / g) c'' along each horizontal axis. The gains minimise
+/// sum(q_error (p - p_ref)^2 + r_jerk (delta jerk)^2) over an infinite horizon (the discrete
+/// algebraic Riccati equation, solved by its recursion in plain Eigen), with the reference
+/// previewed over a finite window.
+///
+/// Pinocchio's pattern: `ZmpPreviewModel` is the constant model and its gains, computed once;
+/// `ComTrajectory PreviewCom(model, ...)` is a free function of it.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace rbcp {
+
+/// The pendulum, the sampling and the cost of ZMP preview control.
+struct ZmpPreviewParams {
+  double com_height_m = 0.0;    ///< CoM height above the ZMP's plane [m], > 0
+  double gravity_mps2 = 9.81;   ///< [m/s^2], > 0
+  double time_step_s = 0.0;     ///< sampling period [s], > 0
+  double preview_s = 0.0;       ///< how far ahead the reference is used [s], >= time_step_s
+  double q_error = 1.0;         ///< weight of the ZMP error [1/m^2], > 0
+  double r_jerk = 1e-6;         ///< weight of the change of jerk [s^6/m^2], > 0
+};
+
+/// The discrete cart-table model of one horizontal axis and its preview gains. Immutable.
+class ZmpPreviewModel {
+ public:
+  /// Throws InputError for parameters outside their bounds, or when the Riccati recursion does not
+  /// converge (it does for every valid set).
+  explicit ZmpPreviewModel(const ZmpPreviewParams& params);
+
+  const ZmpPreviewParams& Params() const { return params_; }
+  /// State (c, c', c'') to the next: x+ = A x + B u, u the jerk over one period.
+  const Eigen::Matrix3d& A() const { return a_; }
+  const Eigen::Vector3d& B() const { return b_; }
+  /// ZMP of a state: p = C x = c - (h / g) c''.
+  const Eigen::RowVector3d& C() const { return c_; }
+  /// u = -integral_gain * sum(p - p_ref) - state_gain * x - sum_j preview_gains[j] * p_ref[k + 1 + j].
+  /// The last preview gain includes those of every sample beyond the window: the reference is
+  /// taken as held there.
+  double IntegralGain() const { return integral_gain_; }
+  const Eigen::RowVector3d& StateGain() const { return state_gain_; }
+  const std::vector<double>& PreviewGains() const { return preview_gains_; }
+  /// Number of reference samples previewed beyond the current one: round(preview_s / time_step_s).
+  int PreviewSteps() const { return static_cast<int>(preview_gains_.size()); }
+
+ private:
+  ZmpPreviewParams params_;
+  Eigen::Matrix3d a_;
+  Eigen::Vector3d b_;
+  Eigen::RowVector3d c_;
+  double integral_gain_ = 0.0;
+  Eigen::RowVector3d state_gain_;
+  std::vector<double> preview_gains_;
+};
+
+/// A horizontal CoM trajectory sampled every time step: position, velocity, acceleration and the
+/// ZMP it implies, per sample (x, y).
+struct ComTrajectory {
+  std::vector<Eigen::Vector2d> position;
+  std::vector<Eigen::Vector2d> velocity;
+  std::vector<Eigen::Vector2d> acceleration;
+  std::vector<Eigen::Vector2d> zmp;
+};
+
+/// The CoM trajectory from rest at `start` (velocity and acceleration zero) whose ZMP follows
+/// `zmp_reference` (one sample per time step; beyond its end the last sample is held): one sample
+/// per reference sample, the first the start. Throws InputError for an empty or non-finite
+/// reference or start.
+ComTrajectory PreviewCom(const ZmpPreviewModel& model, const Eigen::Vector2d& start,
+                         const std::vector<Eigen::Vector2d>& zmp_reference);
+
+}  // namespace rbcp
