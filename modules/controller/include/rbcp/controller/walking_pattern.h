@@ -1,0 +1,74 @@
+#pragma once
+/// The walking pattern of a contact plan: its support phases on a clock, the ZMP reference they
+/// imply and, by ZMP preview control, the CoM trajectory whose ZMP follows it. The base moves
+/// while a leg swings; the four-foot phase between two swings is only the time the ZMP takes to
+/// move from one support triangle to the next.
+///
+/// During the swing of a plan state's moving leg the support is the other three feet; the ZMP
+/// reference stands at the point of that triangle, shrunk inward by the ZMP margin, nearest the
+/// centre of the four feet before the step (the least sway of the trunk that keeps the margin; the
+/// incentre when the triangle is too small for the margin). Between two swings all four feet are
+/// down and the reference moves in a straight line from one such point to the next. It starts from
+/// the CoM at rest, held there for the first half of the start phase (the preview needs to see a
+/// change coming to prepare for it), and ends at the centre of the last four feet.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "rbcp/controller/zmp_preview.h"
+#include "rbcp/core/contact_plan.h"
+
+namespace rbcp {
+
+/// How long each phase of a step lasts.
+struct GaitTiming {
+  double start_s = 0.0;      ///< all feet down before the first swing, from rest [s], > 0
+  double swing_s = 0.0;      ///< one leg in the air [s], > 0
+  double four_foot_s = 0.0;  ///< all feet down between two swings [s], > 0
+  /// After the last swing the ZMP moves to the last stance's centre in four_foot_s, then stays
+  /// there this long while the CoM comes to rest [s], > 0.
+  double final_s = 0.0;
+  double zmp_margin_m = 0.0; ///< distance the ZMP reference keeps from a support triangle's edges [m], >= 0
+};
+
+/// A stretch of time with one set of feet down.
+struct SupportPhase {
+  double start_s = 0.0;
+  double end_s = 0.0;
+  int swing_leg = -1;  ///< Index(Leg) of the leg in the air; -1: all four feet down
+  int state = 0;       ///< the plan state whose step this phase belongs to (its moving leg swings)
+  std::vector<Eigen::Vector2d> polygon;  ///< the feet down, (x, y), counter-clockwise convex hull
+};
+
+/// A contact plan's support phases, ZMP reference and CoM trajectory, sampled every time step of
+/// the preview model from t = 0.
+struct WalkingPattern {
+  double time_step_s = 0.0;
+  std::vector<SupportPhase> phases;           ///< in time order, back to back
+  std::vector<Eigen::Vector2d> zmp_reference; ///< per sample
+  ComTrajectory com;                          ///< per sample; com.zmp is the ZMP it implies
+
+  double Duration() const { return phases.empty() ? 0.0 : phases.back().end_s; }
+  /// The phase at time t (the last one beyond the end).
+  const SupportPhase& PhaseAt(double t) const;
+  /// The least signed distance of the CoM trajectory's ZMP to its support polygon over every
+  /// sample [m]: positive when the ZMP never leaves the support.
+  double MinZmpMargin() const;
+};
+
+/// The walking pattern of `plan` (at least two states) with the CoM starting at rest at
+/// `com_start_xy`. Throws InputError for a plan of fewer than two states, a state whose moving
+/// leg is not -1..3, or a timing out of bounds.
+WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& timing, const ZmpPreviewModel& model,
+                                  const Eigen::Vector2d& com_start_xy);
+
+/// The centre of the largest circle inside a triangle (its vertices in any order).
+Eigen::Vector2d Incentre(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c);
+
+/// The point nearest `p` of the triangle (a, b, c) shrunk inward by `margin` (a similar triangle
+/// about the incentre); the incentre when the triangle's inscribed circle is smaller than `margin`.
+Eigen::Vector2d NearestWithMargin(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                                  double margin, const Eigen::Vector2d& p);
+
+}  // namespace rbcp

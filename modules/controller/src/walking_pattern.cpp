@@ -1,0 +1,169 @@
+#include "rbcp/controller/walking_pattern.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "rbcp/core/config_checks.h"
+#include "rbcp/core/error.h"
+#include "rbcp/equilibrium/support_polygon.h"
+
+namespace rbcp {
+namespace {
+
+void CheckTiming(const GaitTiming& t) {
+  const auto positive = [](double v, const char* name) {
+    if (!(std::isfinite(v) && v > 0.0 && v <= 60.0)) {
+      throw InputError(std::string("gait timing: expected ") + name + " in (0, 60] s, got " + ConfigNumber(v));
+    }
+  };
+  positive(t.start_s, "start_s");
+  positive(t.swing_s, "swing_s");
+  positive(t.four_foot_s, "four_foot_s");
+  positive(t.final_s, "final_s");
+  if (!(std::isfinite(t.zmp_margin_m) && t.zmp_margin_m >= 0.0 && t.zmp_margin_m <= 1.0)) {
+    throw InputError("gait timing: expected zmp_margin_m in [0, 1] m, got " + ConfigNumber(t.zmp_margin_m));
+  }
+}
+
+/// The feet of `state` on the ground, (x, y, z), without `swing_leg` (-1: all four).
+std::vector<Eigen::Vector3d> FeetDown(const WholeBodyState& state, int swing_leg) {
+  std::vector<Eigen::Vector3d> feet;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    if (leg != swing_leg) feet.push_back(state.feet[static_cast<std::size_t>(leg)].position);
+  }
+  return feet;
+}
+
+SupportPhase MakePhase(double start_s, double duration_s, int swing_leg, int state,
+                       const std::vector<Eigen::Vector3d>& feet) {
+  SupportPhase phase;
+  phase.start_s = start_s;
+  phase.end_s = start_s + duration_s;
+  phase.swing_leg = swing_leg;
+  phase.state = state;
+  std::vector<Eigen::Vector2d> xy;
+  for (const Eigen::Vector3d& f : feet) xy.push_back(f.head<2>());
+  phase.polygon = ConvexHull2d(xy);
+  return phase;
+}
+
+Eigen::Vector2d Centre(const std::vector<Eigen::Vector3d>& feet) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector3d& f : feet) sum += f.head<2>();
+  return sum / static_cast<double>(feet.size());
+}
+
+/// The point of segment ab nearest p.
+Eigen::Vector2d NearestOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  if (!(length2 > 0.0)) return a;
+  return a + std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) * ab;
+}
+
+double Cross(const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
+
+}  // namespace
+
+Eigen::Vector2d Incentre(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
+  const double perimeter = la + lb + lc;
+  if (!(perimeter > 0.0)) return a;
+  return (la * a + lb * b + lc * c) / perimeter;
+}
+
+Eigen::Vector2d NearestWithMargin(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                                  double margin, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d centre = Incentre(a, b, c);
+  const double perimeter = (b - c).norm() + (c - a).norm() + (a - b).norm();
+  const double inradius = perimeter > 0.0 ? std::abs(Cross(b - a, c - a)) / perimeter : 0.0;
+  if (!(inradius > margin)) return centre;
+  const double scale = (inradius - margin) / inradius;
+  const Eigen::Vector2d sa = centre + scale * (a - centre), sb = centre + scale * (b - centre),
+                        sc = centre + scale * (c - centre);
+  // Inside: on the same side of the three edges.
+  const double d1 = Cross(sb - sa, p - sa), d2 = Cross(sc - sb, p - sb), d3 = Cross(sa - sc, p - sc);
+  if ((d1 >= 0.0 && d2 >= 0.0 && d3 >= 0.0) || (d1 <= 0.0 && d2 <= 0.0 && d3 <= 0.0)) return p;
+  Eigen::Vector2d best = NearestOnSegment(sa, sb, p);
+  for (const Eigen::Vector2d& q : {NearestOnSegment(sb, sc, p), NearestOnSegment(sc, sa, p)}) {
+    if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
+  }
+  return best;
+}
+
+const SupportPhase& WalkingPattern::PhaseAt(double t) const {
+  RBCP_CHECK(!phases.empty(), "a walking pattern has phases");
+  const auto it = std::upper_bound(phases.begin(), phases.end(), t,
+                                   [](double time, const SupportPhase& p) { return time < p.end_s; });
+  return it == phases.end() ? phases.back() : *it;
+}
+
+double WalkingPattern::MinZmpMargin() const {
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < com.zmp.size(); ++k) {
+    const SupportPhase& phase = PhaseAt(static_cast<double>(k) * time_step_s);
+    std::vector<Eigen::Vector3d> corners;
+    for (const Eigen::Vector2d& v : phase.polygon) corners.emplace_back(v.x(), v.y(), 0.0);
+    least = std::min(least, SupportPolygonMargin(corners, Eigen::Vector3d(com.zmp[k].x(), com.zmp[k].y(), 0.0)));
+  }
+  return least;
+}
+
+WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& timing, const ZmpPreviewModel& model,
+                                  const Eigen::Vector2d& com_start_xy) {
+  if (plan.states.size() < 2) {
+    throw InputError("walking pattern: expected a plan of at least two states, got " + std::to_string(plan.states.size()));
+  }
+  CheckTiming(timing);
+  if (!com_start_xy.allFinite()) throw InputError("walking pattern: expected a finite CoM start");
+  WalkingPattern pattern;
+  pattern.time_step_s = model.Params().time_step_s;
+
+  // The phases, and the reference's corners: (time, point) where it stands still or starts to move.
+  std::vector<std::pair<double, Eigen::Vector2d>> knots = {{0.0, com_start_xy}, {timing.start_s / 2.0, com_start_xy}};
+  double t = 0.0;
+  for (std::size_t i = 1; i < plan.states.size(); ++i) {
+    const WholeBodyState& before = plan.states[i - 1];
+    const int swing = plan.states[i].moving_leg;
+    if (swing < 0 || swing >= kNumLegs) {
+      throw InputError("walking pattern: state " + std::to_string(i) + " has no moving leg (" + std::to_string(swing) + ")");
+    }
+    const int state = static_cast<int>(i);
+    const double four_foot_s = i == 1 ? timing.start_s : timing.four_foot_s;
+    const std::vector<Eigen::Vector3d> four = FeetDown(before, -1);
+    pattern.phases.push_back(MakePhase(t, four_foot_s, -1, state, four));
+    t += four_foot_s;
+    const std::vector<Eigen::Vector3d> stance = FeetDown(before, swing);
+    const Eigen::Vector2d target = NearestWithMargin(stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>(),
+                                                     timing.zmp_margin_m, Centre(four));
+    knots.emplace_back(t, target);
+    pattern.phases.push_back(MakePhase(t, timing.swing_s, swing, state, stance));
+    t += timing.swing_s;
+    knots.emplace_back(t, target);
+  }
+  const std::vector<Eigen::Vector3d> last = FeetDown(plan.states.back(), -1);
+  pattern.phases.push_back(
+      MakePhase(t, timing.four_foot_s + timing.final_s, -1, static_cast<int>(plan.states.size()) - 1, last));
+  knots.emplace_back(t + timing.four_foot_s, Centre(last));
+  t += timing.four_foot_s + timing.final_s;
+  knots.emplace_back(t, Centre(last));
+
+  // The reference, piecewise linear through the knots, one sample per time step.
+  const std::size_t samples = static_cast<std::size_t>(std::ceil(t / pattern.time_step_s)) + 1;
+  pattern.zmp_reference.reserve(samples);
+  std::size_t knot = 0;
+  for (std::size_t k = 0; k < samples; ++k) {
+    const double time = std::min(static_cast<double>(k) * pattern.time_step_s, t);
+    while (knot + 2 < knots.size() && time > knots[knot + 1].first) ++knot;
+    const auto& [t0, p0] = knots[knot];
+    const auto& [t1, p1] = knots[knot + 1];
+    const double s = t1 > t0 ? std::clamp((time - t0) / (t1 - t0), 0.0, 1.0) : 1.0;
+    pattern.zmp_reference.push_back(p0 + s * (p1 - p0));
+  }
+  pattern.com = PreviewCom(model, com_start_xy, pattern.zmp_reference);
+  return pattern;
+}
+
+}  // namespace rbcp

@@ -1,0 +1,113 @@
+// The walking pattern of a crawl: support phases on a clock, the ZMP reference, and a CoM that
+// moves while the legs swing with its ZMP inside the support.
+#include "rbcp/controller/walking_pattern.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+#include "rbcp/core/error.h"
+#include "rbcp/core/leg.h"
+
+namespace rbcp {
+namespace {
+
+/// Feet at (+-0.36, +-0.26) on flat ground, then `steps` steps of `stride` forward in the crawl
+/// order LF, RH, RF, LH (only the feet matter to the pattern).
+ContactPlan Crawl(int steps, double stride) {
+  ContactPlan plan;
+  WholeBodyState start;
+  for (Leg leg : kAllLegs) {
+    const bool front = leg == Leg::kLF || leg == Leg::kRF, left = leg == Leg::kLF || leg == Leg::kLH;
+    start.feet[static_cast<std::size_t>(Index(leg))].position = Eigen::Vector3d(front ? 0.36 : -0.36, left ? 0.26 : -0.26, 0.0);
+  }
+  plan.states.push_back(start);
+  const std::array<Leg, 4> order = {Leg::kLF, Leg::kRH, Leg::kRF, Leg::kLH};
+  for (int k = 0; k < steps; ++k) {
+    WholeBodyState next = plan.states.back();
+    next.moving_leg = Index(order[static_cast<std::size_t>(k % 4)]);
+    next.feet[static_cast<std::size_t>(next.moving_leg)].position.x() += stride;
+    plan.states.push_back(next);
+  }
+  return plan;
+}
+
+ZmpPreviewModel Model() {
+  ZmpPreviewParams p;
+  p.com_height_m = 0.46;
+  p.time_step_s = 0.005;
+  p.preview_s = 1.6;
+  return ZmpPreviewModel(p);
+}
+
+GaitTiming Timing() {
+  GaitTiming t;
+  t.start_s = 1.0;
+  t.zmp_margin_m = 0.08;
+  t.swing_s = 0.5;
+  t.four_foot_s = 0.2;
+  t.final_s = 1.0;
+  return t;
+}
+
+TEST(WalkingPattern, TheComMovesWhileTheLegsSwingWithItsZmpInsideTheSupport) {
+  const ContactPlan plan = Crawl(8, 0.1);
+  const WalkingPattern pattern = PlanWalkingPattern(plan, Timing(), Model(), Eigen::Vector2d::Zero());
+  ASSERT_EQ(pattern.phases.size(), 2u * 8u + 1u);
+  EXPECT_NEAR(pattern.Duration(), 1.0 + 0.5 + 7 * 0.7 + 0.2 + 1.0, 1e-9);
+  for (std::size_t i = 0; i < pattern.phases.size(); ++i) {
+    const SupportPhase& phase = pattern.phases[i];
+    EXPECT_EQ(phase.polygon.size(), phase.swing_leg < 0 ? 4u : 3u) << "phase " << i;
+    if (i > 0) {
+      EXPECT_DOUBLE_EQ(phase.start_s, pattern.phases[i - 1].end_s);
+    }
+  }
+  // The ZMP of the CoM trajectory never comes nearer than 5 cm to an edge of the feet down.
+  EXPECT_GT(pattern.MinZmpMargin(), 0.05);
+  // The base advances during every swing, not only with four feet down.
+  const double dt = pattern.time_step_s;
+  for (const SupportPhase& phase : pattern.phases) {
+    if (phase.swing_leg < 0) continue;
+    const auto at = [&](double t) { return pattern.com.position[static_cast<std::size_t>(std::lround(t / dt))]; };
+    EXPECT_GT(at(phase.end_s).x() - at(phase.start_s).x(), 0.01) << "swing at " << phase.start_s << " s";
+  }
+  // It ends at rest over the centre of the last stance, each foot 0.2 m ahead of where it began.
+  EXPECT_NEAR(pattern.com.position.back().x(), 0.2, 1e-3);
+  EXPECT_NEAR(pattern.com.position.back().y(), 0.0, 1e-3);
+  EXPECT_LT(pattern.com.velocity.back().norm(), 0.005) << "at rest: slower than 5 mm/s";
+}
+
+TEST(WalkingPattern, DuringASwingTheReferenceKeepsTheMarginNearestTheCentreOfTheFeet) {
+  const ContactPlan plan = Crawl(1, 0.1);  // LF swings: RF, LH, RH stay down
+  const WalkingPattern pattern = PlanWalkingPattern(plan, Timing(), Model(), Eigen::Vector2d::Zero());
+  // The centre of the four feet, (0, 0), lies on the triangle's edge from RF to LH: the reference
+  // is 8 cm inside that edge, straight in from the centre.
+  const Eigen::Vector2d inward = Eigen::Vector2d(-0.52, -0.72).normalized();
+  const std::size_t mid_swing = static_cast<std::size_t>(std::lround((1.0 + 0.25) / pattern.time_step_s));
+  EXPECT_LT((pattern.zmp_reference[mid_swing] - 0.08 * inward).norm(), 1e-12);
+}
+
+TEST(WalkingPattern, TheNearestPointWithAMarginIsThePointItselfInsideAndTheIncentreInATinyTriangle) {
+  const Eigen::Vector2d a(0.0, 0.0), b(1.0, 0.0), c(0.0, 1.0);
+  EXPECT_EQ(NearestWithMargin(a, b, c, 0.1, Eigen::Vector2d(0.2, 0.2)), Eigen::Vector2d(0.2, 0.2));
+  EXPECT_TRUE(NearestWithMargin(a, b, c, 0.1, Eigen::Vector2d(0.5, -1.0)).isApprox(Eigen::Vector2d(0.5, 0.1)));
+  EXPECT_EQ(NearestWithMargin(a, b, c, 0.5, Eigen::Vector2d(0.9, 0.9)), Incentre(a, b, c));
+  const Eigen::Vector2d i = Incentre(a, b, c);
+  EXPECT_NEAR(i.x(), i.y(), 1e-15);
+  EXPECT_NEAR(i.x(), 1.0 - std::sqrt(0.5), 1e-12) << "the inradius of the unit right triangle";
+}
+
+TEST(WalkingPattern, BadPlansAndTimingsAreRejected) {
+  const ZmpPreviewModel model = Model();
+  EXPECT_THROW(PlanWalkingPattern(Crawl(0, 0.1), Timing(), model, Eigen::Vector2d::Zero()), InputError);
+  ContactPlan no_leg = Crawl(2, 0.1);
+  no_leg.states[2].moving_leg = -1;
+  EXPECT_THROW(PlanWalkingPattern(no_leg, Timing(), model, Eigen::Vector2d::Zero()), InputError);
+  GaitTiming zero = Timing();
+  zero.four_foot_s = 0.0;
+  EXPECT_THROW(PlanWalkingPattern(Crawl(2, 0.1), zero, model, Eigen::Vector2d::Zero()), InputError);
+}
+
+}  // namespace
+}  // namespace rbcp
