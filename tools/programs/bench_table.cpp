@@ -6,6 +6,7 @@
 // runs, the mean simulated time to the goal and the replanning latency (median and 95th
 // percentile over every replan of every run), as markdown beside the paper's figures, and as JSON.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -106,6 +107,7 @@ struct Row {
 /// One scenario's figures, as the JSON document and the markdown read them.
 nlohmann::json Summarise(const Row& row) {
   std::vector<double> affordance_ms, root_s, contact_total_s, contact_plan_ms, steps, goal_s, wall_s, latencies;
+  std::vector<double> step_period_s, speed_mps;
   int successes = 0;
   nlohmann::json per_run = nlohmann::json::array();
   for (const Run& r : row.runs) {
@@ -138,6 +140,12 @@ nlohmann::json Summarise(const Row& row) {
         successes += 1;
         steps.push_back(Number(j, "/steps"));
         goal_s.push_back(Number(j, "/sim_time_s"));
+        if (goal_s.back() > 0.0 && steps.back() > 0.0) step_period_s.push_back(goal_s.back() / steps.back());
+        if (goal_s.back() > 0.0 && j.contains("start") && j.contains("goal")) {
+          const double dx = Number(j, "/goal/position/0") - Number(j, "/start/position/0");
+          const double dy = Number(j, "/goal/position/1") - Number(j, "/start/position/1");
+          speed_mps.push_back(std::hypot(dx, dy) / goal_s.back());
+        }
       }
       for (const auto& replan : j.value("replans", nlohmann::json::array())) {
         if (replan.contains("latency_ms") && replan["latency_ms"].is_number()) latencies.push_back(replan["latency_ms"]);
@@ -157,6 +165,10 @@ nlohmann::json Summarise(const Row& row) {
       {"contact_plan_ms", Mean(contact_plan_ms)},
       {"steps", Mean(steps)},
       {"time_to_goal_s", Mean(goal_s)},
+      // Per run that reached the goal: simulated time over steps walked, and the straight line from
+      // start to goal over the simulated time (as sim_bench reports them).
+      {"step_period_s", Mean(step_period_s)},
+      {"speed_mps", Mean(speed_mps)},
       {"wall_s", Mean(wall_s)},
       {"replan_latency_ms",
        {{"count", latencies.size()},
@@ -178,9 +190,9 @@ std::string Markdown(const nlohmann::json& table) {
   const auto f = [](const nlohmann::json& x, int digits, const std::string& unit = "") {
     return x.is_number() ? FixedNumber(x.get<double>(), digits) + unit : std::string("–");
   };
-  md << "| environment | affordance | root | contact, steps | success | time to goal (simulated) "
-        "| replanning latency median / p95 | wall time per run |\n"
-     << "|---|---|---|---|---|---|---|---|\n";
+  md << "| environment | affordance | root | contact, steps | success | time to goal (simulated) | mean speed "
+        "| step period | replanning latency median / p95 | wall time per run |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : table["scenarios"]) {
     const bool paper = s.contains("paper");
     const nlohmann::json& p = paper ? s["paper"] : nlohmann::json::object();
@@ -194,7 +206,8 @@ std::string Markdown(const nlohmann::json& table) {
        << theirs(paper ? f(p["contact_s"], 2, " s, ") + f(p["steps"], 1, " steps") : "") << " | " << successes << "/"
        << s["runs"].get<int>()
        << theirs(paper ? std::to_string(p["successes"].get<int>()) + "/" + std::to_string(p["runs"].get<int>()) : "")
-       << " | " << f(s["time_to_goal_s"], 1, " s") << " | " << f(s["replan_latency_ms"]["median"], 1) << " / "
+       << " | " << f(s["time_to_goal_s"], 1, " s") << " | " << f(s["speed_mps"], 3, " m/s") << " | "
+       << f(s["step_period_s"], 2, " s") << " | " << f(s["replan_latency_ms"]["median"], 1) << " / "
        << f(s["replan_latency_ms"]["p95"], 1, " ms") << " (" << s["replan_latency_ms"]["count"].get<int>()
        << " replans) | " << f(s["wall_s"], 0, " s") << " |\n";
   }

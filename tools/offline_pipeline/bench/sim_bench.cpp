@@ -2,10 +2,10 @@
 // plans (affordances, root path, contacts; the next guide when no contact plan follows a root
 // path), checks the plan with the plan checker and walks it in the simulator, in parallel jobs,
 // and prints per scenario: plans, those planned along a later guide, plans passing the checker,
-// goals reached, the failures by kind, mean simulated time to the goal, mean speed, steps, and the
-// real-time factor of the simulation with the controller in the loop (median over runs). Markdown
-// on stdout; --json FILE also writes every run. By default the box scenarios and the paper's
-// meshes.
+// goals reached, the failures by kind, mean simulated time to the goal, mean speed, mean step period
+// (simulated time over steps), steps, and the real-time factor of the simulation with the
+// controller in the loop (median over runs). Markdown on stdout; --json FILE also writes every
+// run. By default the box scenarios and the paper's meshes.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -191,7 +191,7 @@ nlohmann::json RunJson(const Run& r) {
 /// The table's row of a scenario, over its runs.
 void PrintRow(const Scenario& scenario, const std::vector<Run>& runs, unsigned seeds) {
   int planned = 0, checked = 0, reached = 0, later_guide = 0;
-  double time = 0.0, speed = 0.0, steps = 0.0, torque = 0.0;
+  double time = 0.0, speed = 0.0, period = 0.0, steps = 0.0, torque = 0.0;
   std::vector<double> rtf;
   std::map<std::string, int> failures;
   for (const Run& r : runs) {
@@ -206,6 +206,7 @@ void PrintRow(const Scenario& scenario, const std::vector<Run>& runs, unsigned s
       ++reached;
       time += r.sim_s;
       speed += r.distance_m / r.sim_s;
+      period += r.steps > 0 ? r.sim_s / r.steps : 0.0;
     } else {
       failures[r.failure] += 1;
     }
@@ -218,6 +219,7 @@ void PrintRow(const Scenario& scenario, const std::vector<Run>& runs, unsigned s
             << (failure_text.empty() ? "-" : failure_text) << " | "
             << (reached ? FixedNumber(time / reached, 1) + " s" : "-") << " | "
             << (reached ? FixedNumber(speed / reached, 3) + " m/s" : "-") << " | "
+            << (reached ? FixedNumber(period / reached, 2) + " s" : "-") << " | "
             << (planned ? FixedNumber(steps / planned, 1) : "-") << " | " << FixedNumber(torque, 2) << " | "
             << FixedNumber(Median(rtf), 1) << "x |\n";
 }
@@ -225,8 +227,8 @@ void PrintRow(const Scenario& scenario, const std::vector<Run>& runs, unsigned s
 /// The success table in Markdown on stdout, and with --json every run, scenario by scenario.
 void Report(const Options& o, const std::vector<Scenario>& scenarios, const std::vector<Run>& runs) {
   std::cout << "| scenario | plans | on a later guide | pass check_plan | goal reached | failures | mean time to goal | "
-               "mean speed | mean steps | max torque / limit | real-time factor (median) |\n"
-               "|---|---|---|---|---|---|---|---|---|---|---|\n";
+               "mean speed | mean step period | mean steps | max torque / limit | real-time factor (median) |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   nlohmann::json all = nlohmann::json::array();
   for (const Scenario& scenario : scenarios) {
     PrintRow(scenario, runs, o.seeds);
