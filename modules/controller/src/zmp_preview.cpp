@@ -97,8 +97,17 @@ ZmpPreviewModel::ZmpPreviewModel(const ZmpPreviewParams& params) : params_(param
 
 ComTrajectory PreviewCom(const ZmpPreviewModel& model, const Eigen::Vector2d& start,
                          const std::vector<Eigen::Vector2d>& zmp_reference) {
+  ComState rest;
+  rest.position = start;
+  return PreviewCom(model, rest, zmp_reference);
+}
+
+ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
+                         const std::vector<Eigen::Vector2d>& zmp_reference) {
   if (zmp_reference.empty()) throw InputError("ZMP preview: expected a reference of at least one sample, got none");
-  if (!start.allFinite()) throw InputError("ZMP preview: expected a finite start");
+  if (!start.position.allFinite() || !start.velocity.allFinite() || !start.acceleration.allFinite()) {
+    throw InputError("ZMP preview: expected a finite start");
+  }
   for (std::size_t k = 0; k < zmp_reference.size(); ++k) {
     if (!zmp_reference[k].allFinite()) {
       throw InputError("ZMP preview: reference sample " + std::to_string(k) + " is not finite");
@@ -112,7 +121,7 @@ ComTrajectory PreviewCom(const ZmpPreviewModel& model, const Eigen::Vector2d& st
   out.acceleration.resize(n);
   out.zmp.resize(n);
   for (int axis = 0; axis < 2; ++axis) {
-    Eigen::Vector3d x(start[axis], 0.0, 0.0);
+    Eigen::Vector3d x(start.position[axis], start.velocity[axis], start.acceleration[axis]);
     double error_sum = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
       const double zmp = model.C() * x;

@@ -74,6 +74,23 @@ TEST(ZmpPreview, ThePreviewGainsFadeOverTheWindow) {
   EXPECT_LT(std::abs(g[g.size() - 2]), 1e-3 * largest) << "a window this long sees everything that matters";
 }
 
+TEST(ZmpPreview, AMovingComIsBroughtToTheReferenceAndTheRestStartIsTheZeroState) {
+  const ZmpPreviewModel model(Params());
+  const std::vector<Eigen::Vector2d> ref(600, Eigen::Vector2d(0.1, 0.0));  // 3 s standing at x = 0.1
+  ComState moving;
+  moving.position = Eigen::Vector2d(0.1, 0.0);
+  moving.velocity = Eigen::Vector2d(0.3, -0.1);
+  const ComTrajectory com = PreviewCom(model, moving, ref);
+  EXPECT_EQ(com.velocity.front(), moving.velocity);
+  EXPECT_GT(com.position[1].x(), 0.1) << "the first step goes on with the CoM's velocity";
+  EXPECT_NEAR(com.position.back().x(), 0.1, 1e-3);
+  EXPECT_NEAR(com.position.back().y(), 0.0, 1e-3);
+  EXPECT_LT(com.velocity.back().norm(), 0.005);
+  ComState rest;
+  rest.position = Eigen::Vector2d(0.1, 0.0);
+  EXPECT_EQ(PreviewCom(model, rest, ref).position, PreviewCom(model, Eigen::Vector2d(0.1, 0.0), ref).position);
+}
+
 TEST(ZmpPreview, BadParametersAndReferencesAreRejected) {
   ZmpPreviewParams p = Params();
   p.com_height_m = 0.0;
@@ -89,6 +106,9 @@ TEST(ZmpPreview, BadParametersAndReferencesAreRejected) {
   std::vector<Eigen::Vector2d> ref(10, Eigen::Vector2d::Zero());
   ref[3].x() = std::numeric_limits<double>::infinity();
   EXPECT_THROW(PreviewCom(model, Eigen::Vector2d::Zero(), ref), InputError);
+  ComState fast;
+  fast.velocity.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(PreviewCom(model, fast, std::vector<Eigen::Vector2d>(10, Eigen::Vector2d::Zero())), InputError);
 }
 
 }  // namespace

@@ -68,10 +68,22 @@ struct ComTrajectory {
   std::vector<Eigen::Vector2d> zmp;
 };
 
-/// The CoM trajectory from rest at `start` (velocity and acceleration zero) whose ZMP follows
-/// `zmp_reference` (one sample per time step; beyond its end the last sample is held): one sample
-/// per reference sample, the first the start. Throws InputError for an empty or non-finite
-/// reference or start.
+/// The horizontal state of the CoM [m, m/s, m/s^2].
+struct ComState {
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+  Eigen::Vector2d acceleration = Eigen::Vector2d::Zero();
+};
+
+/// The CoM trajectory from `start` whose ZMP follows `zmp_reference` (one sample per time step;
+/// beyond its end the last sample is held): one sample per reference sample, the first the start.
+/// A walking robot's next piece of plan starts from the CoM as it moves; its reference must then
+/// go on from the ZMP the CoM is following: a reference that ignores the motion is met by a ZMP
+/// that stops the CoM at once, far outside any support. Throws InputError for an empty or
+/// non-finite reference or start.
+ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
+                         const std::vector<Eigen::Vector2d>& zmp_reference);
+/// The same from rest at `start`.
 ComTrajectory PreviewCom(const ZmpPreviewModel& model, const Eigen::Vector2d& start,
                          const std::vector<Eigen::Vector2d>& zmp_reference);
 
