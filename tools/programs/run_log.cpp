@@ -172,6 +172,8 @@ void AddPlanning(const RunLog& log, nlohmann::json& j) {
   j["plans"] = record.Plans();
   j["goal_plans"] = record.GoalPlans();
   j["unanswered_waits"] = record.UnansweredWaits();
+  j["waiting_s"] = record.WaitingWallS();
+  j["waiting_share"] = record.WaitingShare();
   const auto& lat = record.LatenciesMs();
   j["replan_latency_ms"] = {{"count", lat.size()},
                             {"median", nodes::Percentile(lat, 0.5)},

@@ -303,7 +303,8 @@ class LoopFollower {
        << watch_.record.Plans() << " plans (" << planner_failures_ << " failed replans), " << restarts_
        << " process restarts, replanning latency median "
        << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
-       << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.95), 1) << " ms";
+       << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.95), 1) << " ms, waited for plans "
+       << FixedNumber(100.0 * watch_.record.WaitingShare(), 1) << " % of the run";
     std::cout << os.str() << std::endl;
     return rc;
   }

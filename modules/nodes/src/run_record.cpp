@@ -17,7 +17,22 @@ constexpr std::size_t kMaxStatesPerWait = 4096;
 
 RunRecord::RunRecord(double trace_rate_hz) : trace_period_us_(trace_rate_hz > 0.0 ? 1e6 / trace_rate_hz : 0.0) {}
 
+void RunRecord::Received(int64_t receive_us) {
+  if (!first_receive_us_) first_receive_us_ = receive_us;
+  last_receive_us_ = std::max(last_receive_us_.value_or(receive_us), receive_us);
+}
+
+double RunRecord::RunWallS() const {
+  return first_receive_us_ ? 1e-6 * static_cast<double>(*last_receive_us_ - *first_receive_us_) : 0.0;
+}
+
+double RunRecord::WaitingShare() const {
+  const double run_s = RunWallS();
+  return run_s > 0.0 ? std::min(1.0, WaitingWallS() / run_s) : 0.0;
+}
+
 void RunRecord::OnRobotState(int64_t receive_us, const rbcp_msgs::robot_state_t& msg) {
+  Received(receive_us);
   const bool waiting = wait_ && latest_controller_ && latest_controller_->awaiting_plan &&
                        latest_controller_->awaiting_since == wait_->since && msg.utime >= wait_->since;
   if (waiting && wait_->first_receipt.size() < kMaxStatesPerWait) wait_->first_receipt.emplace(msg.utime, receive_us);
@@ -28,7 +43,13 @@ void RunRecord::OnRobotState(int64_t receive_us, const rbcp_msgs::robot_state_t&
   latest_receive_us_ = receive_us;
 }
 
-void RunRecord::OnControllerStatus(int64_t /*receive_us*/, const rbcp_msgs::controller_status_t& msg) {
+void RunRecord::OnControllerStatus(int64_t receive_us, const rbcp_msgs::controller_status_t& msg) {
+  Received(receive_us);
+  if (waiting_since_receive_us_ && receive_us > *waiting_since_receive_us_) {
+    waiting_us_ += receive_us - *waiting_since_receive_us_;
+  }
+  waiting_since_receive_us_.reset();
+  if (msg.awaiting_plan) waiting_since_receive_us_ = receive_us;
   if (msg.awaiting_plan && (!wait_ || wait_->since != msg.awaiting_since)) {
     if (wait_ && !wait_->answered) unanswered_ += 1;
     wait_ = Wait{msg.awaiting_since, {}, false};
@@ -44,6 +65,7 @@ void RunRecord::OnControllerStatus(int64_t /*receive_us*/, const rbcp_msgs::cont
 }
 
 void RunRecord::OnContactPlan(int64_t receive_us, const rbcp_msgs::contact_plan_t& msg) {
+  Received(receive_us);
   ContactPlan plan = transport::FromContactPlanMsg(msg);
   plans_ += 1;
   if (msg.reaches_goal) goal_plans_ += 1;

@@ -51,6 +51,14 @@ class RunRecord {
   const std::vector<TraceEntry>& Trace() const { return trace_; }
   /// The largest distance of the measured base from the controller's reference over the run [m].
   double MaxBaseErrorM() const { return max_base_error_m_; }
+  /// The wall time [s] the robot stood at a step boundary waiting for a plan: the time from each
+  /// CONTROLLER_STATUS that says it waits (awaiting_plan) to the next one received.
+  double WaitingWallS() const { return 1e-6 * static_cast<double>(waiting_us_); }
+  /// The run's wall time so far [s]: from the first message received to the latest.
+  double RunWallS() const;
+  /// WaitingWallS() over RunWallS(): the share of the run the robot stood waiting for a plan
+  /// (0 before any time has passed).
+  double WaitingShare() const;
 
   /// The plan the robot walked: the first walked plan's first state, then the states of each plan
   /// for the steps walked while it was the robot's plan (CONTROLLER_STATUS's plan_seq and
@@ -60,6 +68,9 @@ class RunRecord {
   ContactPlan ExecutedPlan(std::vector<std::string>* missing = nullptr) const;
 
  private:
+  /// Keeps the first and the latest receive time.
+  void Received(int64_t receive_us);
+
   struct Wait {
     int64_t since = 0;
     std::map<int64_t, int64_t> first_receipt;  // state utime -> first receive time [us]
@@ -80,6 +91,9 @@ class RunRecord {
   std::optional<int64_t> latest_receive_us_;
   std::optional<rbcp_msgs::controller_status_t> latest_controller_;
   double max_base_error_m_ = 0.0;
+  std::optional<int64_t> first_receive_us_, last_receive_us_;
+  std::optional<int64_t> waiting_since_receive_us_;  // the receipt of the latest status while waiting
+  int64_t waiting_us_ = 0;
   std::vector<TraceEntry> trace_;
   std::map<int64_t, ContactPlan> plans_by_seq_;
   std::vector<Segment> segments_;
