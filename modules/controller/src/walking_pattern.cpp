@@ -8,6 +8,7 @@
 #include "rbcp/core/config_checks.h"
 #include "rbcp/core/error.h"
 #include "rbcp/equilibrium/support_polygon.h"
+#include "rbcp/stance/swing_trajectory.h"
 
 namespace rbcp {
 namespace {
@@ -22,6 +23,9 @@ void CheckTiming(const GaitTiming& t) {
   positive(t.swing_s, "swing_s");
   positive(t.four_foot_s, "four_foot_s");
   positive(t.final_s, "final_s");
+  for (std::size_t k = 0; k < t.step_swing_s.size(); ++k) {
+    if (!std::isnan(t.step_swing_s[k])) positive(t.step_swing_s[k], "step_swing_s");
+  }
   if (!(std::isfinite(t.zmp_margin_m) && t.zmp_margin_m >= 0.0 && t.zmp_margin_m <= 1.0)) {
     throw InputError("gait timing: expected zmp_margin_m in [0, 1] m, got " + ConfigNumber(t.zmp_margin_m));
   }
@@ -93,6 +97,22 @@ Eigen::Vector2d NearestWithMargin(const Eigen::Vector2d& a, const Eigen::Vector2
   return best;
 }
 
+std::vector<double> PlannedSwingDurations(const ContactPlan& plan, const SwingPathConfig& config) {
+  std::vector<double> durations;
+  for (std::size_t i = 1; i < plan.states.size(); ++i) {
+    const WholeBodyState& to = plan.states[i];
+    if (!to.HasSwing() || to.moving_leg < 0 || to.moving_leg >= kNumLegs) {
+      durations.push_back(std::numeric_limits<double>::quiet_NaN());
+      continue;
+    }
+    const std::size_t leg = static_cast<std::size_t>(to.moving_leg);
+    durations.push_back(SwingTrajectory::Given(plan.states[i - 1].feet[leg].position, to.feet[leg].position,
+                                               to.swing_apex_z, to.swing_bow, config)
+                            .Duration());
+  }
+  return durations;
+}
+
 const SupportPhase& WalkingPattern::PhaseAt(double t) const {
   RBCP_CHECK(!phases.empty(), "a walking pattern has phases");
   const auto it = std::upper_bound(phases.begin(), phases.end(), t,
@@ -117,6 +137,10 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     throw InputError("walking pattern: expected a plan of at least two states, got " + std::to_string(plan.states.size()));
   }
   CheckTiming(timing);
+  if (!timing.step_swing_s.empty() && timing.step_swing_s.size() + 1 != plan.states.size()) {
+    throw InputError("walking pattern: expected a swing duration per step (" + std::to_string(plan.states.size() - 1) +
+                     "), got " + std::to_string(timing.step_swing_s.size()));
+  }
   if (!com_start_xy.allFinite()) throw InputError("walking pattern: expected a finite CoM start");
   WalkingPattern pattern;
   pattern.time_step_s = model.Params().time_step_s;
@@ -139,8 +163,10 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     const Eigen::Vector2d target = NearestWithMargin(stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>(),
                                                      timing.zmp_margin_m, Centre(four));
     knots.emplace_back(t, target);
-    pattern.phases.push_back(MakePhase(t, timing.swing_s, swing, state, stance));
-    t += timing.swing_s;
+    const double given = timing.step_swing_s.empty() ? std::numeric_limits<double>::quiet_NaN() : timing.step_swing_s[i - 1];
+    const double swing_s = std::isnan(given) ? timing.swing_s : given;
+    pattern.phases.push_back(MakePhase(t, swing_s, swing, state, stance));
+    t += swing_s;
     knots.emplace_back(t, target);
   }
   const std::vector<Eigen::Vector3d> last = FeetDown(plan.states.back(), -1);

@@ -98,6 +98,26 @@ TEST(WalkingPattern, TheNearestPointWithAMarginIsThePointItselfInsideAndTheIncen
   EXPECT_NEAR(i.x(), 1.0 - std::sqrt(0.5), 1e-12) << "the inradius of the unit right triangle";
 }
 
+TEST(WalkingPattern, AStepSwingsForTheDurationOfItsOwnSwingPath) {
+  ContactPlan plan = Crawl(2, 0.1);
+  plan.states[1].swing_apex_z = 0.3;  // a high swing
+  SwingPathConfig swing;
+  swing.speed_mps = 0.8;
+  swing.min_duration_s = 0.45;
+  const std::vector<double> durations = PlannedSwingDurations(plan, swing);
+  ASSERT_EQ(durations.size(), 2u);
+  EXPECT_GT(durations[0], 0.45) << "0.3 m up and down at 0.8 m/s";
+  EXPECT_TRUE(std::isnan(durations[1])) << "the second step carries no swing path";
+  GaitTiming timing = Timing();
+  timing.step_swing_s = durations;
+  const WalkingPattern pattern = PlanWalkingPattern(plan, timing, Model(), Eigen::Vector2d::Zero());
+  ASSERT_EQ(pattern.phases.size(), 5u);
+  EXPECT_NEAR(pattern.phases[1].end_s - pattern.phases[1].start_s, durations[0], 1e-12);
+  EXPECT_NEAR(pattern.phases[3].end_s - pattern.phases[3].start_s, 0.5, 1e-12) << "swing_s where none is given";
+  timing.step_swing_s.pop_back();
+  EXPECT_THROW(PlanWalkingPattern(plan, timing, Model(), Eigen::Vector2d::Zero()), InputError);
+}
+
 TEST(WalkingPattern, BadPlansAndTimingsAreRejected) {
   const ZmpPreviewModel model = Model();
   EXPECT_THROW(PlanWalkingPattern(Crawl(0, 0.1), Timing(), model, Eigen::Vector2d::Zero()), InputError);

@@ -18,13 +18,18 @@
 
 #include "rbcp/controller/zmp_preview.h"
 #include "rbcp/core/contact_plan.h"
+#include "rbcp/stance/stance_config.h"
 
 namespace rbcp {
 
 /// How long each phase of a step lasts.
 struct GaitTiming {
   double start_s = 0.0;      ///< all feet down before the first swing, from rest [s], > 0
-  double swing_s = 0.0;      ///< one leg in the air [s], > 0
+  double swing_s = 0.0;      ///< one leg in the air [s], > 0, where step_swing_s gives none
+  /// Per step (plan states 1..n, in order): the swing's own duration [s], e.g. the time the foot
+  /// takes along the swing path the plan carries (PlannedSwingDurations); empty, or NaN for a step:
+  /// swing_s.
+  std::vector<double> step_swing_s;
   double four_foot_s = 0.0;  ///< all feet down between two swings [s], > 0
   /// After the last swing the ZMP moves to the last stance's centre in four_foot_s, then stays
   /// there this long while the CoM comes to rest [s], > 0.
@@ -62,6 +67,10 @@ struct WalkingPattern {
 /// leg is not -1..3, or a timing out of bounds.
 WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& timing, const ZmpPreviewModel& model,
                                   const Eigen::Vector2d& com_start_xy);
+
+/// For each step of `plan` (states 1..n), the duration of the swing path it carries as the
+/// controller walks it (SwingTrajectory::Given with `config`); NaN for a step without a swing path.
+std::vector<double> PlannedSwingDurations(const ContactPlan& plan, const SwingPathConfig& config);
 
 /// The centre of the largest circle inside a triangle (its vertices in any order).
 Eigen::Vector2d Incentre(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c);
