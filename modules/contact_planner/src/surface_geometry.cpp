@@ -17,16 +17,6 @@ Eigen::Vector3d ClosestPointOnSegment(const Eigen::Vector3d& a, const Eigen::Vec
   return a + s * ab;
 }
 
-Eigen::Vector2d ClosestPointOnSegment2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (len2 <= 0.0) return a;
-  const double s = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-  return a + s * ab;
-}
-
-double Cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 }  // namespace
 
 ConvexPolygon3d::ConvexPolygon3d(std::vector<Eigen::Vector3d> vertices, const Eigen::Vector3d& normal)
@@ -129,42 +119,6 @@ std::vector<Eigen::Vector3d> ConvexPolygon3d::ClipToRectangle(const Eigen::Vecto
   for (std::size_t i = 0; i < next.size(); ++i) area_normal += next[i].cross(next[(i + 1) % next.size()]);
   if (0.5 * std::abs(area_normal.dot(normal_)) < 1e-8) return {};
   return next;
-}
-
-std::optional<std::array<Eigen::Vector2d, 3>> ErodeTriangle(const std::array<Eigen::Vector2d, 3>& tri, double margin) {
-  const double a = (tri[1] - tri[2]).norm();
-  const double b = (tri[2] - tri[0]).norm();
-  const double c = (tri[0] - tri[1]).norm();
-  const double perimeter = a + b + c;
-  const double area = 0.5 * std::abs(Cross2(tri[1] - tri[0], tri[2] - tri[0]));
-  if (perimeter <= 0.0 || area <= 0.0) return std::nullopt;
-  const double inradius = 2.0 * area / perimeter;
-  if (inradius <= margin) return std::nullopt;
-  const Eigen::Vector2d incentre = (a * tri[0] + b * tri[1] + c * tri[2]) / perimeter;
-  const double scale = (inradius - margin) / inradius;
-  std::array<Eigen::Vector2d, 3> out;
-  for (int i = 0; i < 3; ++i) out[static_cast<std::size_t>(i)] = incentre + scale * (tri[static_cast<std::size_t>(i)] - incentre);
-  return out;
-}
-
-Eigen::Vector2d ClosestPointInTriangle(const std::array<Eigen::Vector2d, 3>& tri, const Eigen::Vector2d& p) {
-  const double orientation = Cross2(tri[1] - tri[0], tri[2] - tri[0]) >= 0.0 ? 1.0 : -1.0;
-  bool inside = true;
-  for (std::size_t i = 0; i < 3; ++i) {
-    if (orientation * Cross2(tri[(i + 1) % 3] - tri[i], p - tri[i]) < 0.0) inside = false;
-  }
-  if (inside) return p;
-  Eigen::Vector2d best = tri[0];
-  double best_d2 = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < 3; ++i) {
-    const Eigen::Vector2d c = ClosestPointOnSegment2d(tri[i], tri[(i + 1) % 3], p);
-    const double d2 = (c - p).squaredNorm();
-    if (d2 < best_d2) {
-      best_d2 = d2;
-      best = c;
-    }
-  }
-  return best;
 }
 
 }  // namespace rbcp::contact_planner_detail

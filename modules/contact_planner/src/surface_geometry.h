@@ -1,5 +1,6 @@
 #pragma once
-/// Geometry of convex contact surfaces and support triangles used by the contact planner.
+/// Geometry of convex contact surfaces used by the contact planner (support triangles:
+/// rbcp/equilibrium/support_polygon.h).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -43,12 +44,5 @@ class ConvexPolygon3d {
   double offset_ = 0.0;
   Eigen::Vector2d min_xy_, max_xy_;
 };
-
-/// The triangle abc shrunk inwards by `margin` (every point of the result is at least `margin`
-/// from the original edges); nullopt when the inradius is not larger than the margin.
-std::optional<std::array<Eigen::Vector2d, 3>> ErodeTriangle(const std::array<Eigen::Vector2d, 3>& tri, double margin);
-
-/// The point of the (solid) triangle closest to p.
-Eigen::Vector2d ClosestPointInTriangle(const std::array<Eigen::Vector2d, 3>& tri, const Eigen::Vector2d& p);
 
 }  // namespace rbcp::contact_planner_detail

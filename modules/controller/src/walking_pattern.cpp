@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "rbcp/core/config_checks.h"
@@ -59,42 +60,11 @@ Eigen::Vector2d Centre(const std::vector<Eigen::Vector3d>& feet) {
   return sum / static_cast<double>(feet.size());
 }
 
-/// The point of segment ab nearest p.
-Eigen::Vector2d NearestOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  if (!(length2 > 0.0)) return a;
-  return a + std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) * ab;
-}
-
-double Cross(const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
-
 }  // namespace
 
-Eigen::Vector2d Incentre(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
-  const double perimeter = la + lb + lc;
-  if (!(perimeter > 0.0)) return a;
-  return (la * a + lb * b + lc * c) / perimeter;
-}
-
-Eigen::Vector2d NearestWithMargin(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                                  double margin, const Eigen::Vector2d& p) {
-  const Eigen::Vector2d centre = Incentre(a, b, c);
-  const double perimeter = (b - c).norm() + (c - a).norm() + (a - b).norm();
-  const double inradius = perimeter > 0.0 ? std::abs(Cross(b - a, c - a)) / perimeter : 0.0;
-  if (!(inradius > margin)) return centre;
-  const double scale = (inradius - margin) / inradius;
-  const Eigen::Vector2d sa = centre + scale * (a - centre), sb = centre + scale * (b - centre),
-                        sc = centre + scale * (c - centre);
-  // Inside: on the same side of the three edges.
-  const double d1 = Cross(sb - sa, p - sa), d2 = Cross(sc - sb, p - sb), d3 = Cross(sa - sc, p - sc);
-  if ((d1 >= 0.0 && d2 >= 0.0 && d3 >= 0.0) || (d1 <= 0.0 && d2 <= 0.0 && d3 <= 0.0)) return p;
-  Eigen::Vector2d best = NearestOnSegment(sa, sb, p);
-  for (const Eigen::Vector2d& q : {NearestOnSegment(sb, sc, p), NearestOnSegment(sc, sa, p)}) {
-    if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
-  }
-  return best;
+Eigen::Vector2d NearestWithMargin(const std::array<Eigen::Vector2d, 3>& tri, double margin, const Eigen::Vector2d& p) {
+  const std::optional<std::array<Eigen::Vector2d, 3>> shrunk = ErodeTriangle(tri, margin);
+  return shrunk ? ClosestPointInTriangle(*shrunk, p) : TriangleIncentre(tri);
 }
 
 std::vector<double> PlannedSwingDurations(const ContactPlan& plan, const SwingPathConfig& config) {
@@ -160,8 +130,8 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     pattern.phases.push_back(MakePhase(t, four_foot_s, -1, state, four));
     t += four_foot_s;
     const std::vector<Eigen::Vector3d> stance = FeetDown(before, swing);
-    const Eigen::Vector2d target = NearestWithMargin(stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>(),
-                                                     timing.zmp_margin_m, Centre(four));
+    const Eigen::Vector2d target =
+        NearestWithMargin({stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()}, timing.zmp_margin_m, Centre(four));
     knots.emplace_back(t, target);
     const double given = timing.step_swing_s.empty() ? std::numeric_limits<double>::quiet_NaN() : timing.step_swing_s[i - 1];
     const double swing_s = std::isnan(given) ? timing.swing_s : given;

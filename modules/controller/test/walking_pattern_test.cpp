@@ -9,6 +9,7 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/leg.h"
+#include "rbcp/equilibrium/support_polygon.h"
 
 namespace rbcp {
 namespace {
@@ -89,11 +90,11 @@ TEST(WalkingPattern, DuringASwingTheReferenceKeepsTheMarginNearestTheCentreOfThe
 }
 
 TEST(WalkingPattern, TheNearestPointWithAMarginIsThePointItselfInsideAndTheIncentreInATinyTriangle) {
-  const Eigen::Vector2d a(0.0, 0.0), b(1.0, 0.0), c(0.0, 1.0);
-  EXPECT_EQ(NearestWithMargin(a, b, c, 0.1, Eigen::Vector2d(0.2, 0.2)), Eigen::Vector2d(0.2, 0.2));
-  EXPECT_TRUE(NearestWithMargin(a, b, c, 0.1, Eigen::Vector2d(0.5, -1.0)).isApprox(Eigen::Vector2d(0.5, 0.1)));
-  EXPECT_EQ(NearestWithMargin(a, b, c, 0.5, Eigen::Vector2d(0.9, 0.9)), Incentre(a, b, c));
-  const Eigen::Vector2d i = Incentre(a, b, c);
+  const std::array<Eigen::Vector2d, 3> tri = {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(0.0, 1.0)};
+  EXPECT_EQ(NearestWithMargin(tri, 0.1, Eigen::Vector2d(0.2, 0.2)), Eigen::Vector2d(0.2, 0.2));
+  EXPECT_TRUE(NearestWithMargin(tri, 0.1, Eigen::Vector2d(0.5, -1.0)).isApprox(Eigen::Vector2d(0.5, 0.1)));
+  EXPECT_EQ(NearestWithMargin(tri, 0.5, Eigen::Vector2d(0.9, 0.9)), TriangleIncentre(tri));
+  const Eigen::Vector2d i = TriangleIncentre(tri);
   EXPECT_NEAR(i.x(), i.y(), 1e-15);
   EXPECT_NEAR(i.x(), 1.0 - std::sqrt(0.5), 1e-12) << "the inradius of the unit right triangle";
 }

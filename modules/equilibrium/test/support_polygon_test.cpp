@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "rbcp/core/error.h"
@@ -73,6 +75,28 @@ TEST(SupportPolygon, ContactOverloadUsesPositions) {
   std::vector<ContactPoint> contacts;
   for (const auto& p : Rectangle()) contacts.push_back({p, Eigen::Vector3d::UnitZ()});
   EXPECT_NEAR(SupportPolygonMargin(contacts, {0.25, 0.0, 0.5}), 0.05, 1e-12);
+}
+
+TEST(SupportTriangle, ErodedTriangleKeepsTheMargin) {
+  const std::array<Eigen::Vector2d, 3> tri = {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)};
+  const auto e = ErodeTriangle(tri, 0.1);
+  ASSERT_TRUE(e.has_value());
+  // Each eroded vertex is 0.1 from the two edges it faces.
+  for (const auto& v : *e) {
+    const double d_x = v.y();
+    const double d_y = v.x();
+    const double d_h = (1.0 - v.x() - v.y()) / std::sqrt(2.0);
+    EXPECT_GE(std::min({d_x, d_y, d_h}), 0.1 - 1e-12);
+    EXPECT_NEAR(std::min({d_x, d_y, d_h}), 0.1, 1e-12);
+  }
+  EXPECT_FALSE(ErodeTriangle(tri, 0.3).has_value());  // inradius 0.293
+}
+
+TEST(SupportTriangle, ClosestPointInTriangle) {
+  const std::array<Eigen::Vector2d, 3> tri = {Eigen::Vector2d(0, 0), Eigen::Vector2d(0, 1), Eigen::Vector2d(1, 0)};
+  EXPECT_LT((ClosestPointInTriangle(tri, {0.2, 0.2}) - Eigen::Vector2d(0.2, 0.2)).norm(), 1e-12);
+  EXPECT_LT((ClosestPointInTriangle(tri, {1.0, 1.0}) - Eigen::Vector2d(0.5, 0.5)).norm(), 1e-12);
+  EXPECT_LT((ClosestPointInTriangle(tri, {-1.0, -1.0}) - Eigen::Vector2d(0.0, 0.0)).norm(), 1e-12);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 /// the CoM at rest, held there for the first half of the start phase (the preview needs to see a
 /// change coming to prepare for it), and ends at the centre of the last four feet.
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -72,12 +73,8 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
 /// controller walks it (SwingTrajectory::Given with `config`); NaN for a step without a swing path.
 std::vector<double> PlannedSwingDurations(const ContactPlan& plan, const SwingPathConfig& config);
 
-/// The centre of the largest circle inside a triangle (its vertices in any order).
-Eigen::Vector2d Incentre(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c);
-
-/// The point nearest `p` of the triangle (a, b, c) shrunk inward by `margin` (a similar triangle
-/// about the incentre); the incentre when the triangle's inscribed circle is smaller than `margin`.
-Eigen::Vector2d NearestWithMargin(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                                  double margin, const Eigen::Vector2d& p);
+/// The point nearest `p` of the triangle shrunk inward by `margin` (ErodeTriangle); the incentre
+/// when the triangle's inscribed circle is not larger than `margin`.
+Eigen::Vector2d NearestWithMargin(const std::array<Eigen::Vector2d, 3>& tri, double margin, const Eigen::Vector2d& p);
 
 }  // namespace rbcp

@@ -2,6 +2,8 @@
 /// The support polygon: the convex hull of the stance feet projected along gravity (world z).
 
 #include <Eigen/Core>
+#include <array>
+#include <optional>
 #include <vector>
 
 #include "rbcp/equilibrium/friction_cone.h"
@@ -18,5 +20,16 @@ std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d> points);
 /// Throws InputError when feet_W is empty.
 double SupportPolygonMargin(const std::vector<Eigen::Vector3d>& feet_W, const Eigen::Vector3d& com_W);
 double SupportPolygonMargin(const std::vector<ContactPoint>& contacts, const Eigen::Vector3d& com_W);
+
+/// The centre of the largest circle inside a triangle (a support triangle, say).
+Eigen::Vector2d TriangleIncentre(const std::array<Eigen::Vector2d, 3>& tri);
+
+/// The triangle shrunk inwards by `margin` (every point of the result is at least `margin` from
+/// the original edges: a similar triangle about the incentre); nullopt when the inradius is not
+/// larger than the margin.
+std::optional<std::array<Eigen::Vector2d, 3>> ErodeTriangle(const std::array<Eigen::Vector2d, 3>& tri, double margin);
+
+/// The point of the (solid) triangle closest to p.
+Eigen::Vector2d ClosestPointInTriangle(const std::array<Eigen::Vector2d, 3>& tri, const Eigen::Vector2d& p);
 
 }  // namespace rbcp
