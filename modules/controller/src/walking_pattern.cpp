@@ -6,31 +6,12 @@
 #include <optional>
 #include <string>
 
-#include "rbcp/core/config_checks.h"
 #include "rbcp/core/error.h"
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/stance/swing_trajectory.h"
 
 namespace rbcp {
 namespace {
-
-void CheckTiming(const GaitTiming& t) {
-  const auto positive = [](double v, const char* name) {
-    if (!(std::isfinite(v) && v > 0.0 && v <= 60.0)) {
-      throw InputError(std::string("gait timing: expected ") + name + " in (0, 60] s, got " + ConfigNumber(v));
-    }
-  };
-  positive(t.start_s, "start_s");
-  positive(t.swing_s, "swing_s");
-  positive(t.four_foot_s, "four_foot_s");
-  positive(t.final_s, "final_s");
-  for (std::size_t k = 0; k < t.step_swing_s.size(); ++k) {
-    if (!std::isnan(t.step_swing_s[k])) positive(t.step_swing_s[k], "step_swing_s");
-  }
-  if (!(std::isfinite(t.zmp_margin_m) && t.zmp_margin_m >= 0.0 && t.zmp_margin_m <= 1.0)) {
-    throw InputError("gait timing: expected zmp_margin_m in [0, 1] m, got " + ConfigNumber(t.zmp_margin_m));
-  }
-}
 
 /// The feet of `state` on the ground, (x, y, z), without `swing_leg` (-1: all four).
 std::vector<Eigen::Vector3d> FeetDown(const WholeBodyState& state, int swing_leg) {
@@ -106,7 +87,7 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
   if (plan.states.size() < 2) {
     throw InputError("walking pattern: expected a plan of at least two states, got " + std::to_string(plan.states.size()));
   }
-  CheckTiming(timing);
+  timing.Validate();
   if (!timing.step_swing_s.empty() && timing.step_swing_s.size() + 1 != plan.states.size()) {
     throw InputError("walking pattern: expected a swing duration per step (" + std::to_string(plan.states.size() - 1) +
                      "), got " + std::to_string(timing.step_swing_s.size()));

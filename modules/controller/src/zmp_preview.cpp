@@ -5,7 +5,6 @@
 
 #include <Eigen/Dense>
 
-#include "rbcp/core/config_checks.h"
 #include "rbcp/core/error.h"
 
 namespace rbcp {
@@ -18,10 +17,6 @@ constexpr int kMaxRiccatiIterations = 200000;
 constexpr double kRiccatiTolerance = 1e-11;  // relative change of P per iteration
 constexpr int kMaxTailSteps = 1000000;        // preview samples summed beyond the window, at most
 constexpr double kTailTolerance = 1e-14;      // a tail gain this small against the first ends the sum
-
-void Require(bool ok, const std::string& what, double got) {
-  if (!ok) throw InputError("ZMP preview: expected " + what + ", got " + ConfigNumber(got));
-}
 
 /// The solution P of the discrete algebraic Riccati equation of (a, b, q, r), by its recursion.
 Matrix4d SolveRiccati(const Matrix4d& a, const Vector4d& b, const Matrix4d& q, double r) {
@@ -42,13 +37,7 @@ Matrix4d SolveRiccati(const Matrix4d& a, const Vector4d& b, const Matrix4d& q, d
 
 ZmpPreviewModel::ZmpPreviewModel(const ZmpPreviewParams& params) : params_(params) {
   const ZmpPreviewParams& p = params;
-  Require(std::isfinite(p.com_height_m) && p.com_height_m > 0.0, "com_height_m > 0 m", p.com_height_m);
-  Require(std::isfinite(p.gravity_mps2) && p.gravity_mps2 > 0.0, "gravity_mps2 > 0", p.gravity_mps2);
-  Require(std::isfinite(p.time_step_s) && p.time_step_s > 0.0, "time_step_s > 0 s", p.time_step_s);
-  Require(std::isfinite(p.preview_s) && p.preview_s >= p.time_step_s && p.preview_s <= 10.0,
-          "preview_s in [time_step_s, 10] s", p.preview_s);
-  Require(std::isfinite(p.q_error) && p.q_error > 0.0, "q_error > 0", p.q_error);
-  Require(std::isfinite(p.r_jerk) && p.r_jerk > 0.0, "r_jerk > 0", p.r_jerk);
+  p.Validate("ZMP preview");
 
   const double t = p.time_step_s;
   a_ << 1.0, t, t * t / 2.0, 0.0, 1.0, t, 0.0, 0.0, 1.0;

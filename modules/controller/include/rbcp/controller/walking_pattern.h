@@ -13,6 +13,7 @@
 /// change coming to prepare for it), and ends at the centre of the last four feet.
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,17 +26,33 @@ namespace rbcp {
 
 /// How long each phase of a step lasts.
 struct GaitTiming {
-  double start_s = 0.0;      ///< all feet down before the first swing, from rest [s], > 0
-  double swing_s = 0.0;      ///< one leg in the air [s], > 0, where step_swing_s gives none
+  double start_s = 0.0;
+  double swing_s = 0.0;
   /// Per step (plan states 1..n, in order): the swing's own duration [s], e.g. the time the foot
   /// takes along the swing path the plan carries (PlannedSwingDurations); empty, or NaN for a step:
   /// swing_s.
   std::vector<double> step_swing_s;
-  double four_foot_s = 0.0;  ///< all feet down between two swings [s], > 0
-  /// After the last swing the ZMP moves to the last stance's centre in four_foot_s, then stays
-  /// there this long while the CoM comes to rest [s], > 0.
+  double four_foot_s = 0.0;
   double final_s = 0.0;
-  double zmp_margin_m = 0.0; ///< distance the ZMP reference keeps from a support triangle's edges [m], >= 0
+  double zmp_margin_m = 0.0;
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    const Bounds duration = bounds::Positive().AtMost(60.0);
+    v->Visit("start_s", &start_s, "s", duration, "all feet down before the first swing, from rest");
+    v->Visit("swing_s", &swing_s, "s", duration, "one leg in the air, where step_swing_s gives none");
+    v->Visit("four_foot_s", &four_foot_s, "s", duration, "all feet down between two swings");
+    v->Visit("final_s", &final_s, "s", duration,
+             "after the last swing the ZMP moves to the last stance's centre in four_foot_s, then stays there "
+             "this long while the CoM comes to rest");
+    v->Visit("zmp_margin_m", &zmp_margin_m, "m", bounds::Closed(0.0, 1.0),
+             "distance the ZMP reference keeps from a support triangle's edges");
+    for (double s : step_swing_s) {
+      v->Rule("step_swing_s", std::isnan(s) || duration.Holds(s), "NaN or a duration in (0, 60] s", ConfigNumber(s));
+    }
+  }
+  /// Throws InputError for a field outside its bounds.
+  void Validate(const std::string& where = "gait timing") const { ValidateConfig(*this, where); }
 };
 
 /// A stretch of time with one set of feet down.

@@ -15,16 +15,31 @@
 
 #include <Eigen/Core>
 
+#include "rbcp/core/config_fields.h"
+
 namespace rbcp {
 
 /// The pendulum, the sampling and the cost of ZMP preview control.
 struct ZmpPreviewParams {
-  double com_height_m = 0.0;    ///< CoM height above the ZMP's plane [m], > 0
-  double gravity_mps2 = 9.81;   ///< [m/s^2], > 0
-  double time_step_s = 0.0;     ///< sampling period [s], > 0
-  double preview_s = 0.0;       ///< how far ahead the reference is used [s], >= time_step_s
-  double q_error = 1.0;         ///< weight of the ZMP error [1/m^2], > 0
-  double r_jerk = 1e-6;         ///< weight of the change of jerk [s^6/m^2], > 0
+  double com_height_m = 0.0;
+  double gravity_mps2 = 9.81;
+  double time_step_s = 0.0;
+  double preview_s = 0.0;
+  double q_error = 1.0;
+  double r_jerk = 1e-6;
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    v->Visit("com_height_m", &com_height_m, "m", bounds::Positive(), "CoM height above the ZMP's plane");
+    v->Visit("gravity_mps2", &gravity_mps2, "m/s^2", bounds::Positive(), "gravity");
+    v->Visit("time_step_s", &time_step_s, "s", bounds::Positive(), "sampling period");
+    v->Visit("preview_s", &preview_s, "s", Bounds().AtLeast(time_step_s, "time_step_s").AtMost(10.0),
+             "how far ahead the reference is used");
+    v->Visit("q_error", &q_error, "1/m^2", bounds::Positive(), "weight of the ZMP error");
+    v->Visit("r_jerk", &r_jerk, "s^6/m^2", bounds::Positive(), "weight of the change of jerk");
+  }
+  /// Throws InputError for a field outside its bounds.
+  void Validate(const std::string& where = "ZmpPreviewParams") const { ValidateConfig(*this, where); }
 };
 
 /// The discrete cart-table model of one horizontal axis and its preview gains. Immutable.
