@@ -6,7 +6,6 @@
 // runs, the mean simulated time to the goal and the replanning latency (median and 95th
 // percentile over every replan of every run), as markdown beside the paper's figures, and as JSON.
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -21,9 +20,9 @@
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
+#include "rbcp/core/run_metrics.h"
 #include "rbcp/cli/cli.h"
 #include "rbcp/nodes/run_record.h"
-#include "rbcp/cli/cli.h"
 
 namespace {
 
@@ -140,11 +139,13 @@ nlohmann::json Summarise(const Row& row) {
         successes += 1;
         steps.push_back(Number(j, "/steps"));
         goal_s.push_back(Number(j, "/sim_time_s"));
-        if (goal_s.back() > 0.0 && steps.back() > 0.0) step_period_s.push_back(goal_s.back() / steps.back());
-        if (goal_s.back() > 0.0 && j.contains("start") && j.contains("goal")) {
-          const double dx = Number(j, "/goal/position/0") - Number(j, "/start/position/0");
-          const double dy = Number(j, "/goal/position/1") - Number(j, "/start/position/1");
-          speed_mps.push_back(std::hypot(dx, dy) / goal_s.back());
+        if (goal_s.back() > 0.0 && steps.back() > 0.0) step_period_s.push_back(StepPeriodS(goal_s.back(), static_cast<int>(steps.back())));
+        const nlohmann::json trace = j.value("sim_trace", nlohmann::json::array());
+        if (goal_s.back() > 0.0 && !trace.empty()) {
+          const auto base_xy = [](const nlohmann::json& sample) {
+            return Eigen::Vector2d(Number(sample, "/base/position/0"), Number(sample, "/base/position/1"));
+          };
+          speed_mps.push_back(RunSpeedMps(base_xy(trace.front()), base_xy(trace.back()), goal_s.back()));
         }
       }
       for (const auto& replan : j.value("replans", nlohmann::json::array())) {
@@ -165,8 +166,7 @@ nlohmann::json Summarise(const Row& row) {
       {"contact_plan_ms", Mean(contact_plan_ms)},
       {"steps", Mean(steps)},
       {"time_to_goal_s", Mean(goal_s)},
-      // Per run that reached the goal: simulated time over steps walked, and the straight line from
-      // start to goal over the simulated time (as sim_bench reports them).
+      // Per run that reached the goal (rbcp/core/run_metrics.h, as sim_bench reports them).
       {"step_period_s", Mean(step_period_s)},
       {"speed_mps", Mean(speed_mps)},
       {"wall_s", Mean(wall_s)},

@@ -20,10 +20,10 @@
 #include <vector>
 
 #include "rbcp/core/format.h"
+#include "rbcp/core/run_metrics.h"
 #include "rbcp/offline_pipeline/offline_pipeline.h"
 #include "rbcp/cli/cli.h"
 #include "rbcp/plan_checker/plan_checker.h"
-#include "rbcp/cli/cli.h"
 
 namespace {
 
@@ -39,7 +39,8 @@ struct Run {
   std::string detail;
   int steps = 0;
   int guides = 0;  // root paths planned (more than one when no contact plan followed the first)
-  double sim_s = 0.0, wall_s = 0.0, distance_m = 0.0, max_torque_ratio = 0.0;
+  double sim_s = 0.0, wall_s = 0.0, max_torque_ratio = 0.0;
+  Eigen::Vector2d start_xy = Eigen::Vector2d::Zero(), end_xy = Eigen::Vector2d::Zero();  ///< the base, walked
   int collisions = 0;
 };
 
@@ -165,7 +166,8 @@ class Bench {
     run.max_torque_ratio = r.sim->max_torque_ratio;
     run.collisions = r.sim->collisions;
     if (!r.sim->trace.empty()) {
-      run.distance_m = (r.sim->trace.back().base_position - r.sim->trace.front().base_position).head<2>().norm();
+      run.start_xy = r.sim->trace.front().base_position.head<2>();
+      run.end_xy = r.sim->trace.back().base_position.head<2>();
     }
     if (r.sim->failure) {
       run.failure = r.sim->failure->what;
@@ -184,7 +186,7 @@ nlohmann::json RunJson(const Run& r) {
           {"reached_goal", r.reached},
           {"failure", r.failure.empty() ? nlohmann::json() : nlohmann::json(r.failure)},
           {"detail", r.detail}, {"guides", r.guides}, {"steps", r.steps}, {"sim_time_s", r.sim_s}, {"sim_wall_s", r.wall_s},
-          {"distance_m", r.distance_m}, {"max_torque_ratio", r.max_torque_ratio},
+          {"distance_m", (r.end_xy - r.start_xy).norm()}, {"max_torque_ratio", r.max_torque_ratio},
           {"collisions", r.collisions}};
 }
 
@@ -205,8 +207,8 @@ void PrintRow(const Scenario& scenario, const std::vector<Run>& runs, unsigned s
     if (r.reached) {
       ++reached;
       time += r.sim_s;
-      speed += r.distance_m / r.sim_s;
-      period += r.steps > 0 ? r.sim_s / r.steps : 0.0;
+      speed += RunSpeedMps(r.start_xy, r.end_xy, r.sim_s);
+      period += StepPeriodS(r.sim_s, r.steps);
     } else {
       failures[r.failure] += 1;
     }
