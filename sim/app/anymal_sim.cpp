@@ -16,7 +16,6 @@
 #include "rbcp/sim/sim_node.h"
 #include "rbcp/sim/world_events.h"
 #include "rbcp/transport/run_loop.h"
-#include "rbcp/cli/cli.h"
 namespace {
 
 using namespace rbcp;

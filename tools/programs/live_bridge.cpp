@@ -47,7 +47,6 @@
 #include "rbcp/transport/wire_check.h"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp/page_socket.h"
-#include "rbcp/cli/cli.h"
 #include "view_json.h"
 
 namespace {

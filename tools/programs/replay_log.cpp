@@ -60,7 +60,6 @@
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
 #include "log_messages.h"
-#include "rbcp/cli/cli.h"
 
 namespace {
 

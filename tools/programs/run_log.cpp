@@ -28,7 +28,6 @@
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 #include "log_messages.h"
-#include "rbcp/cli/cli.h"
 #include "view_json.h"
 
 namespace {

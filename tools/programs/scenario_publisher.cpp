@@ -48,7 +48,6 @@
 #include "rbcp_msgs/controller_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
-#include "rbcp/cli/cli.h"
 
 namespace {
 
