@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
@@ -487,7 +489,7 @@ void WriteTickCsvHeader(std::ostream& out) {
   for (int j = 0; j < kNumJoints; ++j) out << ",tau_" << JointName(j);
   for (Leg leg : kAllLegs) out << ",contact_" << LegName(leg);
   for (Leg leg : kAllLegs) out << ",fz_" << LegName(leg);
-  out << "\n";
+  out << ",cop_x,cop_y,cop_margin_m,lag_s\n";
 }
 
 void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution) {
@@ -504,7 +506,24 @@ void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution) {
   for (int j = 0; j < kNumJoints; ++j) out << ',' << FixedNumber(s.tau[j], 2);
   for (std::size_t i = 0; i < kNumLegs; ++i) out << ',' << (s.foot_contact[i] ? 1 : 0);
   for (std::size_t i = 0; i < kNumLegs; ++i) out << ',' << FixedNumber(s.foot_force_W[i].z(), 1);
-  out << '\n';
+  // The centre of pressure of the vertical foot forces, and how far inside the feet in contact.
+  const Eigen::Isometry3d base = Eigen::Translation3d(s.base_position_W) * s.base_orientation_W.normalized();
+  const std::array<Eigen::Vector3d, kNumLegs> feet_B = execution.Robot().FootPositions(s.q);
+  Eigen::Vector3d cop = Eigen::Vector3d::Zero();
+  double fz = 0.0;
+  std::vector<Eigen::Vector3d> support;
+  for (std::size_t i = 0; i < kNumLegs; ++i) {
+    if (!s.foot_contact[i]) continue;
+    const Eigen::Vector3d foot_W = base * feet_B[i];
+    support.push_back(foot_W);
+    cop += s.foot_force_W[i].z() * foot_W;
+    fz += s.foot_force_W[i].z();
+  }
+  const bool known = fz > 1.0 && support.size() >= 3;
+  cop = known ? Eigen::Vector3d(cop / fz) : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  out << ',' << FixedNumber(cop.x(), 4) << ',' << FixedNumber(cop.y(), 4) << ','
+      << FixedNumber(known ? SupportPolygonMargin(support, cop) : std::numeric_limits<double>::quiet_NaN(), 4) << ','
+      << FixedNumber(status.lag_s, 3) << '\n';
 }
 
 }  // namespace rbcp::sim

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "flat_ground_plan.h"
@@ -108,6 +109,47 @@ TEST(PlanExecution, AShortFlatGroundPlanReachesItsGoal) {
   }
 }
 
+TEST(PlanExecution, TheDynamicWalkMovesTheBaseWhileALegSwingsInLessThanHalfTheCrawlsTime) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  const ContactPlan plan = BuildFlatGroundPlan(g.robot, 8, 0.08);
+  ControllerConfig dynamic = g.controller;
+  dynamic.mode = WalkMode::kDynamic;
+  PlanExecution walk(g.robot, scenario, g.sim, dynamic, g.stance);
+  walk.Start(plan);
+  // Over every swing the base moves on; the centre of pressure of the feet stays inside the
+  // three feet down.
+  double least_swing_motion_m = 1e9;
+  std::optional<Eigen::Vector3d> swing_start;
+  ControllerPhase last = ControllerPhase::kHold;
+  while (walk.Tick()) {
+    const ControllerPhase phase = walk.Controller().Status().phase;
+    const Eigen::Vector3d base = walk.State().base_position_W;
+    if (phase == ControllerPhase::kSwing && last != ControllerPhase::kSwing) swing_start = base;
+    if (phase != ControllerPhase::kSwing && last == ControllerPhase::kSwing && swing_start) {
+      least_swing_motion_m = std::min(least_swing_motion_m, (base - *swing_start).head<2>().norm());
+    }
+    last = phase;
+  }
+  const ExecutionOutcome& o = walk.Outcome();
+  ASSERT_TRUE(o.ok()) << Why(o);
+  EXPECT_EQ(o.steps_executed, 8);
+  EXPECT_LT(o.final_base_error_m, g.sim.outcome.goal_tolerance_m);
+  EXPECT_LE(o.max_torque_ratio, 1.0);
+  EXPECT_EQ(o.collisions, 0);
+  EXPECT_GT(least_swing_motion_m, 0.01);
+  ASSERT_NE(walk.Controller().Pattern(), nullptr);
+  EXPECT_GT(walk.Controller().Pattern()->MinZmpMargin(), 0.0);
+  EXPECT_LT(walk.Controller().Status().lag_s, 0.05);  // the feet kept to the clock
+
+  // The static crawl of the same plan takes more than twice as long in simulated time.
+  PlanExecution crawl(g.robot, scenario, g.sim, g.controller, g.stance);
+  crawl.Start(plan);
+  const ExecutionOutcome& c = crawl.Run();
+  ASSERT_TRUE(c.ok()) << Why(c);
+  EXPECT_LT(2.0 * o.sim_time_s, c.sim_time_s);
+}
+
 TEST(PlanExecution, APlanWalkedWholeReachesTheScenarioGoalOnlyWhereItEnds) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));  // goal 5 m ahead
@@ -148,11 +190,15 @@ TEST(PlanExecution, AHindLegSteppingDownFromCloseBelowItsHipKeepsItsThighOffTheT
   EXPECT_LT(o.max_torque_ratio, 1.0);
 }
 
-TEST(PlanExecution, ANewPlanReplacesTheRestAtAStepBoundary) {
+class PlanReplacement : public ::testing::TestWithParam<WalkMode> {};
+
+TEST_P(PlanReplacement, ANewPlanReplacesTheRestAtAStepBoundary) {
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
   const ContactPlan first = BuildFlatGroundPlan(g.robot, 6, 0.08);
-  PlanExecution run(g.robot, scenario, g.sim, g.controller, g.stance);
+  ControllerConfig controller = g.controller;
+  controller.mode = GetParam();
+  PlanExecution run(g.robot, scenario, g.sim, controller, g.stance);
   run.Start(first);
   // During the first step's swing a plan arrives that goes on from the stance after that step.
   while (run.Controller().Status().phase != ControllerPhase::kSwing) ASSERT_TRUE(run.Tick());
@@ -168,6 +214,11 @@ TEST(PlanExecution, ANewPlanReplacesTheRestAtAStepBoundary) {
   EXPECT_EQ(run.Controller().Status().steps_done, 1 + 3);
   EXPECT_LT((o.trace.back().base_position - second.states.back().base_position).head<2>().norm(), 0.1);
 }
+
+INSTANTIATE_TEST_SUITE_P(BothModes, PlanReplacement, ::testing::Values(WalkMode::kStatic, WalkMode::kDynamic),
+                         [](const ::testing::TestParamInfo<WalkMode>& info) {
+                           return info.param == WalkMode::kStatic ? "static" : "dynamic";
+                         });
 
 TEST(PlanExecution, AFootThatRollsOverItsContactHasNotSlipped) {
   // As the trunk moves over a stance foot, its sphere rolls: the centre moves by the radius times

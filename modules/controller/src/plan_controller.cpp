@@ -86,6 +86,7 @@ PlanController::PlanController(const RobotModel& robot, const ControllerConfig& 
     : robot_(robot), config_(config), stance_(robot, rules) {
   config_.Validate();
   normal_W_.fill(Eigen::Vector3d::UnitZ());
+  touchdown_s_.fill(std::numeric_limits<double>::quiet_NaN());
   SetTerrain(terrain);
 }
 
@@ -154,6 +155,113 @@ void PlanController::MoveBaseTo(const Eigen::Vector3d& p, const Eigen::Quaternio
   segment_ = s;
 }
 
+void PlanController::MoveBaseOver(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double duration) {
+  BaseSegment s;
+  s.t0 = t;
+  s.p0 = reference_.position_W;
+  s.q0 = reference_.orientation_W;
+  s.p1 = p;
+  s.q1 = q;
+  if (s.q0.dot(s.q1) < 0.0) s.q1.coeffs() = -s.q1.coeffs();
+  s.duration = std::max(duration, 1e-3);
+  segment_ = s;
+}
+
+SwingPathConfig PlanController::SwingPath() const {
+  SwingPathConfig path = stance_.Config().swing;
+  if (Dynamic()) {
+    path.speed_mps = config_.dynamic.swing_speed_mps;
+    path.min_duration_s = config_.dynamic.min_swing_s;
+  }
+  return path;
+}
+
+void PlanController::StartPattern(const Measured& m) {
+  // The pendulum's height: the CoM above the mean height of the first stance's feet.
+  const WholeBodyState& first = plan_.states.front();
+  double feet_z = 0.0;
+  for (const FootContact& f : first.feet) feet_z += f.position.z() / kNumLegs;
+  const Eigen::Vector3d com_W = first.base_position + RotationFromRpy(first.base_rpy) * robot_.CenterOfMass(first.joints);
+  const DynamicWalkConfig& d = config_.dynamic;
+  ZmpPreviewParams params;
+  params.com_height_m = std::max(com_W.z() - feet_z, 0.1);
+  params.time_step_s = d.time_step_s;
+  params.preview_s = d.preview_s;
+  params.q_error = d.q_error;
+  params.r_jerk = d.r_jerk;
+  const ZmpPreviewModel model(params);
+
+  GaitTiming timing;
+  timing.start_s = d.start_s;
+  timing.swing_s = d.min_swing_s;
+  timing.four_foot_s = d.four_foot_s;
+  timing.zmp_speed_mps = d.zmp_speed_mps;
+  timing.base_rise_mps = d.base_rise_mps;
+  timing.base_turn_radps = d.base_turn_radps;
+  timing.final_s = d.final_s;
+  timing.zmp_margin_m = d.zmp_margin_m;
+  for (std::size_t i = 1; i < plan_.states.size(); ++i) {
+    const std::size_t leg = static_cast<std::size_t>(plan_.states[i].moving_leg);
+    timing.step_swing_s.push_back(PlanSwing(static_cast<int>(i), plan_.states[i - 1].feet[leg].position).Duration());
+  }
+  PatternStart start;
+  for (std::size_t i = 1; i < plan_.states.size(); ++i) {
+    const WholeBodyState& s = plan_.states[i];
+    start.step_com.push_back((s.base_position + RotationFromRpy(s.base_rpy) * robot_.CenterOfMass(s.joints)).head<2>());
+  }
+  if (pattern_ && pattern_time_s_ < pattern_->Duration()) {
+    start.com = pattern_->ComAt(pattern_time_s_);  // walking: go on from where the CoM is headed
+    start.zmp = pattern_->ZmpReferenceAt(pattern_time_s_);
+  } else {
+    start.com.position = m.com_W.head<2>();
+  }
+  pattern_ = PlanWalkingPattern(plan_, timing, model, start);
+  pattern_time_s_ = 0.0;
+}
+
+void PlanController::AdvanceClock(const Measured& m) {
+  const double dt = std::max(0.0, m.t - last_tick_s_);
+  clock_held_ = false;
+  if (!pattern_) return;
+  // The clock stops at the current step's swing end until the foot is down, and waiting for the
+  // next piece of plan, at the next lift-off.
+  double limit = pattern_->Duration();
+  switch (status_.phase) {
+    case ControllerPhase::kShift:
+    case ControllerPhase::kUnload:
+    case ControllerPhase::kSwing:
+    case ControllerPhase::kSearch:
+      limit = pattern_->SwingOf(status_.step).end_s;
+      break;
+    case ControllerPhase::kAwait:
+      if (status_.step + 1 < static_cast<int>(plan_.states.size())) limit = pattern_->SwingOf(status_.step + 1).start_s;
+      break;
+    default:
+      break;
+  }
+  const double next = std::min(pattern_time_s_ + dt, std::max(limit, pattern_time_s_));
+  if (next < pattern_time_s_ + dt && pattern_time_s_ < pattern_->Duration()) {
+    clock_held_ = true;
+    status_.lag_s += pattern_time_s_ + dt - next;
+  }
+  pattern_time_s_ = next;
+}
+
+void PlanController::RampLoads(const Measured& m) {
+  for (std::size_t i = 0; i < kNumLegs; ++i) {
+    if (std::isnan(touchdown_s_[i])) continue;
+    load_[i] = std::clamp((m.t - touchdown_s_[i]) / config_.stance.load_s, 0.0, 1.0);
+    if (load_[i] >= 1.0) touchdown_s_[i] = std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+void PlanController::TakePendingPlan(const Measured& m) {
+  plan_ = std::move(*pending_);
+  pending_.reset();
+  status_.plan_start_s = m.t;
+  if (Dynamic() && plan_.states.size() > 1) StartPattern(m);
+}
+
 void PlanController::EvaluateReference(double t) {
   const BaseSegment& s = segment_;
   const double u = std::clamp((t - s.t0) / s.duration, 0.0, 1.0);
@@ -163,6 +271,7 @@ void PlanController::EvaluateReference(double t) {
   reference_.linear_velocity_W = xd * (s.p1 - s.p0);
   reference_.orientation_W = s.q0.slerp(x, s.q1);
   reference_.angular_velocity_W = xd * RotationVector(s.q1 * s.q0.conjugate());
+  reference_.linear_acceleration_W.setZero();
 }
 
 void PlanController::BeginStep(int index, const Measured& m) {
@@ -170,8 +279,15 @@ void PlanController::BeginStep(int index, const Measured& m) {
   status_.step = index;
   status_.swing_leg = static_cast<Leg>(target.moving_leg);
   status_.step_max_base_error_m = 0.0;
-  // The plan's base pose is the one the planner checked the step at: the base goes exactly there.
-  MoveBaseTo(target.base_position, QuaternionFromRpy(target.base_rpy), m.t, config_.base.min_shift_s);
+  if (Dynamic()) {
+    // Height and attitude reach the step's pose by its lift-off, as the planner checked the
+    // swing; the pattern moves the CoM.
+    const double until_liftoff = pattern_->SwingOf(index).start_s - pattern_time_s_;
+    MoveBaseOver(target.base_position, QuaternionFromRpy(target.base_rpy), m.t, until_liftoff);
+  } else {
+    // The plan's base pose is the one the planner checked the step at: the base goes exactly there.
+    MoveBaseTo(target.base_position, QuaternionFromRpy(target.base_rpy), m.t, config_.base.min_shift_s);
+  }
   Enter(ControllerPhase::kShift, m.t);
 }
 
@@ -182,13 +298,12 @@ SwingTrajectory PlanController::PlanSwing(int index, const Eigen::Vector3d& foot
   const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
   const std::size_t i = static_cast<std::size_t>(target.moving_leg);
   if (target.HasSwing()) {
-    return SwingTrajectory::Given(foot_W, target.feet[i].position, target.swing_apex_z, target.swing_bow,
-                                  stance_.Config().swing);
+    return SwingTrajectory::Given(foot_W, target.feet[i].position, target.swing_apex_z, target.swing_bow, SwingPath());
   }
   const WholeBodyState& before = plan_.states[static_cast<std::size_t>(index - 1)];
   const SwingTrajectory planned = stance_.PlanSwing(static_cast<Leg>(target.moving_leg), before.feet[i].position,
                                                     target.feet[i].position, BasePose(target), target.joints);
-  return planned.StartingAt(foot_W);
+  return Dynamic() ? planned.StartingAt(foot_W).Retimed(SwingPath()) : planned.StartingAt(foot_W);
 }
 
 void PlanController::FinishStep(const Measured& m) {
@@ -205,9 +320,7 @@ void PlanController::FinishStep(const Measured& m) {
     return;
   }
   if (pending_) {
-    plan_ = std::move(*pending_);
-    pending_.reset();
-    status_.plan_start_s = m.t;
+    TakePendingPlan(m);
     if (plan_.states.size() > 1) {
       BeginStep(1, m);
       return;
@@ -231,7 +344,11 @@ void PlanController::NextStepOrFinish(const Measured& m) {
 
 void PlanController::BeginFinalShift(const Measured& m) {
   const WholeBodyState& last = plan_.states.back();
-  MoveBaseTo(last.base_position, QuaternionFromRpy(last.base_rpy), m.t, config_.base.min_shift_s);
+  if (pattern_) {
+    MoveBaseOver(last.base_position, QuaternionFromRpy(last.base_rpy), m.t, pattern_->Duration() - pattern_time_s_);
+  } else {
+    MoveBaseTo(last.base_position, QuaternionFromRpy(last.base_rpy), m.t, config_.base.min_shift_s);
+  }
   Enter(ControllerPhase::kFinalShift, m.t);
 }
 
@@ -239,6 +356,7 @@ void PlanController::Fail(const Measured& m, Leg leg, const std::string& why) {
   status_.failure = why;
   status_.failure_leg = leg;
   // Hold the base where it is now, on the feet that are down.
+  pattern_.reset();
   MoveBaseTo(reference_.position_W, reference_.orientation_W, m.t, config_.base.min_shift_s);
   Enter(ControllerPhase::kFailed, m.t);
 }
@@ -248,14 +366,25 @@ void PlanController::BeginPlan(const Measured& m) {
   status_ = ControllerStatus{};
   status_.plan_start_s = m.t;
   load_.fill(1.0);
+  touchdown_s_.fill(std::numeric_limits<double>::quiet_NaN());
   for (Leg leg : kAllLegs) normal_W_[static_cast<std::size_t>(Index(leg))] = plan_.states.front().feet[static_cast<std::size_t>(Index(leg))].normal.normalized();
   const WholeBodyState& first = plan_.states.front();
+  if (Dynamic() && plan_.states.size() > 1) {
+    StartPattern(m);
+    BeginStep(1, m);
+    return;
+  }
+  pattern_.reset();
   MoveBaseTo(first.base_position, QuaternionFromRpy(first.base_rpy), m.t, config_.base.settle_s);
   Enter(ControllerPhase::kSettle, m.t);
 }
 
 void PlanController::Advance(const Measured& m) {
   if (plan_started_) BeginPlan(m);
+  if (Dynamic()) {
+    AdvanceClock(m);
+    RampLoads(m);
+  }
   // Phases may end within one tick; a few transitions at most follow each other.
   for (int guard = 0; guard < 4; ++guard) {
     const ControllerPhase before = status_.phase;
@@ -283,12 +412,19 @@ void PlanController::AdvancePhase(const Measured& m) {
       }
       break;
     case ControllerPhase::kShift:
-      if (segment_.Done(t)) Enter(ControllerPhase::kUnload, t);
+      if (pattern_ ? pattern_time_s_ >= pattern_->SwingOf(status_.step).start_s - config_.stance.unload_s
+                   : segment_.Done(t)) {
+        Enter(ControllerPhase::kUnload, t);
+      }
       break;
     case ControllerPhase::kUnload: AdvanceUnload(m, sl, elapsed); break;
     case ControllerPhase::kSwing: AdvanceSwing(m, sl, elapsed); break;
     case ControllerPhase::kSearch: AdvanceSearch(m, sl, elapsed); break;
     case ControllerPhase::kLoad:
+      if (pattern_) {
+        FinishStep(m);  // the leg loads while the walk goes on (RampLoads)
+        break;
+      }
       load_[sl] = std::clamp(elapsed / config_.stance.load_s, 0.0, 1.0);
       if (elapsed >= config_.stance.load_s) {
         load_[sl] = 1.0;
@@ -297,7 +433,8 @@ void PlanController::AdvancePhase(const Measured& m) {
       break;
     case ControllerPhase::kAwait: AdvanceAwait(m); break;
     case ControllerPhase::kFinalShift:
-      if (segment_.Done(t) && elapsed >= segment_.duration + config_.base.final_hold_s) {
+      if (pattern_ ? pattern_time_s_ >= pattern_->Duration()
+                   : segment_.Done(t) && elapsed >= segment_.duration + config_.base.final_hold_s) {
         Enter(ControllerPhase::kDone, t);
       }
       break;
@@ -305,6 +442,7 @@ void PlanController::AdvancePhase(const Measured& m) {
 }
 
 void PlanController::AdvanceUnload(const Measured& m, std::size_t sl, double elapsed) {
+  touchdown_s_[sl] = std::numeric_limits<double>::quiet_NaN();  // a leg that steps again unloads from here
   load_[sl] = std::clamp(1.0 - elapsed / config_.stance.unload_s, 0.0, 1.0);
   if (elapsed < config_.stance.unload_s) return;
   load_[sl] = 0.0;
@@ -342,14 +480,13 @@ void PlanController::TouchDown(std::size_t sl, double t) {
   load_[sl] = 0.0;
   normal_W_[sl] = plan_.states[static_cast<std::size_t>(status_.step)].feet[sl].normal.normalized();
   Enter(ControllerPhase::kLoad, t);
+  if (pattern_) touchdown_s_[sl] = t;  // it loads while the walk goes on (FinishStep follows at once)
 }
 
 void PlanController::AdvanceAwait(const Measured& m) {
   if (pending_) {
-    plan_ = std::move(*pending_);
-    pending_.reset();
+    TakePendingPlan(m);
     continue_requested_ = false;
-    status_.plan_start_s = m.t;
     status_.step = 0;
     NextStepOrFinish(m);
   } else if (continue_requested_) {
@@ -381,9 +518,18 @@ JointVector PlanController::Update(const RobotState& state) {
     reference_.orientation_W = Eigen::Quaterniond(m.R);
     MoveBaseTo(m.p, reference_.orientation_W, m.t, config_.base.min_shift_s);
     status_.phase_start_s = m.t;
+    last_tick_s_ = m.t;
   }
   Advance(m);
+  last_tick_s_ = m.t;
   EvaluateReference(m.t);
+  if (pattern_) {
+    // The pattern moves the CoM: the base is where the measured CoM offset puts it.
+    const ComState com = pattern_->ComAt(pattern_time_s_);
+    reference_.position_W.head<2>() = com.position - (m.com_W - m.p).head<2>();
+    reference_.linear_velocity_W.head<2>() = clock_held_ ? Eigen::Vector2d::Zero() : com.velocity;
+    reference_.linear_acceleration_W.head<2>() = clock_held_ ? Eigen::Vector2d::Zero() : com.acceleration;
+  }
   status_.base_error_m = (reference_.position_W - m.p).norm();
   status_.step_max_base_error_m = std::max(status_.step_max_base_error_m, status_.base_error_m);
   return Torques(m);
@@ -401,7 +547,8 @@ Wrench PlanController::BaseWrench(const Measured& m) const {
   const BaseMotionConfig& b = config_.base;
   Wrench wrench;
   wrench.head<3>() = Eigen::Vector3d(0, 0, mass * kGravity) +
-                     R * (b.kp_linear.cwiseProduct(R.transpose() * e_p) + b.kd_linear.cwiseProduct(R.transpose() * e_v));
+                     R * (b.kp_linear.cwiseProduct(R.transpose() * e_p) + b.kd_linear.cwiseProduct(R.transpose() * e_v)) +
+                     mass * ref.linear_acceleration_W;
   wrench.tail<3>() =
       R * (b.kp_angular.cwiseProduct(R.transpose() * e_R) + b.kd_angular.cwiseProduct(R.transpose() * e_w));
   return wrench;
@@ -446,7 +593,13 @@ void PlanController::AddStanceTorques(const Measured& m, Leg leg, const Eigen::M
   if (ik.status != IkResult::Status::kOutOfReach) {
     t += config_.stance.kp.cwiseProduct(ik.q - q);
   }
-  t -= config_.stance.kd.cwiseProduct(qd);
+  // Its damping acts on the joint rates the base's reference motion implies (a foot that stays
+  // put under a moving base), not on every motion of the joints.
+  const Eigen::Vector3d foot_rate_B = R.transpose() * (-reference_.linear_velocity_W -
+                                                      reference_.angular_velocity_W.cross(m.feet_W[i] - reference_.position_W));
+  Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
+  if (std::abs(J.determinant()) > 1e-4) qd_des = J.partialPivLu().solve(foot_rate_B);
+  t += config_.stance.kd.cwiseProduct(qd_des - qd);
 }
 
 void PlanController::AddSwingTorques(const Measured& m, Leg leg, const Eigen::Matrix3d& J, Eigen::Vector3d& t) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rbcp/core/error.h"
+#include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/stance/swing_trajectory.h"
 
@@ -33,6 +34,15 @@ SupportPhase MakePhase(double start_s, double duration_s, int swing_leg, int sta
   for (const Eigen::Vector3d& f : feet) xy.push_back(f.head<2>());
   phase.polygon = ConvexHull2d(xy);
   return phase;
+}
+
+/// The time a min-jerk move (peak 1.875 times the mean rate) of the base from `from`'s height and
+/// attitude to `to`'s takes at the timing's peak rates.
+double BaseMoveS(const WholeBodyState& from, const WholeBodyState& to, const GaitTiming& timing) {
+  const Eigen::Quaterniond q0(RotationFromRpy(from.base_rpy));
+  const Eigen::Quaterniond q1(RotationFromRpy(to.base_rpy));
+  return 1.875 * std::max(std::abs(to.base_position.z() - from.base_position.z()) / timing.base_rise_mps,
+                          q0.angularDistance(q1) / timing.base_turn_radps);
 }
 
 Eigen::Vector2d Centre(const std::vector<Eigen::Vector3d>& feet) {
@@ -71,6 +81,49 @@ const SupportPhase& WalkingPattern::PhaseAt(double t) const {
   return it == phases.end() ? phases.back() : *it;
 }
 
+const SupportPhase& WalkingPattern::SwingOf(int state) const {
+  // Each step is a four-foot phase and its swing, in the plan's order.
+  const std::size_t index = 2 * static_cast<std::size_t>(state) - 1;
+  RBCP_CHECK(state >= 1 && index < phases.size() && phases[index].state == state, "the pattern has this step");
+  return phases[index];
+}
+
+namespace {
+
+/// The samples k and k + 1 around time t and the weight of k + 1 (held beyond the end).
+std::pair<std::size_t, double> Bracket(double t, double time_step_s, std::size_t samples) {
+  RBCP_CHECK(samples > 0, "a walking pattern has samples");
+  const double x = std::max(t, 0.0) / time_step_s;
+  const std::size_t k = static_cast<std::size_t>(std::floor(x));
+  if (k + 1 >= samples) return {samples - 1, 0.0};
+  return {k, x - static_cast<double>(k)};
+}
+
+template <class T>
+T Lerp(const std::vector<T>& v, const std::pair<std::size_t, double>& at) {
+  const auto [k, w] = at;
+  return w == 0.0 ? v[k] : T((1.0 - w) * v[k] + w * v[k + 1]);
+}
+
+}  // namespace
+
+ComState WalkingPattern::ComAt(double t) const {
+  const auto at = Bracket(t, time_step_s, com.position.size());
+  ComState s;
+  s.position = Lerp(com.position, at);
+  s.velocity = Lerp(com.velocity, at);
+  s.acceleration = Lerp(com.acceleration, at);
+  if (t >= Duration()) {
+    s.velocity.setZero();
+    s.acceleration.setZero();
+  }
+  return s;
+}
+
+Eigen::Vector2d WalkingPattern::ZmpReferenceAt(double t) const {
+  return Lerp(zmp_reference, Bracket(t, time_step_s, zmp_reference.size()));
+}
+
 double WalkingPattern::MinZmpMargin() const {
   double least = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < com.zmp.size(); ++k) {
@@ -84,6 +137,13 @@ double WalkingPattern::MinZmpMargin() const {
 
 WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& timing, const ZmpPreviewModel& model,
                                   const Eigen::Vector2d& com_start_xy) {
+  PatternStart start;
+  start.com.position = com_start_xy;
+  return PlanWalkingPattern(plan, timing, model, start);
+}
+
+WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& timing, const ZmpPreviewModel& model,
+                                  const PatternStart& start) {
   if (plan.states.size() < 2) {
     throw InputError("walking pattern: expected a plan of at least two states, got " + std::to_string(plan.states.size()));
   }
@@ -92,12 +152,27 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     throw InputError("walking pattern: expected a swing duration per step (" + std::to_string(plan.states.size() - 1) +
                      "), got " + std::to_string(timing.step_swing_s.size()));
   }
-  if (!com_start_xy.allFinite()) throw InputError("walking pattern: expected a finite CoM start");
+  if (!start.step_com.empty() && start.step_com.size() + 1 != plan.states.size()) {
+    throw InputError("walking pattern: expected a CoM per step (" + std::to_string(plan.states.size() - 1) + "), got " +
+                     std::to_string(start.step_com.size()));
+  }
+  const ComState& com = start.com;
+  if (!com.position.allFinite() || !com.velocity.allFinite() || !com.acceleration.allFinite() ||
+      (start.zmp && !start.zmp->allFinite())) {
+    throw InputError("walking pattern: expected a finite CoM start");
+  }
   WalkingPattern pattern;
   pattern.time_step_s = model.Params().time_step_s;
 
   // The phases, and the reference's corners: (time, point) where it stands still or starts to move.
-  std::vector<std::pair<double, Eigen::Vector2d>> knots = {{0.0, com_start_xy}, {timing.start_s / 2.0, com_start_xy}};
+  // From rest the ZMP stays under the CoM for half the start phase; a moving CoM's goes on from
+  // the ZMP it follows.
+  std::vector<std::pair<double, Eigen::Vector2d>> knots;
+  if (start.zmp) {
+    knots = {{0.0, *start.zmp}};
+  } else {
+    knots = {{0.0, com.position}, {timing.start_s / 2.0, com.position}};
+  }
   double t = 0.0;
   for (std::size_t i = 1; i < plan.states.size(); ++i) {
     const WholeBodyState& before = plan.states[i - 1];
@@ -106,13 +181,18 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
       throw InputError("walking pattern: state " + std::to_string(i) + " has no moving leg (" + std::to_string(swing) + ")");
     }
     const int state = static_cast<int>(i);
-    const double four_foot_s = i == 1 ? timing.start_s : timing.four_foot_s;
     const std::vector<Eigen::Vector3d> four = FeetDown(before, -1);
+    const std::vector<Eigen::Vector3d> stance = FeetDown(before, swing);
+    const Eigen::Vector2d preferred = start.step_com.empty() ? Centre(four) : start.step_com[i - 1];
+    const Eigen::Vector2d target =
+        NearestWithMargin({stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()}, timing.zmp_margin_m, preferred);
+    // Four feet down as long as the ZMP needs to reach the next triangle (across the diagonal
+    // between two swings on opposite sides, a few centimetres along one side).
+    const double move_s = (target - knots.back().second).norm() / timing.zmp_speed_mps;
+    const double four_foot_s =
+        i == 1 && !start.zmp ? timing.start_s : std::max({timing.four_foot_s, move_s, BaseMoveS(before, plan.states[i], timing)});
     pattern.phases.push_back(MakePhase(t, four_foot_s, -1, state, four));
     t += four_foot_s;
-    const std::vector<Eigen::Vector3d> stance = FeetDown(before, swing);
-    const Eigen::Vector2d target =
-        NearestWithMargin({stance[0].head<2>(), stance[1].head<2>(), stance[2].head<2>()}, timing.zmp_margin_m, Centre(four));
     knots.emplace_back(t, target);
     const double given = timing.step_swing_s.empty() ? std::numeric_limits<double>::quiet_NaN() : timing.step_swing_s[i - 1];
     const double swing_s = std::isnan(given) ? timing.swing_s : given;
@@ -123,9 +203,10 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
   const std::vector<Eigen::Vector3d> last = FeetDown(plan.states.back(), -1);
   pattern.phases.push_back(
       MakePhase(t, timing.four_foot_s + timing.final_s, -1, static_cast<int>(plan.states.size()) - 1, last));
-  knots.emplace_back(t + timing.four_foot_s, Centre(last));
+  const Eigen::Vector2d rest = start.step_com.empty() ? Centre(last) : start.step_com.back();
+  knots.emplace_back(t + timing.four_foot_s, rest);
   t += timing.four_foot_s + timing.final_s;
-  knots.emplace_back(t, Centre(last));
+  knots.emplace_back(t, rest);
 
   // The reference, piecewise linear through the knots, one sample per time step.
   const std::size_t samples = static_cast<std::size_t>(std::ceil(t / pattern.time_step_s)) + 1;
@@ -139,7 +220,7 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     const double s = t1 > t0 ? std::clamp((time - t0) / (t1 - t0), 0.0, 1.0) : 1.0;
     pattern.zmp_reference.push_back(p0 + s * (p1 - p0));
   }
-  pattern.com = PreviewCom(model, com_start_xy, pattern.zmp_reference);
+  pattern.com = PreviewCom(model, com, pattern.zmp_reference);
   return pattern;
 }
 

@@ -48,6 +48,9 @@ GaitTiming Timing() {
   t.zmp_margin_m = 0.08;
   t.swing_s = 0.5;
   t.four_foot_s = 0.2;
+  t.zmp_speed_mps = 10.0;  // four-foot phases of four_foot_s
+  t.base_rise_mps = 10.0;
+  t.base_turn_radps = 10.0;
   t.final_s = 1.0;
   return t;
 }

@@ -156,6 +156,7 @@ class PlanExecution {
   RobotState State() const { return world_->State(); }
   BulletWorld& World() { return *world_; }
   const PlanController& Controller() const { return *controller_; }
+  const RobotModel& Robot() const { return robot_; }
   double Time() const { return world_->Time(); }
 
  private:
@@ -209,8 +210,10 @@ nlohmann::json OutcomeToJson(const ExecutionOutcome& outcome);
 
 /// A control-rate record of a run for diagnosis, one CSV row per tick: t, the controller's phase,
 /// step, swing leg and support margin, the base position and roll-pitch-yaw with the reference
-/// position, the 12 joint positions and applied torques (named as in the URDF), and per foot the
-/// contact flag and the normal (world z) contact force.
+/// position, the 12 joint positions and applied torques (named as in the URDF), per foot the
+/// contact flag and the normal (world z) contact force, the centre of pressure of the foot
+/// forces (x, y) with its distance inside the polygon of the feet in contact, and the dynamic
+/// walk's lag.
 void WriteTickCsvHeader(std::ostream& out);
 void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution);
 

@@ -75,16 +75,74 @@ struct StanceLegConfig {
   }
 };
 
-struct ControllerConfig {
-  BaseMotionConfig base;
-  SwingConfig swing;
-  StanceLegConfig stance;
+/// How the controller walks a plan.
+enum class WalkMode {
+  /// A static crawl: the base shifts with four feet down, then stands still while a leg swings.
+  kStatic,
+  /// A walking pattern (walking_pattern.h): the CoM follows ZMP preview control over the coming
+  /// support polygons and moves while a leg swings; four feet are down only between two swings.
+  kDynamic,
+};
+
+/// The dynamic walk's clock and its ZMP preview (mode: dynamic).
+struct DynamicWalkConfig {
+  double start_s = 0.6;
+  double four_foot_s = 0.15;
+  double zmp_speed_mps = 0.6;
+  double base_rise_mps = 0.3;
+  double base_turn_radps = 1.0;
+  double final_s = 0.6;
+  double zmp_margin_m = 0.05;
+  double swing_speed_mps = 1.2;
+  double min_swing_s = 0.3;
+  double time_step_s = 0.005;
+  double preview_s = 1.6;
+  double q_error = 1.0;
+  double r_jerk = 1e-6;
 
   template <class Visitor>
   void Serialize(Visitor* v) {
+    const Bounds duration = bounds::Positive().AtMost(60.0);
+    v->Visit("start_s", &start_s, "s", duration, "four feet down from rest before the first swing of a plan");
+    v->Visit("four_foot_s", &four_foot_s, "s", duration,
+             "four feet down between two swings: the ZMP moves to the next support triangle, the leg that "
+             "touched down loads and the next one unloads");
+    v->Visit("zmp_speed_mps", &zmp_speed_mps, "m/s", bounds::Positive(),
+             "four feet stay down as long as the ZMP reference takes to reach the next support triangle at this speed");
+    v->Visit("base_rise_mps", &base_rise_mps, "m/s", bounds::Positive(),
+             "and as long as the base takes to reach the next step's height at this peak speed");
+    v->Visit("base_turn_radps", &base_turn_radps, "rad/s", bounds::Positive(),
+             "and its attitude at this peak rate (a leg swings with the base at the height and attitude it was "
+             "planned at)");
+    v->Visit("final_s", &final_s, "s", duration, "after a plan's last step, while the CoM comes to rest");
+    v->Visit("zmp_margin_m", &zmp_margin_m, "m", bounds::Closed(0.0, 1.0),
+             "distance the ZMP reference keeps from the support triangle's edges");
+    v->Visit("swing_speed_mps", &swing_speed_mps, "m/s", bounds::Positive(),
+             "peak foot speed of a swing along the plan's swing path");
+    v->Visit("min_swing_s", &min_swing_s, "s", duration, "shortest swing");
+    v->Visit("time_step_s", &time_step_s, "s", bounds::Positive().AtMost(0.1), "sampling period of the CoM trajectory");
+    v->Visit("preview_s", &preview_s, "s", Bounds().AtLeast(time_step_s, "time_step_s").AtMost(10.0),
+             "how far ahead the ZMP preview looks");
+    v->Visit("q_error", &q_error, "1/m^2", bounds::Positive(), "preview cost: weight of the ZMP error");
+    v->Visit("r_jerk", &r_jerk, "s^6/m^2", bounds::Positive(), "preview cost: weight of the change of jerk");
+  }
+};
+
+struct ControllerConfig {
+  WalkMode mode = WalkMode::kStatic;
+  BaseMotionConfig base;
+  SwingConfig swing;
+  StanceLegConfig stance;
+  DynamicWalkConfig dynamic;
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    v->Visit("mode", &mode, EnumNames<WalkMode>{{WalkMode::kStatic, "static"}, {WalkMode::kDynamic, "dynamic"}},
+             "static: a crawl with the base still during a swing; dynamic: the CoM moves on a ZMP preview");
     v->Visit("base", &base, "how the trunk moves between steps and how it is held");
     v->Visit("swing", &swing, "the swing of a foot");
     v->Visit("stance", &stance, "the legs on the ground");
+    v->Visit("dynamic", &dynamic, "the dynamic walk (mode: dynamic)");
   }
 
   static ControllerConfig Load(const YamlMap& map) { return LoadConfig<ControllerConfig>(map); }

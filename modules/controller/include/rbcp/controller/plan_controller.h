@@ -1,6 +1,7 @@
 #pragma once
-/// The robot's onboard controller: it executes a contact plan as a static crawl, from the
-/// measured state only (RobotState) and the terrain, at the control rate.
+/// The robot's onboard controller: it executes a contact plan, from the measured state only
+/// (RobotState) and the terrain, at the control rate: as a static crawl (ControllerConfig::mode
+/// static, below) or as a dynamic walk (mode dynamic, at the end of this comment).
 ///
 /// The plan is the contract: the contact planner checked every step as this controller walks it
 /// (StanceChecker::CheckStep: the base on the plan's poses, the swing on the path StanceChecker
@@ -41,6 +42,7 @@
 #include <string>
 
 #include "rbcp/controller/controller_config.h"
+#include "rbcp/controller/walking_pattern.h"
 #include "rbcp/equilibrium/force_distribution.h"
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/core/triangle_mesh.h"
@@ -82,6 +84,7 @@ struct ControllerStatus {
   double step_max_base_error_m = 0.0;  ///< the largest base_error_m since the current step began [m]
   double phase_start_s = 0.0;     ///< when the current phase began [s]
   double plan_start_s = 0.0;      ///< when the current plan began [s]
+  double lag_s = 0.0;             ///< dynamic walk: time the pattern's clock stood still for a late step [s]
 };
 
 /// The base pose the controller is steering to, with its rates (world frame).
@@ -90,6 +93,7 @@ struct BaseReference {
   Eigen::Quaterniond orientation_W = Eigen::Quaterniond::Identity();
   Eigen::Vector3d linear_velocity_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d linear_acceleration_W = Eigen::Vector3d::Zero();  ///< feed-forward (dynamic walk)
 };
 
 class PlanController {
@@ -130,6 +134,10 @@ class PlanController {
   const ControllerConfig& Config() const { return config_; }
   /// The stance rules it walks by, with the terrain of its swing paths.
   const StanceChecker& Stance() const { return stance_; }
+  /// Dynamic walk: the walking pattern of the plan being walked, and the time on its clock
+  /// (null in the static crawl, before a plan and after a failure).
+  const WalkingPattern* Pattern() const { return pattern_ ? &*pattern_ : nullptr; }
+  double PatternTime() const { return pattern_time_s_; }
 
  private:
   struct BaseSegment {
@@ -165,6 +173,21 @@ class PlanController {
   void BeginFinalShift(const Measured& m);
   void Fail(const Measured& m, Leg leg, const std::string& why);
   void MoveBaseTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double min_duration);
+  /// The base's min-jerk segment to (p, q), over exactly `duration`.
+  void MoveBaseOver(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double duration);
+  bool Dynamic() const { return config_.mode == WalkMode::kDynamic; }
+  /// Dynamic walk: the swing path's timing (the stance rules' path at the dynamic swing speed).
+  SwingPathConfig SwingPath() const;
+  /// Dynamic walk: the pattern of the current plan, from the pattern's CoM where one is being
+  /// walked, else from the measured CoM at rest.
+  void StartPattern(const Measured& m);
+  /// Dynamic walk: the pattern's clock follows the tick, up to the current step's swing end
+  /// until its touchdown.
+  void AdvanceClock(const Measured& m);
+  /// Dynamic walk: a leg that touched down loads over load_s.
+  void RampLoads(const Measured& m);
+  /// The plan ReplacePlan left pending becomes the current one.
+  void TakePendingPlan(const Measured& m);
   /// The swing path of plan state `index`'s step, started at the measured foot foot_W.
   SwingTrajectory PlanSwing(int index, const Eigen::Vector3d& foot_W) const;
   void EvaluateReference(double t);
@@ -201,6 +224,12 @@ class PlanController {
   Eigen::Vector3d swing_velocity_W_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d search_start_W_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d swing_q_des_ = Eigen::Vector3d::Zero();
+  // Dynamic walk.
+  std::optional<WalkingPattern> pattern_;
+  double pattern_time_s_ = 0.0;  // on the pattern's clock
+  bool clock_held_ = false;      // the clock stood still this tick
+  double last_tick_s_ = 0.0;
+  std::array<double, kNumLegs> touchdown_s_;  // when a loading leg touched down (NaN: loaded or swinging)
 };
 
 }  // namespace rbcp

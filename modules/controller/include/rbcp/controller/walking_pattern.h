@@ -6,14 +6,20 @@
 ///
 /// During the swing of a plan state's moving leg the support is the other three feet; the ZMP
 /// reference stands at the point of that triangle, shrunk inward by the ZMP margin, nearest the
-/// centre of the four feet before the step (the least sway of the trunk that keeps the margin; the
-/// incentre when the triangle is too small for the margin). Between two swings all four feet are
-/// down and the reference moves in a straight line from one such point to the next. It starts from
-/// the CoM at rest, held there for the first half of the start phase (the preview needs to see a
-/// change coming to prepare for it), and ends at the centre of the last four feet.
+/// CoM the plan holds during that swing (PatternStart::step_com; without it, the centre of the four
+/// feet before the step: the least sway that keeps the margin). It is the triangle's incentre when
+/// the triangle is too small for the margin. Between two swings all four feet are down and the
+/// reference moves in a straight line from one such point to the next, at most at zmp_speed_mps;
+/// the base also takes that time to reach the height and attitude of the step's plan state, which
+/// a swing keeps (the planner checked it there). A pattern starts from the CoM at rest, held there
+/// for the first half of the start phase (the preview needs to see a change coming to prepare for
+/// it), and ends at rest at the plan's last CoM (or the centre of the last four feet). A pattern
+/// that continues a walk (the next piece of a plan, the CoM moving) starts from the CoM's state
+/// and the ZMP it follows, with a four-foot phase like any other.
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -33,6 +39,9 @@ struct GaitTiming {
   /// swing_s.
   std::vector<double> step_swing_s;
   double four_foot_s = 0.0;
+  double zmp_speed_mps = 0.0;
+  double base_rise_mps = 0.0;
+  double base_turn_radps = 0.0;
   double final_s = 0.0;
   double zmp_margin_m = 0.0;
 
@@ -41,7 +50,14 @@ struct GaitTiming {
     const Bounds duration = bounds::Positive().AtMost(60.0);
     v->Visit("start_s", &start_s, "s", duration, "all feet down before the first swing, from rest");
     v->Visit("swing_s", &swing_s, "s", duration, "one leg in the air, where step_swing_s gives none");
-    v->Visit("four_foot_s", &four_foot_s, "s", duration, "all feet down between two swings");
+    v->Visit("four_foot_s", &four_foot_s, "s", duration, "all feet down between two swings, at least");
+    v->Visit("zmp_speed_mps", &zmp_speed_mps, "m/s", bounds::Positive(),
+             "between two swings, four feet stay down as long as the ZMP reference takes to reach the next "
+             "support triangle at this speed");
+    v->Visit("base_rise_mps", &base_rise_mps, "m/s", bounds::Positive(),
+             "... and as long as the base takes to reach the step's height at this peak speed (a min-jerk move) ...");
+    v->Visit("base_turn_radps", &base_turn_radps, "rad/s", bounds::Positive(),
+             "... and its attitude at this peak rate: a swing starts with the base on the pose it was planned at");
     v->Visit("final_s", &final_s, "s", duration,
              "after the last swing the ZMP moves to the last stance's centre in four_foot_s, then stays there "
              "this long while the CoM comes to rest");
@@ -75,14 +91,36 @@ struct WalkingPattern {
   double Duration() const { return phases.empty() ? 0.0 : phases.back().end_s; }
   /// The phase at time t (the last one beyond the end).
   const SupportPhase& PhaseAt(double t) const;
+  /// The swing of plan state `state`'s moving leg (states 1..n).
+  const SupportPhase& SwingOf(int state) const;
+  /// The CoM at time t, between samples by linear interpolation (held beyond the end).
+  ComState ComAt(double t) const;
+  /// The ZMP reference at time t, likewise.
+  Eigen::Vector2d ZmpReferenceAt(double t) const;
   /// The least signed distance of the CoM trajectory's ZMP to its support polygon over every
   /// sample [m]: positive when the ZMP never leaves the support.
   double MinZmpMargin() const;
 };
 
-/// The walking pattern of `plan` (at least two states) with the CoM starting at rest at
-/// `com_start_xy`. Throws InputError for a plan of fewer than two states, a state whose moving
-/// leg is not -1..3, or a timing out of bounds.
+/// Where a walking pattern begins.
+struct PatternStart {
+  ComState com;
+  /// The ZMP a moving CoM follows now; none: the CoM is at rest (start_s applies).
+  std::optional<Eigen::Vector2d> zmp;
+  /// Per step (plan states 1..n): the CoM (x, y) the plan holds during the step's swing (its
+  /// base pose's, where the planner checked the swing). The ZMP reference of a swing stands at
+  /// the point of the shrunk support triangle nearest it, and the CoM stays near the plan's; the
+  /// last one is where the CoM comes to rest. Empty: nearest the centre of the four feet before
+  /// the step, and at rest over the centre of the last four.
+  std::vector<Eigen::Vector2d> step_com;
+};
+
+/// The walking pattern of `plan` (at least two states) from `start`. Throws InputError for a plan
+/// of fewer than two states, a state whose moving leg is not 0..3, a non-finite start, or a
+/// timing out of bounds.
+WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& timing, const ZmpPreviewModel& model,
+                                  const PatternStart& start);
+/// The same with the CoM at rest at `com_start_xy`.
 WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& timing, const ZmpPreviewModel& model,
                                   const Eigen::Vector2d& com_start_xy);
 

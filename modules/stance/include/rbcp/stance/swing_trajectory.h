@@ -69,6 +69,13 @@ class SwingTrajectory {
     return s;
   }
 
+  /// The same path timed for `config`'s speed and shortest swing.
+  SwingTrajectory Retimed(const SwingPathConfig& config) const {
+    SwingTrajectory s = *this;
+    s.SetDuration(config);
+    return s;
+  }
+
   double Duration() const { return duration_s_; }
   /// Phase in [0, 1] after t [s] of swing.
   double Phase(double t) const;
