@@ -418,7 +418,7 @@ void PlanController::AdvancePhase(const Measured& m) {
       }
       break;
     case ControllerPhase::kUnload: AdvanceUnload(m, sl, elapsed); break;
-    case ControllerPhase::kSwing: AdvanceSwing(m, sl, elapsed); break;
+    case ControllerPhase::kSwing: AdvanceSwing(m, sl); break;
     case ControllerPhase::kSearch: AdvanceSearch(m, sl, elapsed); break;
     case ControllerPhase::kLoad:
       if (pattern_) {
@@ -449,10 +449,39 @@ void PlanController::AdvanceUnload(const Measured& m, std::size_t sl, double ela
   status_.stance[sl] = false;
   swing_ = PlanSwing(status_.step, m.feet_W[sl]);
   swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
+  swing_hurried_at_.reset();
   Enter(ControllerPhase::kSwing, m.t);
 }
 
-void PlanController::AdvanceSwing(const Measured& m, std::size_t sl, double elapsed) {
+bool PlanController::Tipping(const Measured& m) const {
+  // The centre of pressure of the stance feet's measured forces, against their polygon.
+  std::vector<Eigen::Vector3d> feet;
+  Eigen::Vector3d cop = Eigen::Vector3d::Zero();
+  double total_N = 0.0;
+  for (std::size_t i = 0; i < kNumLegs; ++i) {
+    if (!status_.stance[i]) continue;
+    const double fn = std::max(0.0, m.force_W[i].dot(normal_W_[i]));
+    feet.push_back(m.feet_W[i]);
+    cop += fn * m.feet_W[i];
+    total_N += fn;
+  }
+  if (feet.size() < 3 || total_N < 1.0) return false;
+  return SupportPolygonMargin(feet, cop / total_N) < config_.swing.tip_margin_m;
+}
+
+double PlanController::SwingTime(double t) const {
+  const double elapsed = t - status_.phase_start_s;
+  if (!swing_hurried_at_) return elapsed;
+  const double before = *swing_hurried_at_ - status_.phase_start_s;
+  return before + config_.swing.tip_speedup * (elapsed - before);
+}
+
+void PlanController::AdvanceSwing(const Measured& m, std::size_t sl) {
+  if (!swing_hurried_at_ && Tipping(m)) {
+    swing_hurried_at_ = m.t;
+    status_.hurried_swings += 1;
+  }
+  const double elapsed = SwingTime(m.t);
   const double phase = swing_.Phase(elapsed);
   if (OnFoothold(m, sl) && phase >= config_.swing.touchdown_phase) {
     if (phase < 1.0) status_.early_touchdowns += 1;
@@ -589,9 +618,13 @@ void PlanController::AddStanceTorques(const Measured& m, Leg leg, const Eigen::M
   const Eigen::Matrix3d Rd = reference_.orientation_W.toRotationMatrix();
   t -= J.transpose() * (R.transpose() * force_W);
   // Joint servo: the joints that keep the measured foot where it is with the base on its reference.
+  // It fades on a foot the ground carries with less than half its share of the weight (measured),
+  // which it would drag along the ground: an unloading leg, or one the trunk tips away from.
+  const double half_share_N = 0.125 * robot_.TotalMass() * kGravity;
+  const double grip = std::clamp(m.force_W[i].dot(normal_W_[i]) / half_share_N, 0.0, 1.0);
   const IkResult ik = robot_.SolveLegIk(leg, Rd.transpose() * (m.feet_W[i] - reference_.position_W));
   if (ik.status != IkResult::Status::kOutOfReach) {
-    t += config_.stance.kp.cwiseProduct(ik.q - q);
+    t += grip * config_.stance.kp.cwiseProduct(ik.q - q);
   }
   // Its damping acts on the joint rates the base's reference motion implies (a foot that stays
   // put under a moving base), not on every motion of the joints.
@@ -610,8 +643,9 @@ void PlanController::AddSwingTorques(const Measured& m, Leg leg, const Eigen::Ma
   const Eigen::Matrix3d& R = m.R;
   const double elapsed = m.t - status_.phase_start_s;
   if (status_.phase == ControllerPhase::kSwing) {
-    swing_target_W_ = swing_.Position(elapsed);
-    swing_velocity_W_ = swing_.Velocity(elapsed);
+    const double along = SwingTime(m.t);
+    swing_target_W_ = swing_.Position(along);
+    swing_velocity_W_ = (swing_hurried_at_ ? config_.swing.tip_speedup : 1.0) * swing_.Velocity(along);
   } else if (status_.phase == ControllerPhase::kSearch) {
     const Eigen::Vector3d n = plan_.states[static_cast<std::size_t>(status_.step)].feet[i].normal.normalized();
     const double depth = std::min(elapsed * config_.swing.search_speed_mps, config_.swing.search_depth_m);

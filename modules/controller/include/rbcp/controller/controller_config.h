@@ -43,6 +43,8 @@ struct SwingConfig {
   double touchdown_phase = 0.6;
   double search_depth_m = 0.08;
   double search_speed_mps = 0.15;
+  double tip_margin_m = 0.01;
+  double tip_speedup = 2.5;
   Eigen::Vector3d kp = Eigen::Vector3d(90, 180, 150);
   Eigen::Vector3d kd = Eigen::Vector3d(3, 5.7, 4.9);
 
@@ -54,6 +56,11 @@ struct SwingConfig {
              "a foot that ends its path without contact reaches down at most this far ...");
     v->Visit("search_speed_mps", &search_speed_mps, "m/s", bounds::Positive(),
              "... at this speed; then it has found no ground");
+    v->Visit("tip_margin_m", &tip_margin_m, "m", bounds::NonNegative(),
+             "when the centre of pressure of the stance feet comes this close to the edge of their polygon during "
+             "a swing (the robot tips towards the leg in the air, say after a push) ...");
+    v->Visit("tip_speedup", &tip_speedup, "", bounds::AtLeast(1.0),
+             "... the rest of the swing runs this many times faster, to put the foot down sooner");
     v->Visit("kp", &kp, "N m/rad", bounds::NonNegative(), "joint PD of a swing leg, (HAA, HFE, KFE)");
     v->Visit("kd", &kd, "N m s/rad", bounds::NonNegative(), "its damping");
   }

@@ -15,6 +15,9 @@
 ///     finished) when it is within 2 cm of the foothold's height or pushes along its normal (at
 ///     least 5 N within 37 degrees of it: the terrain is higher than planned); a sideways contact
 ///     above the foothold, such as the face of a riser beside it, is not;
+///     When the centre of pressure of the stance feet (from their measured forces) comes within
+///     swing.tip_margin_m of their polygon's edge, the robot tips towards the leg in the air: the
+///     rest of the swing runs swing.tip_speedup times faster, on the same path;
 ///  4. search: a foot that reaches the end of its path without contact reaches down along the
 ///     normal (a late touchdown), and fails as "no ground" beyond swing.search_depth_m;
 ///  5. load: L's share ramps back to one; the step is done.
@@ -30,8 +33,10 @@
 /// Stance legs carry a wrench from a virtual model on the base pose (PD plus gravity), spread
 /// over the feet within friction cones (DistributeWrench); their torques are -J^T f plus the
 /// legs' gravity torques plus a joint PD towards the inverse kinematics of the measured feet at
-/// the desired base pose. Swing legs follow the inverse kinematics of their path under joint PD
-/// with gravity compensation. Every torque is clipped at the robot's continuous torque limit
+/// the desired base pose (its P part fading on a foot the ground carries with less than half its
+/// share of the weight, its D part on the joint rates of the base's reference motion). Swing legs
+/// follow the inverse kinematics of their path under joint PD with gravity compensation. Every
+/// torque is clipped at the robot's continuous torque limit
 /// (RobotModel::ContinuousTorqueLimit).
 
 #include <Eigen/Core>
@@ -78,6 +83,7 @@ struct ControllerStatus {
   double support_margin_m = 0.0;  ///< CoM projection inside the stance feet's polygon [m]
   int early_touchdowns = 0;
   int late_touchdowns = 0;
+  int hurried_swings = 0;         ///< swings sped up because the robot tipped towards the leg in the air
   std::string failure;            ///< kFailed: why
   std::optional<Leg> failure_leg;
   double base_error_m = 0.0;      ///< distance of the measured base from its reference [m]
@@ -160,7 +166,11 @@ class PlanController {
   /// The swing leg `sl` unloads over unload_s, then lifts off on its swing path.
   void AdvanceUnload(const Measured& m, std::size_t sl, double elapsed);
   /// Touchdown on the foothold late enough in the swing; at the swing's end, the search.
-  void AdvanceSwing(const Measured& m, std::size_t sl, double elapsed);
+  void AdvanceSwing(const Measured& m, std::size_t sl);
+  /// The centre of pressure of the stance feet within swing.tip_margin_m of their polygon's edge.
+  bool Tipping(const Measured& m) const;
+  /// Time along the swing path at time t: the time since lift-off, faster once hurried.
+  double SwingTime(double t) const;
   /// The foot reaches down along the foothold's normal until it touches down, or fails.
   void AdvanceSearch(const Measured& m, std::size_t sl, double elapsed);
   /// Leg `sl` is a stance leg again, to be loaded, with its foothold's normal.
@@ -224,6 +234,7 @@ class PlanController {
   Eigen::Vector3d swing_velocity_W_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d search_start_W_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d swing_q_des_ = Eigen::Vector3d::Zero();
+  std::optional<double> swing_hurried_at_;  // when the robot tipped during this swing
   // Dynamic walk.
   std::optional<WalkingPattern> pattern_;
   double pattern_time_s_ = 0.0;  // on the pattern's clock

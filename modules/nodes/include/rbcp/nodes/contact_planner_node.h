@@ -80,9 +80,10 @@ struct ContactPlannerNodeOptions {
   int reuse_margin_steps = 4;
   /// Horizon mode: the controller walks the plan's base poses; a measured base within
   /// base_match_m and base_match_rad (roll, pitch, yaw) of the pose the plan put it in, with every
-  /// foot on the plan's footholds, is that pose (the controller's tracking error, not a new
-  /// stance): the next plan starts from the planned pose.
-  double base_match_m = 0.03;    ///< [m]
+  /// foot on the plan's footholds, is that pose (the controller's tracking error, or in a dynamic
+  /// walk the sway of the CoM around the plan's, up to about 6 cm: not a new stance): the next plan
+  /// starts from the planned pose.
+  double base_match_m = 0.08;    ///< [m]
   double base_match_rad = 0.05;  ///< [rad] roll, pitch and yaw
   /// Horizon mode: while the robot still waits at the stance the last plan answered, that plan
   /// is sent again this often [s, wall clock], so a lost message costs a resend, not the
