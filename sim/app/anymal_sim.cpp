@@ -28,7 +28,7 @@ constexpr double kGoalReach_m = 0.3;
 /// The command line.
 struct Options {
   cli::CommonOptions common;
-  std::string scenario_path, plan_path, sim_config_path, controller_config_path, log_csv_path, events_path;
+  std::string scenario_path, plan_path, sim_config_path, controller_config_path, log_csv_path, events_path, walk;
   bool json = false, exit_when_decided = false;
   sim::SimNodeOptions node_options;
   double realtime_factor = 1.0;
@@ -61,6 +61,8 @@ void AddOptions(CLI::App& app, Options& o) {
   app.add_option("--sim-config", o.sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
   app.add_option("--controller-config", o.controller_config_path,
                  "controller parameters (default: CONFIG_DIR/controller.yaml)");
+  app.add_option("--walk", o.walk, "how the controller walks: static or dynamic (default: the controller file's mode)")
+      ->check(CLI::IsMember({"static", "dynamic"}));
 
   app.description(
       "ANYmal B in a Bullet simulation, walked by the onboard plan controller.\n"
@@ -69,14 +71,21 @@ void AddOptions(CLI::App& app, Options& o) {
       "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input.");
 }
 
+/// The controller file (CONFIG_DIR/controller.yaml or --controller-config), its mode set by --walk.
+ControllerConfig LoadControllerConfig(const Options& o) {
+  ControllerConfig config = ControllerConfig::LoadFile(
+      o.controller_config_path.empty() ? o.common.config_dir + "/controller.yaml" : o.controller_config_path);
+  if (!o.walk.empty()) config.mode = *ValueOf(o.walk, WalkModeNames());  // --walk checked it
+  return config;
+}
+
 /// The simulated world: its configuration, the robot, the scenario, the stance rules, and the
 /// execution of plans on them (which keeps references to them: a World is not copied).
 struct World {
   explicit World(const Options& o)
       : sim_config(sim::SimConfig::LoadFile(o.sim_config_path.empty() ? o.common.config_dir + "/sim.yaml"
                                                                       : o.sim_config_path)),
-        controller_config(ControllerConfig::LoadFile(
-            o.controller_config_path.empty() ? o.common.config_dir + "/controller.yaml" : o.controller_config_path)),
+        controller_config(LoadControllerConfig(o)),
         robot(RobotModel::LoadDefault(o.common.config_dir)),
         scenario(LoadScenario(o.scenario_path)),
         stance(StanceRules::LoadFromDir(o.common.config_dir)),

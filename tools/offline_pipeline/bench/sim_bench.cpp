@@ -61,6 +61,7 @@ struct Options {
   unsigned first_seed = 1;
   int jobs = 2;
   double budget = 5.0;
+  std::string walk;  // controller.yaml's mode when empty
 };
 
 void AddOptions(CLI::App& app, Options& o) {
@@ -71,6 +72,8 @@ void AddOptions(CLI::App& app, Options& o) {
   app.add_option("--jobs", o.jobs, "runs in parallel")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--time-budget", o.budget, "root planning time budget [s]")->capture_default_str();
   app.add_option("--json", o.json_path, "also write every run to this JSON file");
+  app.add_option("--walk", o.walk, "how the controller walks: static or dynamic (default: controller.yaml's mode)")
+      ->check(CLI::IsMember({"static", "dynamic"}));
   app.description("Plans and simulates every scenario over several seeds; prints the success table. Talks no LCM.");
 }
 
@@ -93,6 +96,7 @@ class Bench {
     // Runs in parallel share the cores with the contact planner's own search threads.
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     if (o_.jobs > 1) pipeline_.SetContactSearchThreads(std::max(1, cores / o_.jobs));
+    if (!o_.walk.empty()) pipeline_.SetWalkMode(*ValueOf(o_.walk, WalkModeNames()));  // --walk checked it
     pipeline_.limb_database();
     scenarios_ = LoadScenarios(o_);
   }

@@ -91,6 +91,12 @@ enum class WalkMode {
   kDynamic,
 };
 
+/// The names of the walk modes in configuration files and on command lines.
+inline const EnumNames<WalkMode>& WalkModeNames() {
+  static const EnumNames<WalkMode> names = {{WalkMode::kStatic, "static"}, {WalkMode::kDynamic, "dynamic"}};
+  return names;
+}
+
 /// The dynamic walk's clock and its ZMP preview (mode: dynamic).
 struct DynamicWalkConfig {
   double start_s = 0.6;
@@ -144,7 +150,7 @@ struct ControllerConfig {
 
   template <class Visitor>
   void Serialize(Visitor* v) {
-    v->Visit("mode", &mode, EnumNames<WalkMode>{{WalkMode::kStatic, "static"}, {WalkMode::kDynamic, "dynamic"}},
+    v->Visit("mode", &mode, WalkModeNames(),
              "static: a crawl with the base still during a swing; dynamic: the CoM moves on a ZMP preview");
     v->Visit("base", &base, "how the trunk moves between steps and how it is held");
     v->Visit("swing", &swing, "the swing of a foot");

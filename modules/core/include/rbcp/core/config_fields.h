@@ -62,6 +62,15 @@ std::string NameOf(Enum value, const EnumNames<Enum>& names) {
   return "";
 }
 
+/// The value named `name` among `names`; std::nullopt when none has that name.
+template <class Enum>
+std::optional<Enum> ValueOf(const std::string& name, const EnumNames<Enum>& names) {
+  for (const auto& [v, n] : names) {
+    if (n == name) return v;
+  }
+  return std::nullopt;
+}
+
 /// Reads the fields a Serialize lists from a YamlMap (types, missing and unknown keys).
 class ConfigLoader {
  public:
@@ -76,13 +85,9 @@ class ConfigLoader {
   template <class Enum>
   void Visit(const char* key, Enum* value, const EnumNames<Enum>& names, const char* /*meaning*/) {
     const std::string name = map_.String(key);
-    for (const auto& [v, n] : names) {
-      if (n == name) {
-        *value = v;
-        return;
-      }
-    }
-    map_.Fail(key, "expected " + OneOf(names) + ", got '" + name + "'");
+    const std::optional<Enum> named = ValueOf(name, names);
+    if (!named) map_.Fail(key, "expected " + OneOf(names) + ", got '" + name + "'");
+    *value = *named;
   }
   template <class Nested>
   void Visit(const char* key, Nested* nested, const char* meaning) {

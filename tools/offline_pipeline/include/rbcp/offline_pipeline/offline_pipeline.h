@@ -74,6 +74,9 @@ class OfflinePipeline {
   /// plans do not depend on it): one when several runs share the machine's cores. Not while a
   /// Run() is in progress.
   void SetContactSearchThreads(int threads);
+  /// How the sim stage's controller walks (controller.yaml's mode otherwise). Not while a Run()
+  /// is in progress.
+  void SetWalkMode(WalkMode mode) { controller_config_.mode = mode; }
 
   const RobotModel& robot() const { return *robot_; }
   const RootPlanner& root_planner() const { return *root_planner_; }
