@@ -163,7 +163,28 @@ TraceSample MeasuredTraceSample(const RobotModel& robot, const RobotState& state
   s.joints = state.q;
   s.torques = state.tau;
   if (support.size() >= 3) s.support_margin_m = SupportPolygonMargin(support, base * robot.CenterOfMass(state.q));
+  s.cop = MeasuredCentreOfPressure(robot, state).position.head<2>();
   return s;
+}
+
+CentreOfPressure MeasuredCentreOfPressure(const RobotModel& robot, const RobotState& state) {
+  const Eigen::Isometry3d base = Eigen::Translation3d(state.base_position_W) * state.base_orientation_W.normalized();
+  const std::array<Eigen::Vector3d, kNumLegs> feet_B = robot.FootPositions(state.q);
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  double fz = 0.0;
+  std::vector<Eigen::Vector3d> support;
+  for (std::size_t i = 0; i < kNumLegs; ++i) {
+    if (!state.foot_contact[i]) continue;
+    const Eigen::Vector3d foot_W = base * feet_B[i];
+    support.push_back(foot_W);
+    weighted += state.foot_force_W[i].z() * foot_W;
+    fz += state.foot_force_W[i].z();
+  }
+  CentreOfPressure cop;
+  if (fz <= 1.0 || support.size() < 3) return cop;
+  cop.position = weighted / fz;
+  cop.margin_m = SupportPolygonMargin(support, cop.position);
+  return cop;
 }
 
 nlohmann::json TraceSampleToJson(const TraceSample& s) {
@@ -179,6 +200,9 @@ nlohmann::json TraceSampleToJson(const TraceSample& s) {
                     {"position", {s.feet[i].x(), s.feet[i].y(), s.feet[i].z()}},
                     {"contact", s.contact[i]}});
   }
+  const auto xy_or_null = [](const Eigen::Vector2d& v) {
+    return v.allFinite() ? nlohmann::json::array({v.x(), v.y()}) : nlohmann::json();
+  };
   nlohmann::json j = {{"t", s.t},
                       {"base",
                        {{"position", {s.base_position.x(), s.base_position.y(), s.base_position.z()}},
@@ -187,7 +211,10 @@ nlohmann::json TraceSampleToJson(const TraceSample& s) {
                       {"joints", rounded(s.joints, 1e-5)},
                       {"torques", rounded(s.torques, 1e-3)},
                       {"support_margin_m", std::isfinite(s.support_margin_m) ? nlohmann::json(s.support_margin_m)
-                                                                             : nlohmann::json()}};
+                                                                             : nlohmann::json()},
+                      {"com_reference", xy_or_null(s.com_reference)},
+                      {"zmp_reference", xy_or_null(s.zmp_reference)},
+                      {"cop", xy_or_null(s.cop)}};
   if (s.step >= 0) j["step"] = s.step;
   if (!s.phase.empty()) j["phase"] = s.phase;
   return j;
@@ -201,6 +228,10 @@ void PlanExecution::Sample(const RobotState& state) {
   const ControllerStatus& status = controller_->Status();
   s.step = status.step;
   s.phase = ToString(status.phase);
+  if (const WalkingPattern* pattern = controller_->Pattern()) {
+    s.com_reference = pattern->ComAt(controller_->PatternTime()).position;
+    s.zmp_reference = pattern->ZmpReferenceAt(controller_->PatternTime());
+  }
   outcome_.trace.push_back(s);
 }
 
@@ -507,22 +538,9 @@ void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution) {
   for (std::size_t i = 0; i < kNumLegs; ++i) out << ',' << (s.foot_contact[i] ? 1 : 0);
   for (std::size_t i = 0; i < kNumLegs; ++i) out << ',' << FixedNumber(s.foot_force_W[i].z(), 1);
   // The centre of pressure of the vertical foot forces, and how far inside the feet in contact.
-  const Eigen::Isometry3d base = Eigen::Translation3d(s.base_position_W) * s.base_orientation_W.normalized();
-  const std::array<Eigen::Vector3d, kNumLegs> feet_B = execution.Robot().FootPositions(s.q);
-  Eigen::Vector3d cop = Eigen::Vector3d::Zero();
-  double fz = 0.0;
-  std::vector<Eigen::Vector3d> support;
-  for (std::size_t i = 0; i < kNumLegs; ++i) {
-    if (!s.foot_contact[i]) continue;
-    const Eigen::Vector3d foot_W = base * feet_B[i];
-    support.push_back(foot_W);
-    cop += s.foot_force_W[i].z() * foot_W;
-    fz += s.foot_force_W[i].z();
-  }
-  const bool known = fz > 1.0 && support.size() >= 3;
-  cop = known ? Eigen::Vector3d(cop / fz) : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  out << ',' << FixedNumber(cop.x(), 4) << ',' << FixedNumber(cop.y(), 4) << ','
-      << FixedNumber(known ? SupportPolygonMargin(support, cop) : std::numeric_limits<double>::quiet_NaN(), 4) << ','
+  const CentreOfPressure cop = MeasuredCentreOfPressure(execution.Robot(), s);
+  out << ',' << FixedNumber(cop.position.x(), 4) << ',' << FixedNumber(cop.position.y(), 4) << ','
+      << FixedNumber(cop.margin_m, 4) << ','
       << FixedNumber(status.lag_s, 3) << '\n';
 }
 

@@ -34,6 +34,13 @@ const Models& Get() {
   return setup;
 }
 
+/// The shipped controller configuration in mode dynamic.
+ControllerConfig DynamicWalk() {
+  ControllerConfig dynamic = Get().controller;
+  dynamic.mode = WalkMode::kDynamic;
+  return dynamic;
+}
+
 /// The shipped robot with another continuous torque limit [N m]: its planning parameters written
 /// to a file of their own with that one line changed.
 RobotModel RobotWithTorqueLimit(double limit_Nm) {
@@ -114,9 +121,7 @@ TEST(PlanExecution, TheDynamicWalkMovesTheBaseWhileALegSwingsInLessThanHalfTheCr
   const Models& g = Get();
   const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
   const ContactPlan plan = BuildFlatGroundPlan(g.robot, 8, 0.08);
-  ControllerConfig dynamic = g.controller;
-  dynamic.mode = WalkMode::kDynamic;
-  PlanExecution walk(g.robot, scenario, g.sim, dynamic, g.stance);
+  PlanExecution walk(g.robot, scenario, g.sim, DynamicWalk(), g.stance);
   walk.Start(plan);
   // Over every swing the base moves on; the centre of pressure of the feet stays inside the
   // three feet down.
@@ -155,9 +160,7 @@ TEST(PlanExecution, TheDynamicWalkMovesTheBaseWhileALegSwingsInLessThanHalfTheCr
 /// from `at_s`.
 ExecutionOutcome WalkPushed(const Scenario& scenario, const ContactPlan& plan, double at_s, double force_N) {
   const Models& g = Get();
-  ControllerConfig controller = g.controller;
-  controller.mode = WalkMode::kDynamic;
-  PlanExecution run(g.robot, scenario, g.sim, controller, g.stance);
+  PlanExecution run(g.robot, scenario, g.sim, DynamicWalk(), g.stance);
   run.Start(plan);
   while (run.Time() < at_s && run.Tick()) {
   }
@@ -341,6 +344,55 @@ TEST(PlanExecution, TheTraceCarriesJointsTorquesAndTheSupportMargin) {
   EXPECT_NEAR(j.at("support_margin_m").get<double>(), last.support_margin_m, 1e-12);
   EXPECT_EQ(j.at("phase"), last.phase);
   EXPECT_EQ(j.at("feet").size(), 4u);
+  // The static crawl has no walking pattern: no CoM or ZMP reference; its centre of pressure is
+  // measured all the same.
+  for (const TraceSample& s : o.trace) {
+    EXPECT_FALSE(s.com_reference.allFinite()) << "t " << s.t;
+    EXPECT_FALSE(s.zmp_reference.allFinite()) << "t " << s.t;
+  }
+  EXPECT_TRUE(j.at("com_reference").is_null());
+  EXPECT_TRUE(j.at("zmp_reference").is_null());
+  ASSERT_EQ(j.at("cop").size(), 2u);
+  EXPECT_NEAR(j.at("cop")[0].get<double>(), last.cop.x(), 1e-12);
+}
+
+TEST(PlanExecution, TheDynamicWalksTraceCarriesItsCoMAndZmpReferencesAndTheCentreOfPressure) {
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  const ContactPlan plan = BuildFlatGroundPlan(g.robot, 2, 0.08);
+  PlanExecution walk(g.robot, scenario, g.sim, DynamicWalk(), g.stance);
+  walk.Start(plan);
+  const ExecutionOutcome& o = walk.Run();
+  ASSERT_TRUE(o.ok()) << Why(o);
+  int with_references = 0, with_cop = 0, loaded = 0;
+  for (const TraceSample& s : o.trace) {
+    const int in_contact = static_cast<int>(std::count(s.contact.begin(), s.contact.end(), true));
+    EXPECT_EQ(s.com_reference.allFinite(), s.zmp_reference.allFinite()) << "t " << s.t;
+    if (s.com_reference.allFinite()) {
+      ++with_references;
+      // The CoM the controller steers to is under the trunk, the ZMP reference near it.
+      EXPECT_LT((s.com_reference - s.base_position.head<2>()).norm(), 0.2) << "t " << s.t;
+      EXPECT_LT((s.zmp_reference - s.com_reference).norm(), 0.3) << "t " << s.t;
+    }
+    if (in_contact < 3) {
+      EXPECT_FALSE(s.cop.allFinite()) << "t " << s.t;
+    } else {
+      ++loaded;
+    }
+    if (s.cop.allFinite()) ++with_cop;
+  }
+  EXPECT_GT(with_references, static_cast<int>(o.trace.size()) / 2);
+  EXPECT_GT(with_cop, loaded / 2);
+  // In JSON: [x, y] arrays, as measured.
+  const auto sample = std::find_if(o.trace.begin(), o.trace.end(), [](const TraceSample& s) {
+    return s.com_reference.allFinite() && s.cop.allFinite();
+  });
+  ASSERT_NE(sample, o.trace.end());
+  const nlohmann::json j = TraceSampleToJson(*sample);
+  for (const char* key : {"com_reference", "zmp_reference", "cop"}) ASSERT_EQ(j.at(key).size(), 2u) << key;
+  EXPECT_NEAR(j.at("com_reference")[1].get<double>(), sample->com_reference.y(), 1e-12);
+  EXPECT_NEAR(j.at("zmp_reference")[0].get<double>(), sample->zmp_reference.x(), 1e-12);
+  EXPECT_NEAR(j.at("cop")[1].get<double>(), sample->cop.y(), 1e-12);
 }
 
 TEST(PlanExecution, TwoRunsGiveTheSameTrace) {

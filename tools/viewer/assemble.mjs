@@ -128,6 +128,7 @@ function main() {
     inlineModule('three/addons/controls/OrbitControls.js', moduleSource(join(three, 'examples', 'jsm', 'controls', 'OrbitControls.js'))),
     inlineModule('viewer/kinematics.js', moduleSource(join(here, 'src', 'kinematics.js'))),
     inlineModule('viewer/plots.js', moduleSource(join(here, 'src', 'plots.js'))),
+    inlineModule('viewer/support.js', moduleSource(join(here, 'src', 'support.js'))),
     inlineModule('viewer/live.js', moduleSource(join(here, 'src', 'live.js'))),
     inlineModule('viewer/main.js', moduleSource(join(here, 'src', 'main.js'))),
   ];

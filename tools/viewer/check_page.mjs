@@ -2,10 +2,12 @@
 // loads (from disk, or from live_bridge), makes no network request (a live page: none but to its
 // bridge), logs no console error, draws with WebGL, and its screenshot shows the terrain, the
 // footholds in the four leg colours and the robot. A live page must first have received the terrain, the walked
-// steps and the robot's states, and the robot's time must move on.
+// steps and the robot's states, and the robot's time must move on. --expect-layer: the layer is
+// drawn (hiding it changes pixels of the 3D view); --no-layer: the page has no such layer.
 //
 //   node check_page.mjs (--page PAGE.html | --url URL) --screenshot OUT.png [--expect-status TEXT]
-//                       [--expect-plot TEXT]... [--no-footholds] [--live] [--allow-host HOST:PORT]
+//                       [--expect-plot TEXT]... [--expect-legend TEXT]... [--expect-layer NAME]...
+//                       [--no-layer NAME]... [--no-footholds] [--live] [--allow-host HOST:PORT]
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -20,7 +22,8 @@ const CHROMIUM_FLAGS = [
   '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
 ];
 const USAGE = 'usage: node check_page.mjs (--page PAGE.html | --url URL) --screenshot OUT.png [--expect-status TEXT]\n' +
-  '                           [--expect-plot TEXT]... [--no-footholds] [--live] [--allow-host HOST:PORT]';
+  '                           [--expect-plot TEXT]... [--expect-legend TEXT]... [--expect-layer NAME]...\n' +
+  '                           [--no-layer NAME]... [--no-footholds] [--live] [--allow-host HOST:PORT]';
 
 let args;
 try {
@@ -31,6 +34,9 @@ try {
       screenshot: { type: 'string' },
       'expect-status': { type: 'string' },
       'expect-plot': { type: 'string', multiple: true, default: [] },
+      'expect-legend': { type: 'string', multiple: true, default: [] },
+      'expect-layer': { type: 'string', multiple: true, default: [] },
+      'no-layer': { type: 'string', multiple: true, default: [] },
       'no-footholds': { type: 'boolean', default: false },
       live: { type: 'boolean', default: false },
       'allow-host': { type: 'string' },
@@ -186,6 +192,7 @@ try {
     check(info.status.includes(args['expect-status']), `the status line says '${args['expect-status']}'`);
   }
   check(['LF', 'RF', 'LH', 'RH'].every((leg) => info.legend.includes(leg)), 'the legend names the four legs');
+  for (const text of args['expect-legend']) check(info.legend.includes(text), `the legend says '${text}'`);
 
   const canvas = await page.locator('#view').boundingBox();
   const shot = await page.screenshot({ path: args.screenshot });
@@ -217,13 +224,13 @@ try {
   await page.evaluate(() => window.rbcpViewer.setLayer('robot', true));
   await nextFrames();
 
-  /** Pixels of the 3D view that change when the layer is hidden. */
-  const layerPixels = async (name) => {
+  /** Pixels of the 3D view that change when the layer is hidden (from the screenshot `shown`). */
+  const layerPixels = async (name, shown = image) => {
     await page.evaluate((layer) => window.rbcpViewer.setLayer(layer, false), name);
     await nextFrames();
     const without = decodePng(await page.screenshot());
     await page.evaluate((layer) => window.rbcpViewer.setLayer(layer, true), name);
-    return count(image, canvas, (r, g, b, i) =>
+    return count(shown, canvas, (r, g, b, i) =>
       Math.abs(r - without.pixels[i]) + Math.abs(g - without.pixels[i + 1]) + Math.abs(b - without.pixels[i + 2]) > 40);
   };
   // The terrain covers a good part of the view.
@@ -233,6 +240,22 @@ try {
     const robotPixels = await layerPixels('robot');
     check(robotPixels > area * 0.002, `the robot is drawn (${robotPixels} px)`);
   }
+  const pageLayers = await page.evaluate(() => window.rbcpViewer.layers);
+  if (args['expect-layer'].length) {
+    // Halfway through the run, with feet down (at its start the robot may be dropping onto the ground).
+    const middle = await page.evaluate(() => {
+      window.rbcpViewer.setTime(window.rbcpViewer.duration / 2);
+      return window.rbcpViewer.duration / 2;
+    });
+    await nextFrames();
+    const shown = decodePng(await page.screenshot({ path: args.screenshot.replace(/\.png$/, '_middle.png') }));
+    for (const name of args['expect-layer']) {
+      const n = pageLayers.includes(name) ? await layerPixels(name, shown) : 0;
+      check(n >= 30, `the layer '${name}' is drawn at t ${middle.toFixed(2)} (${n} px)`);
+    }
+    await page.evaluate(() => window.rbcpViewer.setTime(0));
+  }
+  for (const name of args['no-layer']) check(!pageLayers.includes(name), `the page has no layer '${name}'`);
 
   if (info.tracks.length && !args.live) {
     // Play for a moment: the timeline moves, and the robot with it.

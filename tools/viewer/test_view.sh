@@ -4,7 +4,9 @@
 # the viewer pages, loads each from disk and checks that it made no network request, logged no
 # console error, drew with WebGL, and that its screenshot shows the terrain and the footholds in
 # the leg colours; the run's page has its plots (torques, CoM margin, step timeline); a page of a
-# failed plan must show the failure text.
+# failed plan must show the failure text. The same walk in the dynamic walk (controller.mode:
+# dynamic) shows its CoM and ZMP references, the support polygon and the centre of pressure; a
+# trace without those fields (an older run's) loads as before.
 # Installs Debian's chromium when it is missing (as root, or with sudo).
 # Outputs (pages, screenshots) go to $RBCP_BUILD_DIR/view_test (default build/view_test).
 set -euo pipefail
@@ -13,7 +15,7 @@ build_dir="${RBCP_BUILD_DIR:-$root/build}"
 out="$build_dir/view_test"
 
 case "${1:-}" in
-  -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; echo "Usage: tools/viewer/test_view.sh (no arguments; exit status 0 passed, 1 failed, 2 bad arguments)"; exit 0 ;;
+  -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; echo "Usage: tools/viewer/test_view.sh (no arguments; exit status 0 passed, 1 failed, 2 bad arguments)"; exit 0 ;;
   "") ;;
   *) echo "test_view: takes no arguments, got '$1'" >&2; exit 2 ;;
 esac
@@ -36,6 +38,19 @@ node -e '
   Object.assign(run, { contact_ok: false, contact_status: "failed", steps: 0, states: [],
                        failure: "contact: test failure <no foothold>" });
   fs.writeFileSync(process.argv[2], JSON.stringify(run));' "$out/flat_contact.json" "$out/flat_failed.json"
+# The dynamic walk: the shipped configuration with controller.mode dynamic.
+rm -rf "$out/config_dynamic"
+cp -r "$root/config" "$out/config_dynamic"
+sed -i 's/^mode: static$/mode: dynamic/' "$out/config_dynamic/controller.yaml"
+grep -q '^mode: dynamic$' "$out/config_dynamic/controller.yaml" || { echo "test_view: controller.yaml has no 'mode: static' line"; exit 1; }
+"$build_dir/bin/plan_scenario" --scenario "$scenario" --stage sim --json --config-dir "$out/config_dynamic" \
+  >"$out/flat_dynamic.json" || { echo "test_view: the dynamic walk failed"; exit 1; }
+# A trace from before the simulator recorded references and the centre of pressure.
+node -e '
+  const fs = require("fs");
+  const run = JSON.parse(fs.readFileSync(process.argv[1], "utf8"));
+  for (const s of run.sim_trace) for (const key of ["com_reference", "zmp_reference", "cop"]) delete s[key];
+  fs.writeFileSync(process.argv[2], JSON.stringify(run));' "$out/flat_sim.json" "$out/flat_sim_old.json"
 
 passed=0 failed=0
 check() {  # check NAME [check_page options...]
@@ -51,9 +66,13 @@ check() {  # check NAME [check_page options...]
   fi
 }
 check flat_contact --expect-status "contact plan"
-check flat_sim --expect-plot "joint torques" --expect-plot "CoM margin" --expect-plot "step timeline"
+check flat_sim --expect-plot "joint torques" --expect-plot "CoM margin" --expect-plot "step timeline" \
+  --expect-plot "CoP margin" --expect-layer support --no-layer references
 check flat_failed --no-footholds --expect-status "failure: contact: test failure <no foothold>"
+check flat_dynamic --expect-plot "CoP margin" --expect-layer references --expect-layer support \
+  --expect-legend "CoM reference" --expect-legend "ZMP reference" --expect-legend "centre of pressure"
+check flat_sim_old --expect-plot "CoM margin" --no-layer references --no-layer support
 
-echo "screenshots: $out/flat_contact.png $out/flat_sim.png $out/flat_failed.png"
+echo "screenshots: $out/flat_contact.png $out/flat_sim.png $out/flat_failed.png $out/flat_dynamic.png $out/flat_sim_old.png"
 echo "test_view: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -7,6 +7,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { baseMatrix, hipPositions, linkPoses } from 'viewer/kinematics.js';
 import { connectLive } from 'viewer/live.js';
 import { ganttPlot, linePlot } from 'viewer/plots.js';
+import { convexHull, polygonMargin } from 'viewer/support.js';
 
 const LEGS = ['LF', 'RF', 'LH', 'RH'];
 const LEG_COLORS = { LF: '#e41a1c', RF: '#33a02c', LH: '#1f78b4', RH: '#ffcc00' };
@@ -22,6 +23,10 @@ const COLORS = {
   leg: '#555b63',
   background: '#eef1f5',
   limit: '#c62828',
+  comReference: '#e377c2',
+  zmpReference: '#17becf',
+  cop: '#ff00ff',
+  support: '#3f6ea8',
 };
 
 const data = JSON.parse(document.getElementById('rbcp-data').textContent);
@@ -97,6 +102,23 @@ function traceFrame(s, i) {
     torques: Array.isArray(s.torques) ? s.torques : null,
     margin: s.support_margin_m ?? null,
     feet: Object.fromEntries(s.feet.map((f) => [f.leg, { position: f.position, contact: f.contact }])),
+    comReference: xyOrNull(s.com_reference),
+    zmpReference: xyOrNull(s.zmp_reference),
+    cop: xyOrNull(s.cop),
+  };
+}
+
+/** [x, y] when `a` is a pair of finite numbers (a trace's com_reference, zmp_reference, cop), else null. */
+function xyOrNull(a) {
+  return Array.isArray(a) && a.length === 2 && a.every(Number.isFinite) ? a : null;
+}
+
+/** What the trace carries of the balance: references (dynamic walk), the centre of pressure. */
+function traceBalance() {
+  const trace = run.sim_trace || [];
+  return {
+    references: trace.some((s) => xyOrNull(s.com_reference) || xyOrNull(s.zmp_reference)),
+    cop: trace.some((s) => 'cop' in s),
   };
 }
 
@@ -201,6 +223,15 @@ function renderLegend() {
     ['#333333', 'start and goal (arrows)', 'line'],
   ];
   if ((run.sim_trace || []).length || data.live) items.push([COLORS.simPath, 'base path walked', 'line']);
+  const balance = traceBalance();
+  if (balance.references) {
+    items.push([COLORS.comReference, 'CoM reference (dynamic walk)', 'line']);
+    items.push([COLORS.zmpReference, 'ZMP reference (dynamic walk)', 'line']);
+  }
+  if (balance.cop) {
+    items.push([COLORS.support, 'support polygon (feet in contact)', 'box']);
+    items.push([COLORS.cop, 'centre of pressure', 'disc']);
+  }
   $('legend').innerHTML = items
     .map(([color, label, shape]) => `<li><span class="swatch ${shape}" style="background:${color}"></span>${label}</li>`)
     .join('');
@@ -303,6 +334,61 @@ function rootPath() {
 function simPath() {
   const points = (run.sim_trace || []).map((s) => v3(s.base.position));
   return points.length > 1 ? polylineTube(points, COLORS.simPath, 0.005) : new THREE.Group();
+}
+
+/** Height [m] of the feet in contact in a trace sample (their mean), null with none. */
+function contactHeight(s) {
+  const down = s.feet.filter((f) => f.contact);
+  return down.length ? down.reduce((sum, f) => sum + f.position[2], 0) / down.length : null;
+}
+
+/** The dynamic walk's CoM and ZMP references over the run: two lines on the ground, at the
+ *  height of the feet in contact, broken where the trace has no reference. */
+function referenceTrails() {
+  const group = new THREE.Group();
+  for (const [key, color] of [['com_reference', COLORS.comReference], ['zmp_reference', COLORS.zmpReference]]) {
+    let z = null;
+    let piece = [];
+    const pieces = [piece];
+    for (const s of run.sim_trace || []) {
+      z = contactHeight(s) ?? z;
+      const xy = xyOrNull(s[key]);
+      if (xy && z !== null) piece.push(new THREE.Vector3(xy[0], xy[1], z + 0.008));
+      else if (piece.length) pieces.push((piece = []));
+    }
+    for (const points of pieces) if (points.length > 1) group.add(polylineTube(points, color, 0.004));
+  }
+  return group;
+}
+
+/** The support polygon of the feet in contact and the centre of pressure at the frame shown,
+ *  on the ground under the robot; show(frame) moves them. */
+function supportView() {
+  const group = new THREE.Group();
+  const geometry = new THREE.BufferGeometry();
+  const polygon = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({
+    color: COLORS.support, transparent: true, opacity: 0.35, side: THREE.DoubleSide, depthWrite: false,
+  }));
+  const edge = new THREE.LineLoop(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: COLORS.support }));
+  const cop = new THREE.Mesh(new THREE.CylinderGeometry(0.022, 0.022, 0.004, 24), new THREE.MeshBasicMaterial({ color: COLORS.cop }));
+  cop.rotation.x = Math.PI / 2;  // the disc lies flat
+  group.add(polygon, edge, cop);
+  group.userData.show = (frame) => {
+    const down = frame.feet ? LEGS.map((leg) => frame.feet[leg]).filter((f) => f.contact) : [];
+    const hull = convexHull(down.map((f) => f.position.slice(0, 2)));
+    const z = down.length ? down.reduce((sum, f) => sum + f.position[2], 0) / down.length + 0.006 : 0;
+    polygon.visible = edge.visible = hull.length >= 3;
+    if (polygon.visible) {
+      const corners = hull.map(([x, y]) => new THREE.Vector3(x, y, z));
+      const positions = [];
+      for (let i = 1; i + 1 < corners.length; i++) positions.push(...corners[0].toArray(), ...corners[i].toArray(), ...corners[i + 1].toArray());
+      geometry.setAttribute('position', new THREE.Float32BufferAttribute(positions, 3));
+      edge.geometry.setFromPoints(corners);
+    }
+    cop.visible = Boolean(frame.cop) && down.length > 0;
+    if (cop.visible) cop.position.set(frame.cop[0], frame.cop[1], z + 0.003);
+  };
+  return group;
 }
 
 /** The footholds: one disc per new contact, on its surface, in the leg's colour (unlit). */
@@ -447,11 +533,19 @@ function buildWorldLayers() {
   setLayerObject('markers', startGoalMarkers());
 }
 
-/** The layers made from the run (root path, footholds, walked path). */
+/** The layers made from the run (root path, footholds, and those of the trace). */
 function buildRunLayers() {
   setLayerObject('footholds', footholds());
   setLayerObject('path', rootPath());
+  buildTraceLayers();
+}
+
+/** The layers made from the trace: walked path, references, support polygon and CoP. */
+function buildTraceLayers() {
   setLayerObject('simpath', simPath());
+  const balance = traceBalance();
+  if (balance.references) setLayerObject('references', referenceTrails());
+  if (balance.cop && !layers.support) setLayerObject('support', supportView());
 }
 
 function setupScene() {
@@ -541,6 +635,34 @@ function intervals(ts, flags) {
   return out;
 }
 
+/** Signed distance [m] of a trace frame's centre of pressure inside the polygon of its feet in
+ *  contact (positive inside); NaN without a CoP or with fewer than three feet down. */
+function copMargin(frame) {
+  if (!frame.cop) return NaN;
+  const down = LEGS.map((leg) => frame.feet[leg]).filter((f) => f.contact);
+  return polygonMargin(convexHull(down.map((f) => f.position.slice(0, 2))), frame.cop);
+}
+
+/** A trace's margins in the polygon of the feet in contact: the CoM's, and the CoP's when the
+ *  trace carries it. */
+function balancePlots(add, frames, xLabel, xRange) {
+  const edge = { y: 0, color: COLORS.limit, label: 'edge' };
+  if (frames.some((f) => f.margin !== null)) {
+    const required = robot.support_margin_m;
+    add(linePlot, {
+      title: 'CoM margin in the polygon of the feet in contact', yLabel: '[m]', xLabel, xRange,
+      hlines: [edge, ...(required ? [{ y: required, color: '#888', label: `controller's ${required} m` }] : [])],
+      series: [{ name: 'margin', color: '#2e7d32', points: frames.map((f) => [f.t, f.margin ?? NaN]) }],
+    });
+  }
+  if (frames.some((f) => f.cop)) {
+    add(linePlot, {
+      title: 'CoP margin in the polygon of the feet in contact', yLabel: '[m]', xLabel, xRange, hlines: [edge],
+      series: [{ name: 'CoP margin', color: COLORS.cop, points: frames.map((f) => [f.t, copMargin(f)]) }],
+    });
+  }
+}
+
 function buildPlots(track) {
   const box = $('plots');
   box.replaceChildren();
@@ -603,15 +725,7 @@ function buildPlots(track) {
       })),
     }));
   }
-  if (track.kind === 'sim' && frames.some((f) => f.margin !== null)) {
-    const required = robot.support_margin_m;
-    add(linePlot, {
-      title: 'CoM margin in the polygon of the feet in contact', yLabel: '[m]', xLabel, xRange,
-      hlines: [{ y: 0, color: COLORS.limit, label: 'edge' },
-        ...(required ? [{ y: required, color: '#888', label: `controller's ${required} m` }] : [])],
-      series: [{ name: 'margin', color: '#2e7d32', points: frames.map((f) => [f.t, f.margin ?? NaN]) }],
-    });
-  }
+  if (track.kind === 'sim') balancePlots(add, frames, xLabel, xRange);
   if (track.kind === 'sim' && (run.replans || []).length) {
     add(linePlot, {
       title: `replanning latency (${run.replans.length} replans)`, yLabel: '[ms]', xLabel, xRange,
@@ -672,6 +786,7 @@ function setTime(t) {
   invalidate();
   if (view) {
     view.robotView.show(frame);
+    if (layers.support) layers.support.userData.show(track.kind === 'sim' ? frame : {});
     if (follow) {
       const p = v3(frame.position);
       const delta = p.clone().sub(follow);
@@ -892,7 +1007,8 @@ if (data.live) {
     }
     const now = performance.now();
     if (dirtyTrack && now - lastPlots > 1000) {
-      setLayerObject('simpath', simPath());
+      buildTraceLayers();
+      renderLegend();
       refreshTracks();
       lastPlots = now;
       dirtyTrack = false;
@@ -901,6 +1017,7 @@ if (data.live) {
       const newest = traceFrame(trace[trace.length - 1], trace.length - 1);
       if (liveFollow) {
         view.robotView.show(newest);
+        if (layers.support) layers.support.userData.show(newest);
         invalidate();
       }
     }
@@ -942,6 +1059,13 @@ window.rbcpViewer = {
   checks: data.checks,
   get tracks() {
     return Object.keys(tracks);
+  },
+  get layers() {
+    return Object.keys(layers);
+  },
+  /** The current track's duration (s, or plan states). */
+  get duration() {
+    return track ? track.duration : 0;
   },
   live: data.live ? liveState : null,
   /** Shows the newest live state, or time t of the current track. */

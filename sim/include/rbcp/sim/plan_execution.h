@@ -67,14 +67,31 @@ struct TraceSample {
   double support_margin_m = std::numeric_limits<double>::quiet_NaN();
   int step = -1;      ///< plan state the controller walks to (-1: unknown)
   std::string phase;  ///< the controller's phase ("" unknown; see ControllerPhase)
+  /// Dynamic walk: the CoM [m] (x, y) the controller steers to and the ZMP reference of its
+  /// walking pattern at this instant; NaN in the static crawl or when unknown.
+  Eigen::Vector2d com_reference = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector2d zmp_reference = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// The centre of pressure [m] (x, y) of the measured vertical foot forces (CentreOfPressure).
+  Eigen::Vector2d cop = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
+/// The centre of pressure of the measured vertical (world z) foot forces over the feet in contact,
+/// the feet at the forward kinematics of the measured joints, and its signed distance inside their
+/// polygon [m] (positive inside). Both NaN unless three feet or more are in contact and carry more
+/// than 1 N together.
+struct CentreOfPressure {
+  Eigen::Vector3d position = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double margin_m = std::numeric_limits<double>::quiet_NaN();
+};
+CentreOfPressure MeasuredCentreOfPressure(const RobotModel& robot, const RobotState& state);
+
 /// A trace sample of a measured state: the feet at the forward kinematics of the measured joints,
-/// the support margin of the whole-body CoM over the feet in contact.
+/// the support margin of the whole-body CoM over the feet in contact, the centre of pressure.
 TraceSample MeasuredTraceSample(const RobotModel& robot, const RobotState& state);
 
-/// {t, base: {position, rpy}, feet: [{leg, position, contact}], joints, torques, support_margin_m
-/// (null when NaN), step and phase (when known)}; joints rounded to 1e-5 rad, torques to 1e-3 N m.
+/// {t, base: {position, rpy}, feet: [{leg, position, contact}], joints, torques, support_margin_m,
+/// com_reference, zmp_reference and cop (each null when NaN), step and phase (when known)}; joints
+/// rounded to 1e-5 rad, torques to 1e-3 N m.
 nlohmann::json TraceSampleToJson(const TraceSample& sample);
 
 struct ExecutionOutcome {
