@@ -140,19 +140,12 @@ void PlanController::Enter(ControllerPhase phase, double t) {
 }
 
 void PlanController::MoveBaseTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double min_duration) {
-  BaseSegment s;
-  s.t0 = t;
-  s.p0 = reference_.position_W;
-  s.q0 = reference_.orientation_W;
-  s.p1 = p;
-  s.q1 = q;
-  if (s.q0.dot(s.q1) < 0.0) s.q1.coeffs() = -s.q1.coeffs();
-  const double distance = (s.p1 - s.p0).norm();
-  const double angle = s.q0.angularDistance(s.q1);
+  const double distance = (p - reference_.position_W).norm();
+  const double angle = reference_.orientation_W.angularDistance(q);
   // Min-jerk peaks at 1.875 times its mean speed: time it so the peak stays at the set speeds.
-  s.duration = std::max({min_duration, 1.875 * distance / config_.base.speed_mps,
-                         1.875 * angle / config_.base.yaw_rate_radps});
-  segment_ = s;
+  MoveBaseOver(p, q, t,
+               std::max({min_duration, 1.875 * distance / config_.base.speed_mps,
+                         1.875 * angle / config_.base.yaw_rate_radps}));
 }
 
 void PlanController::MoveBaseOver(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double duration) {
