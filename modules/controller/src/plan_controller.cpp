@@ -177,22 +177,14 @@ void PlanController::StartPattern(const Measured& m) {
   const Eigen::Vector3d com_W = first.base_position + RotationFromRpy(first.base_rpy) * robot_.CenterOfMass(first.joints);
   const DynamicWalkConfig& d = config_.dynamic;
   ZmpPreviewParams params;
+  static_cast<ZmpPreviewSettings&>(params) = d.preview;
   params.com_height_m = std::max(com_W.z() - feet_z, 0.1);
-  params.time_step_s = d.time_step_s;
-  params.preview_s = d.preview_s;
-  params.q_error = d.q_error;
-  params.r_jerk = d.r_jerk;
   const ZmpPreviewModel model(params);
 
+  // Every step gets its own swing duration (below); swing_s is only the fallback GaitTiming needs.
   GaitTiming timing;
-  timing.start_s = d.start_s;
+  static_cast<GaitPhases&>(timing) = d.gait;
   timing.swing_s = d.min_swing_s;
-  timing.four_foot_s = d.four_foot_s;
-  timing.zmp_speed_mps = d.zmp_speed_mps;
-  timing.base_rise_mps = d.base_rise_mps;
-  timing.base_turn_radps = d.base_turn_radps;
-  timing.final_s = d.final_s;
-  timing.zmp_margin_m = d.zmp_margin_m;
   for (std::size_t i = 1; i < plan_.states.size(); ++i) {
     const std::size_t leg = static_cast<std::size_t>(plan_.states[i].moving_leg);
     timing.step_swing_s.push_back(PlanSwing(static_cast<int>(i), plan_.states[i - 1].feet[leg].position).Duration());

@@ -30,14 +30,11 @@
 
 namespace rbcp {
 
-/// How long each phase of a step lasts.
-struct GaitTiming {
+/// How long the four-foot phases of a walk last and where its ZMP reference keeps: what a
+/// controller configures (DynamicWalkConfig); the swings' own durations come with each plan
+/// (GaitTiming).
+struct GaitPhases {
   double start_s = 0.0;
-  double swing_s = 0.0;
-  /// Per step (plan states 1..n, in order): the swing's own duration [s], e.g. the time the foot
-  /// takes along the swing path the plan carries (PlannedSwingDurations); empty, or NaN for a step:
-  /// swing_s.
-  std::vector<double> step_swing_s;
   double four_foot_s = 0.0;
   double zmp_speed_mps = 0.0;
   double base_rise_mps = 0.0;
@@ -48,21 +45,38 @@ struct GaitTiming {
   template <class Visitor>
   void Serialize(Visitor* v) {
     const Bounds duration = bounds::Positive().AtMost(60.0);
-    v->Visit("start_s", &start_s, "s", duration, "all feet down before the first swing, from rest");
-    v->Visit("swing_s", &swing_s, "s", duration, "one leg in the air, where step_swing_s gives none");
-    v->Visit("four_foot_s", &four_foot_s, "s", duration, "all feet down between two swings, at least");
+    v->Visit("start_s", &start_s, "s", duration, "four feet down from rest before the first swing of a plan");
+    v->Visit("four_foot_s", &four_foot_s, "s", duration,
+             "four feet down between two swings, at least: the ZMP moves to the next support triangle, the leg "
+             "that touched down loads and the next one unloads");
     v->Visit("zmp_speed_mps", &zmp_speed_mps, "m/s", bounds::Positive(),
-             "between two swings, four feet stay down as long as the ZMP reference takes to reach the next "
-             "support triangle at this speed");
+             "four feet stay down as long as the ZMP reference takes to reach the next support triangle at this speed");
     v->Visit("base_rise_mps", &base_rise_mps, "m/s", bounds::Positive(),
-             "... and as long as the base takes to reach the step's height at this peak speed (a min-jerk move) ...");
+             "and as long as the base takes to reach the next step's height at this peak speed (a min-jerk move)");
     v->Visit("base_turn_radps", &base_turn_radps, "rad/s", bounds::Positive(),
-             "... and its attitude at this peak rate: a swing starts with the base on the pose it was planned at");
+             "and its attitude at this peak rate (a leg swings with the base at the height and attitude it was "
+             "planned at)");
     v->Visit("final_s", &final_s, "s", duration,
-             "after the last swing the ZMP moves to the last stance's centre in four_foot_s, then stays there "
-             "this long while the CoM comes to rest");
+             "after a plan's last step the ZMP moves to where the CoM comes to rest in four_foot_s, then stays "
+             "there this long");
     v->Visit("zmp_margin_m", &zmp_margin_m, "m", bounds::Closed(0.0, 1.0),
-             "distance the ZMP reference keeps from a support triangle's edges");
+             "distance the ZMP reference keeps from the support triangle's edges");
+  }
+};
+
+/// How long each phase of a step lasts: the gait's phases and each swing's duration.
+struct GaitTiming : GaitPhases {
+  double swing_s = 0.0;
+  /// Per step (plan states 1..n, in order): the swing's own duration [s], e.g. the time the foot
+  /// takes along the swing path the plan carries (PlannedSwingDurations); empty, or NaN for a step:
+  /// swing_s.
+  std::vector<double> step_swing_s;
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
+    GaitPhases::Serialize(v);
+    const Bounds duration = bounds::Positive().AtMost(60.0);
+    v->Visit("swing_s", &swing_s, "s", duration, "one leg in the air, where step_swing_s gives none");
     for (double s : step_swing_s) {
       v->Rule("step_swing_s", std::isnan(s) || duration.Holds(s), "NaN or a duration in (0, 60] s", ConfigNumber(s));
     }

@@ -19,10 +19,9 @@
 
 namespace rbcp {
 
-/// The pendulum, the sampling and the cost of ZMP preview control.
-struct ZmpPreviewParams {
-  double com_height_m = 0.0;
-  double gravity_mps2 = 9.81;
+/// The sampling and the cost of ZMP preview control: what a controller configures
+/// (DynamicWalkConfig); the pendulum's height comes with each plan.
+struct ZmpPreviewSettings {
   double time_step_s = 0.0;
   double preview_s = 0.0;
   double q_error = 1.0;
@@ -30,13 +29,24 @@ struct ZmpPreviewParams {
 
   template <class Visitor>
   void Serialize(Visitor* v) {
+    v->Visit("time_step_s", &time_step_s, "s", bounds::Positive().AtMost(0.1), "sampling period of the CoM trajectory");
+    v->Visit("preview_s", &preview_s, "s", Bounds().AtLeast(time_step_s, "time_step_s").AtMost(10.0),
+             "how far ahead the ZMP preview looks");
+    v->Visit("q_error", &q_error, "1/m^2", bounds::Positive(), "preview cost: weight of the ZMP error");
+    v->Visit("r_jerk", &r_jerk, "s^6/m^2", bounds::Positive(), "preview cost: weight of the change of jerk");
+  }
+};
+
+/// The pendulum, the sampling and the cost of ZMP preview control.
+struct ZmpPreviewParams : ZmpPreviewSettings {
+  double com_height_m = 0.0;
+  double gravity_mps2 = 9.81;
+
+  template <class Visitor>
+  void Serialize(Visitor* v) {
     v->Visit("com_height_m", &com_height_m, "m", bounds::Positive(), "CoM height above the ZMP's plane");
     v->Visit("gravity_mps2", &gravity_mps2, "m/s^2", bounds::Positive(), "gravity");
-    v->Visit("time_step_s", &time_step_s, "s", bounds::Positive(), "sampling period");
-    v->Visit("preview_s", &preview_s, "s", Bounds().AtLeast(time_step_s, "time_step_s").AtMost(10.0),
-             "how far ahead the reference is used");
-    v->Visit("q_error", &q_error, "1/m^2", bounds::Positive(), "weight of the ZMP error");
-    v->Visit("r_jerk", &r_jerk, "s^6/m^2", bounds::Positive(), "weight of the change of jerk");
+    ZmpPreviewSettings::Serialize(v);
   }
   /// Throws InputError for a field outside its bounds.
   void Validate(const std::string& where = "ZmpPreviewParams") const { ValidateConfig(*this, where); }
