@@ -162,6 +162,8 @@ void SimNode::PublishState() {
   progress.base_error_m = status.base_error_m;
   progress.step_max_base_error_m = status.step_max_base_error_m;
   progress.support_margin_m = status.support_margin_m;
+  progress.steps_committed = execution_.Controller().CommittedSteps();
+  progress.lag_s = status.lag_s;
   const auto progress_msg = transport::ToControllerStatusMsg(state_msg.utime, progress);
   lcm_.publish(channels::kControllerStatus, &progress_msg);
   lcm_.publish(channels::kRobotState, &state_msg);

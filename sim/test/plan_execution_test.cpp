@@ -128,8 +128,10 @@ TEST(PlanExecution, TheDynamicWalkMovesTheBaseWhileALegSwingsInLessThanHalfTheCr
   double least_swing_motion_m = 1e9;
   std::optional<Eigen::Vector3d> swing_start;
   ControllerPhase last = ControllerPhase::kHold;
+  int most_committed = 0;  // steps after the current one the preview prepares for
   while (walk.Tick()) {
     const ControllerPhase phase = walk.Controller().Status().phase;
+    most_committed = std::max(most_committed, walk.Controller().CommittedSteps());
     const Eigen::Vector3d base = walk.State().base_position_W;
     if (phase == ControllerPhase::kSwing && last != ControllerPhase::kSwing) swing_start = base;
     if (phase != ControllerPhase::kSwing && last == ControllerPhase::kSwing && swing_start) {
@@ -147,11 +149,16 @@ TEST(PlanExecution, TheDynamicWalkMovesTheBaseWhileALegSwingsInLessThanHalfTheCr
   ASSERT_NE(walk.Controller().Pattern(), nullptr);
   EXPECT_GT(walk.Controller().Pattern()->MinZmpMargin(), 0.0);
   EXPECT_LT(walk.Controller().Status().lag_s, 0.05);  // the feet kept to the clock
+  // A step lasts about a second; the 1.6 s preview reaches into the next step or two.
+  EXPECT_GE(most_committed, 1);
+  EXPECT_LE(most_committed, 3);
+  EXPECT_EQ(walk.Controller().CommittedSteps(), 0);  // none after the last step
 
   // The static crawl of the same plan takes more than twice as long in simulated time.
   PlanExecution crawl(g.robot, scenario, g.sim, g.controller, g.stance);
   crawl.Start(plan);
-  const ExecutionOutcome& c = crawl.Run();
+  while (crawl.Tick()) ASSERT_EQ(crawl.Controller().CommittedSteps(), 0);  // the crawl commits to nothing ahead
+  const ExecutionOutcome& c = crawl.Outcome();
   ASSERT_TRUE(c.ok()) << Why(c);
   EXPECT_LT(2.0 * o.sim_time_s, c.sim_time_s);
 }

@@ -204,6 +204,18 @@ void PlanController::StartPattern(const Measured& m) {
   pattern_time_s_ = 0.0;
 }
 
+int PlanController::CommittedSteps() const {
+  if (!pattern_) return 0;
+  const int last = static_cast<int>(plan_.states.size()) - 1;
+  const bool between_steps = status_.step == 0 || status_.phase == ControllerPhase::kAwait;
+  const int current = status_.step + (between_steps ? 1 : 0);
+  if (current > last) return 0;
+  const double horizon_s = pattern_->SwingOf(current).end_s + config_.dynamic.preview.preview_s;
+  int committed = 0;
+  for (int i = current + 1; i <= last && pattern_->SwingOf(i).start_s < horizon_s; ++i) ++committed;
+  return committed;
+}
+
 void PlanController::AdvanceClock(const Measured& m) {
   const double dt = std::max(0.0, m.t - last_tick_s_);
   clock_held_ = false;

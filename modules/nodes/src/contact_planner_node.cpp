@@ -437,7 +437,7 @@ void ContactPlannerNode::PublishHorizon(const rbcp_msgs::robot_state_t& msg,
   answer_wall_ = std::chrono::steady_clock::now();
   lcm_.publish(options_.contact_plan_channel, &*answer_);
   status_.Ok(Now(), msg.utime, ms, "plan " + std::to_string(plan_seq_) + ": " + Summary(r, k));
-  PlanAhead();
+  PlanAhead(controller.steps_committed);
 }
 
 bool ContactPlannerNode::ResendAnswerIfDue() {
@@ -458,7 +458,7 @@ bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status
   return true;
 }
 
-void ContactPlannerNode::PlanAhead() {
+void ContactPlannerNode::PlanAhead(int steps_committed) {
   if (!options_.plan_ahead || !last_plan_ || last_plan_->states.size() < 2) return;
   if (last_plan_->reaches_goal && last_plan_->states.size() == 2) return;  // the last step: nothing after it
   PlanMadeAhead next;
@@ -466,16 +466,18 @@ void ContactPlannerNode::PlanAhead() {
   next.expected = last_plan_->states[1];
   double offset_xy = 0.0;
   next.progress = PathProgress(next.expected.base_position, next.expected.base_rpy.z(), &offset_xy);
-  // A new search from the stance after the next step (K steps and the look-ahead deep). The
-  // search the plan came from also goes on beyond that step: when the new plan fails, or its K
-  // steps get the trunk less far along the path than the earlier search's, the earlier search
-  // goes on. New searches at every step could otherwise choose differently each time and
+  // The search the plan came from goes on beyond the next step: its continuation. The steps after
+  // the next one that the controller's motion already prepares for (a dynamic walk's preview) stay
+  // as they are; a new search starts after them (K steps and the look-ahead deep). When it fails,
+  // or its K steps get the trunk less far along the path than the continuation's, the earlier
+  // search goes on. New searches at every step could otherwise choose differently each time and
   // re-place the feet back and forth without the trunk getting anywhere.
-  const int depth = options_.horizon_steps + options_.lookahead_steps;
   ContactPlan continuation;
   continuation.states.assign(searched_.states.begin() + 1, searched_.states.end());
   continuation.states.front().MarkAsStart();
   continuation.reaches_goal = searched_.reaches_goal;
+  const int after_next = static_cast<int>(continuation.states.size()) - 1;
+  const int kept = std::clamp(steps_committed, 0, after_next);
   const auto take = [&](ContactPlan plan, const std::string& how) {
     next.result = ContactPlanResult{};
     next.result.ok = true;
@@ -489,22 +491,34 @@ void ContactPlannerNode::PlanAhead() {
     }
     plan_made_ahead_ = std::move(next);
   };
-  const auto search = [&](const WholeBodyState& from, int steps) -> std::optional<ContactPlanResult> {
+  if (kept == after_next && continuation.reaches_goal) {
+    return take(std::move(continuation), "the search before reaches the goal within the committed steps");
+  }
+  // The stance the new search starts from, with the leg that stepped into it (the crawl's order
+  // goes on from there).
+  const WholeBodyState& from = searched_.states[static_cast<std::size_t>(kept) + 1];
+  std::optional<ContactPlanResult> fresh;
+  {
     double offset = 0.0;
     const std::size_t at = PathProgress(from.base_position, from.base_rpy.z(), &offset);
     const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
     try {
-      return planner_.PlanHorizon(from, remaining, steps);
+      fresh = planner_.PlanHorizon(from, remaining, options_.horizon_steps + options_.lookahead_steps);
     } catch (const std::exception& e) {
       if (verbose_) std::fprintf(stderr, "[%s] planning ahead failed: %s\n", kProcessName, e.what());
-      return std::nullopt;
+      return;
     }
-  };
-  std::optional<ContactPlanResult> fresh = search(next.expected, depth);
-  if (!fresh) return;
+  }
   if (verbose_) {
-    std::fprintf(stderr, "[%s] planned ahead from the stance after the next step: %s in %.3f s\n", kProcessName,
-                 fresh->ok ? "ok" : fresh->reason.c_str(), fresh->planning_time_s);
+    std::fprintf(stderr, "[%s] planned ahead from the stance %d step(s) after the next: %s in %.3f s\n", kProcessName,
+                 kept, fresh->ok ? "ok" : fresh->reason.c_str(), fresh->planning_time_s);
+  }
+  if (fresh->ok && kept > 0) {
+    // The committed steps, then the new search's.
+    std::vector<WholeBodyState> states(continuation.states.begin(), continuation.states.begin() + kept + 1);
+    states.insert(states.end(), fresh->plan.states.begin() + 1, fresh->plan.states.end());
+    fresh->plan.states = std::move(states);
+    fresh->steps = static_cast<int>(fresh->plan.states.size()) - 1;
   }
   const auto progress = [&](const WholeBodyState& s) {
     double offset = 0.0;

@@ -469,6 +469,37 @@ TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPut
   }
 }
 
+TEST_F(ContactPlannerNodeTest, ThePieceMadeAheadKeepsTheStepsTheControllerCommittedTo) {
+  // A dynamic walk's CoM already moves toward the support of the steps in its preview: the next
+  // piece of plan keeps them as they were, and the new search begins after them.
+  node_ = MakeNode(4);
+  PublishWorld();
+  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  RobotMsgs waiting = WaitingState(300, 0.02, 0.01);
+  waiting.controller.steps_committed = 2;
+  const auto first = Answer(waiting);
+  ASSERT_TRUE(first.has_value()) << status_.Latest()->reason;
+  const ContactPlan plan = transport::FromContactPlanMsg(*first);
+  ASSERT_EQ(plan.states.size(), 5u);
+
+  const auto next = Answer(WaitingOnPlan(900, plan, 1, first->plan_seq, Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(next.has_value()) << status_.Latest()->reason;
+  const ContactPlan piece = transport::FromContactPlanMsg(*next);
+  ASSERT_EQ(piece.states.size(), 5u);
+  for (std::size_t i = 1; i <= 2; ++i) {
+    SCOPED_TRACE("kept step " + std::to_string(i));
+    EXPECT_EQ(piece.states[i].moving_leg, plan.states[i + 1].moving_leg);
+    EXPECT_LT((piece.states[i].base_position - plan.states[i + 1].base_position).norm(), 1e-9);
+    for (std::size_t f = 0; f < piece.states[i].feet.size(); ++f) {
+      EXPECT_LT((piece.states[i].feet[f].position - plan.states[i + 1].feet[f].position).norm(), 1e-9);
+    }
+  }
+  const PlanCheckReport report = CheckPlanForScenario(kConfig, FlatGround(), piece);
+  EXPECT_TRUE(report.ok) << report.Summary();
+}
+
 /// A plan whose base advances along x by `dx` per step, `steps` steps.
 ContactPlan StraightPlan(int steps, double dx, bool reaches_goal = false) {
   ContactPlan plan;

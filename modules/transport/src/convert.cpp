@@ -319,6 +319,8 @@ rbcp_msgs::controller_status_t ToControllerStatusMsg(int64_t utime, const Contro
   msg.base_error = progress.base_error_m;
   msg.step_max_base_error = progress.step_max_base_error_m;
   msg.support_margin = progress.support_margin_m;
+  msg.steps_committed = progress.steps_committed;
+  msg.lag_s = progress.lag_s;
   return msg;
 }
 
@@ -336,6 +338,10 @@ ControllerProgress FromControllerStatusMsg(const rbcp_msgs::controller_status_t&
   if (!std::isfinite(msg.base_error) || !std::isfinite(msg.step_max_base_error) || !std::isfinite(msg.support_margin)) {
     throw InputError(what + "expected finite base errors and support margin");
   }
+  if (msg.steps_committed < 0) {
+    throw InputError(what + "steps_committed expected >= 0, got " + std::to_string(msg.steps_committed));
+  }
+  if (!(msg.lag_s >= 0.0) || !std::isfinite(msg.lag_s)) throw InputError(what + "lag_s expected finite and >= 0");
   if (msg.phase.size() > 32) throw InputError(what + "phase expected a short name, got " + std::to_string(msg.phase.size()) + " bytes");
   ControllerProgress progress;
   progress.plan_seq = msg.plan_seq;
@@ -347,6 +353,8 @@ ControllerProgress FromControllerStatusMsg(const rbcp_msgs::controller_status_t&
   progress.base_error_m = msg.base_error;
   progress.step_max_base_error_m = msg.step_max_base_error;
   progress.support_margin_m = msg.support_margin;
+  progress.steps_committed = msg.steps_committed;
+  progress.lag_s = msg.lag_s;
   return progress;
 }
 

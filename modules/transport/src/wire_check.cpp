@@ -78,7 +78,8 @@ const WireLayout kControllerStatus{
     "controller_status_t",
     {Bytes("utime", kInt64), Bytes("plan_seq", kInt64), Bytes("steps_done", kInt32), Bytes("awaiting_plan", kBoolean),
      Bytes("awaiting_since", kInt64), String("phase"), Bytes("step", kInt32), Bytes("swing_leg", kInt8),
-     Bytes("base_error", kDouble), Bytes("step_max_base_error", kDouble), Bytes("support_margin", kDouble)}};
+     Bytes("base_error", kDouble), Bytes("step_max_base_error", kDouble), Bytes("support_margin", kDouble),
+     Bytes("steps_committed", kInt32), Bytes("lag_s", kDouble)}};
 
 constexpr int64_t kRootPathPointBytes = kDouble + 3 * kDouble + 3 * kDouble + 4 * kDouble;
 const WireLayout kRootPath{"root_path_t",

@@ -90,6 +90,8 @@ TEST(Convert, ControllerStatusRoundTripAndValidation) {
   walking.base_error_m = 0.004;
   walking.step_max_base_error_m = 0.009;
   walking.support_margin_m = 0.05;
+  walking.steps_committed = 2;
+  walking.lag_s = 0.25;
   const auto msg = ToControllerStatusMsg(2000000, walking);
   EXPECT_FALSE(msg.awaiting_plan);
   ControllerProgress back = FromControllerStatusMsg(msg);
@@ -102,6 +104,8 @@ TEST(Convert, ControllerStatusRoundTripAndValidation) {
   EXPECT_EQ(back.base_error_m, 0.004);
   EXPECT_EQ(back.step_max_base_error_m, 0.009);
   EXPECT_EQ(back.support_margin_m, 0.05);
+  EXPECT_EQ(back.steps_committed, 2);
+  EXPECT_EQ(back.lag_s, 0.25);
 
   ControllerProgress at_boundary = walking;
   at_boundary.awaiting_since = 1990000;
@@ -125,6 +129,12 @@ TEST(Convert, ControllerStatusRoundTripAndValidation) {
   EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
   bad = waiting;
   bad.phase = std::string(100, 'x');
+  EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
+  bad = waiting;
+  bad.steps_committed = -1;
+  EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
+  bad = waiting;
+  bad.lag_s = std::numeric_limits<double>::infinity();
   EXPECT_THROW(FromControllerStatusMsg(bad), InputError);
 }
 

@@ -144,6 +144,11 @@ class PlanController {
   /// (null in the static crawl, before a plan and after a failure).
   const WalkingPattern* Pattern() const { return pattern_ ? &*pattern_ : nullptr; }
   double PatternTime() const { return pattern_time_s_; }
+  /// Dynamic walk: the steps after the current one (the step being walked, or at a boundary the
+  /// next) whose lift-off lies within the ZMP preview of the current step's end. The CoM's motion
+  /// already prepares for their support, so a plan that replaces this one should keep them. 0 in
+  /// the static crawl, and without a step ahead.
+  int CommittedSteps() const;
 
  private:
   struct BaseSegment {

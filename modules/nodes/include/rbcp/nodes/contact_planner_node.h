@@ -197,8 +197,10 @@ class ContactPlannerNode {
   /// Horizon mode: sends the last plan again when the robot still waits for it after
   /// resend_period_s; true if it did.
   bool ResendIfStillAwaited(const rbcp_msgs::controller_status_t& state);
-  /// Horizon mode: plans from the stance the published plan's first step leads to.
-  void PlanAhead();
+  /// Horizon mode: plans the piece that follows the published plan's first step: its next
+  /// `steps_committed` steps kept (CONTROLLER_STATUS: the controller's motion prepares for them),
+  /// then a new search from the stance they lead to, or the earlier search's continuation.
+  void PlanAhead(int steps_committed);
   /// Path sample nearest to a base pose, not behind path_progress_; its horizontal distance in
   /// *offset_xy.
   std::size_t PathProgress(const Eigen::Vector3d& base_W, double yaw, double* offset_xy) const;

@@ -47,6 +47,10 @@ struct ControllerProgress {
   double base_error_m = 0.0;   ///< measured base to the reference it tracks [m]
   double step_max_base_error_m = 0.0;  ///< the largest base_error_m of the current step [m]
   double support_margin_m = 0.0;       ///< CoM inside the polygon of the loaded feet [m]
+  /// Steps after the current one whose motion the controller already prepares for (the dynamic
+  /// walk's preview, PlanController::CommittedSteps): a replacing plan keeps them.
+  int steps_committed = 0;
+  double lag_s = 0.0;  ///< dynamic walk: time the gait's clock stood still for late steps [s]
 };
 
 }  // namespace rbcp
