@@ -274,6 +274,43 @@ INSTANTIATE_TEST_SUITE_P(BothModes, PlanReplacement, ::testing::Values(WalkMode:
                            return info.param == WalkMode::kStatic ? "static" : "dynamic";
                          });
 
+TEST(PlanExecution, UpTheStairsTheDynamicWalkInPiecesWalksAsTheWholePlan) {
+  // The replanning loop hands the controller a new piece of plan at every step boundary. The rest
+  // of the same plan, handed over piece by piece, is walked as the whole plan is: in the same
+  // time, the joints as far from their torque limit (a piece taken when a foot touched down
+  // early used to start the next shift at once, at the torque limit for 20 ms).
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("plinth"));
+  const ContactPlan plan = LoadContactPlanFile(std::string(RBCP_SOURCE_DIR) + "/tests/data/plinth_stairs_up.json");
+  std::array<double, 2> time_s{}, torque_ratio{};
+  for (int pieces = 0; pieces < 2; ++pieces) {
+    PlanExecution run(g.robot, scenario, g.sim, DynamicWalk(), g.stance);
+    run.SetAwaitPlans(pieces == 1);
+    run.Start(plan);
+    while (run.Tick()) {
+      // Past the drop onto the terrain at the start.
+      if (run.Time() > 0.5) {
+        torque_ratio[pieces] = std::max(torque_ratio[pieces], run.State().tau.cwiseAbs().maxCoeff() / g.robot.ContinuousTorqueLimit());
+      }
+      if (pieces == 1 && run.Awaiting()) {
+        ContactPlan rest;
+        rest.states.assign(plan.states.begin() + run.Controller().Status().steps_done, plan.states.end());
+        rest.states.front().MarkAsStart();
+        if (rest.states.size() > 1) {
+          run.GivePlan(rest);
+        } else {
+          run.ContinuePlan();
+        }
+      }
+    }
+    ASSERT_TRUE(run.Outcome().ok()) << Why(run.Outcome());
+    time_s[pieces] = run.Outcome().sim_time_s;
+  }
+  EXPECT_NEAR(time_s[1], time_s[0], 0.05);
+  EXPECT_LT(torque_ratio[1], torque_ratio[0] + 0.05);
+  EXPECT_LT(torque_ratio[1], 0.95);
+}
+
 TEST(PlanExecution, AFootThatRollsOverItsContactHasNotSlipped) {
   // As the trunk moves over a stance foot, its sphere rolls: the centre moves by the radius times
   // the shank's rotation without any sliding. The judge measures the sliding only.
@@ -448,3 +485,4 @@ TEST(PlanExecution, WithoutTorquesTheRobotCollapsesAndTheJudgeSaysFall) {
 
 }  // namespace
 }  // namespace rbcp::sim
+

@@ -197,11 +197,16 @@ void PlanController::StartPattern(const Measured& m) {
   if (pattern_ && pattern_time_s_ < pattern_->Duration()) {
     start.com = pattern_->ComAt(pattern_time_s_);  // walking: go on from where the CoM is headed
     start.zmp = pattern_->ZmpReferenceAt(pattern_time_s_);
+    // A foot down before its swing's end: the rest of the swing's time goes on.
+    if (status_.step >= 1 && 2 * static_cast<std::size_t>(status_.step) - 1 < pattern_->phases.size()) {
+      start.hold_s = std::max(0.0, pattern_->SwingOf(status_.step).end_s - pattern_time_s_);
+    }
   } else {
     start.com.position = m.com_W.head<2>();
   }
   pattern_ = PlanWalkingPattern(plan_, timing, model, start);
   pattern_time_s_ = 0.0;
+
 }
 
 int PlanController::CommittedSteps() const {

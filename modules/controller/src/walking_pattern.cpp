@@ -113,6 +113,7 @@ ComState WalkingPattern::ComAt(double t) const {
   s.position = Lerp(com.position, at);
   s.velocity = Lerp(com.velocity, at);
   s.acceleration = Lerp(com.acceleration, at);
+  s.zmp_error_sum = Lerp(com.zmp_error_sum, at);
   if (t >= Duration()) {
     s.velocity.setZero();
     s.acceleration.setZero();
@@ -158,7 +159,7 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
   }
   const ComState& com = start.com;
   if (!com.position.allFinite() || !com.velocity.allFinite() || !com.acceleration.allFinite() ||
-      (start.zmp && !start.zmp->allFinite())) {
+      !com.zmp_error_sum.allFinite() || (start.zmp && !start.zmp->allFinite())) {
     throw InputError("walking pattern: expected a finite CoM start");
   }
   WalkingPattern pattern;
@@ -170,6 +171,7 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
   std::vector<std::pair<double, Eigen::Vector2d>> knots;
   if (start.zmp) {
     knots = {{0.0, *start.zmp}};
+    if (start.hold_s > 0.0) knots.emplace_back(start.hold_s, *start.zmp);
   } else {
     knots = {{0.0, com.position}, {timing.start_s / 2.0, com.position}};
   }
@@ -189,8 +191,8 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     // Four feet down as long as the ZMP needs to reach the next triangle (across the diagonal
     // between two swings on opposite sides, a few centimetres along one side).
     const double move_s = (target - knots.back().second).norm() / timing.zmp_speed_mps;
-    const double four_foot_s =
-        i == 1 && !start.zmp ? timing.start_s : std::max({timing.four_foot_s, move_s, BaseMoveS(before, plan.states[i], timing)});
+    const double shift_s = std::max({timing.four_foot_s, move_s, BaseMoveS(before, plan.states[i], timing)});
+    const double four_foot_s = i > 1 ? shift_s : start.zmp ? start.hold_s + shift_s : timing.start_s;
     pattern.phases.push_back(MakePhase(t, four_foot_s, -1, state, four));
     t += four_foot_s;
     knots.emplace_back(t, target);

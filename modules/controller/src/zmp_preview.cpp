@@ -94,7 +94,8 @@ ComTrajectory PreviewCom(const ZmpPreviewModel& model, const Eigen::Vector2d& st
 ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
                          const std::vector<Eigen::Vector2d>& zmp_reference) {
   if (zmp_reference.empty()) throw InputError("ZMP preview: expected a reference of at least one sample, got none");
-  if (!start.position.allFinite() || !start.velocity.allFinite() || !start.acceleration.allFinite()) {
+  if (!start.position.allFinite() || !start.velocity.allFinite() || !start.acceleration.allFinite() ||
+      !start.zmp_error_sum.allFinite()) {
     throw InputError("ZMP preview: expected a finite start");
   }
   for (std::size_t k = 0; k < zmp_reference.size(); ++k) {
@@ -109,15 +110,17 @@ ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
   out.velocity.resize(n);
   out.acceleration.resize(n);
   out.zmp.resize(n);
+  out.zmp_error_sum.resize(n);
   for (int axis = 0; axis < 2; ++axis) {
     Eigen::Vector3d x(start.position[axis], start.velocity[axis], start.acceleration[axis]);
-    double error_sum = 0.0;
+    double error_sum = start.zmp_error_sum[axis];
     for (std::size_t k = 0; k < n; ++k) {
       const double zmp = model.C() * x;
       out.position[k][axis] = x[0];
       out.velocity[k][axis] = x[1];
       out.acceleration[k][axis] = x[2];
       out.zmp[k][axis] = zmp;
+      out.zmp_error_sum[k][axis] = error_sum;
       error_sum += zmp - zmp_reference[k][axis];
       double jerk = -model.IntegralGain() * error_sum - model.StateGain() * x;
       for (std::size_t j = 0; j < preview.size(); ++j) {

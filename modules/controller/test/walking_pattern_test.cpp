@@ -82,6 +82,32 @@ TEST(WalkingPattern, TheComMovesWhileTheLegsSwingWithItsZmpInsideTheSupport) {
   EXPECT_LT(pattern.com.velocity.back().norm(), 0.005) << "at rest: slower than 5 mm/s";
 }
 
+TEST(WalkingPattern, APatternContinuedWhenAFootTouchesDownEarlyGoesOnAsTheWholeOne) {
+  // The rest of a plan, taken when step 3's foot is down 0.2 s before its swing's end (a new piece
+  // of plan in the loop), starts from the CoM's whole state, the ZMP it follows, and the rest of
+  // that swing's time: the CoM then goes on as in the pattern of the whole plan.
+  const ContactPlan plan = Crawl(8, 0.1);
+  const WalkingPattern whole = PlanWalkingPattern(plan, Timing(), Model(), Eigen::Vector2d::Zero());
+  const double touchdown_s = whole.SwingOf(3).end_s - 0.2;
+  ContactPlan rest;
+  rest.states.assign(plan.states.begin() + 3, plan.states.end());
+  rest.states.front().MarkAsStart();
+  PatternStart start;
+  start.com = whole.ComAt(touchdown_s);
+  start.zmp = whole.ZmpReferenceAt(touchdown_s);
+  start.hold_s = whole.SwingOf(3).end_s - touchdown_s;
+  const WalkingPattern continued = PlanWalkingPattern(rest, Timing(), Model(), start);
+  EXPECT_NEAR(continued.SwingOf(1).start_s, whole.SwingOf(4).start_s - touchdown_s, 1e-9);
+  double largest_m = 0.0, largest_mps2 = 0.0;
+  for (double t = 0.0; t < 1.5; t += 0.01) {
+    largest_m = std::max(largest_m, (continued.ComAt(t).position - whole.ComAt(touchdown_s + t).position).norm());
+    largest_mps2 =
+        std::max(largest_mps2, (continued.ComAt(t).acceleration - whole.ComAt(touchdown_s + t).acceleration).norm());
+  }
+  EXPECT_LT(largest_m, 0.002);
+  EXPECT_LT(largest_mps2, 0.1);
+}
+
 TEST(WalkingPattern, DuringASwingTheReferenceKeepsTheMarginNearestTheCentreOfTheFeet) {
   const ContactPlan plan = Crawl(1, 0.1);  // LF swings: RF, LH, RH stay down
   const WalkingPattern pattern = PlanWalkingPattern(plan, Timing(), Model(), Eigen::Vector2d::Zero());

@@ -121,6 +121,11 @@ struct PatternStart {
   ComState com;
   /// The ZMP a moving CoM follows now; none: the CoM is at rest (start_s applies).
   std::optional<Eigen::Vector2d> zmp;
+  /// With `zmp`: how long the reference stays there before the first four-foot phase begins
+  /// [s]. A piece of plan taken when a foot touched down before its swing's end goes on with the
+  /// rest of that swing's time, as the pattern walked before did: the CoM's motion was timed for
+  /// it, and dropping it asks for the next shift at once (tens of m/s^2 from the preview).
+  double hold_s = 0.0;
   /// Per step (plan states 1..n): the CoM (x, y) the plan holds during the step's swing (its
   /// base pose's, where the planner checked the swing). The ZMP reference of a swing stands at
   /// the point of the shrunk support triangle nearest it, and the CoM stays near the plan's; the

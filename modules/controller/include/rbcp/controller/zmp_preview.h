@@ -84,20 +84,26 @@ class ZmpPreviewModel {
   std::vector<double> preview_gains_;
 };
 
-/// A horizontal CoM trajectory sampled every time step: position, velocity, acceleration and the
-/// ZMP it implies, per sample (x, y).
+/// A horizontal CoM trajectory sampled every time step: position, velocity, acceleration, the
+/// ZMP it implies and the preview controller's integral of the ZMP's tracking error, per sample
+/// (x, y).
 struct ComTrajectory {
   std::vector<Eigen::Vector2d> position;
   std::vector<Eigen::Vector2d> velocity;
   std::vector<Eigen::Vector2d> acceleration;
   std::vector<Eigen::Vector2d> zmp;
+  std::vector<Eigen::Vector2d> zmp_error_sum;
 };
 
-/// The horizontal state of the CoM [m, m/s, m/s^2].
+/// The horizontal state of the CoM [m, m/s, m/s^2], with the preview controller's integral of the
+/// ZMP's tracking error [m, summed over samples]. The integral is part of the controller's state:
+/// a trajectory that goes on from a moving CoM must start from it too, or its first jerk differs
+/// by the integral gain times the sum dropped (several m/s^2 of acceleration within 10 ms).
 struct ComState {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
   Eigen::Vector2d acceleration = Eigen::Vector2d::Zero();
+  Eigen::Vector2d zmp_error_sum = Eigen::Vector2d::Zero();
 };
 
 /// The CoM trajectory from `start` whose ZMP follows `zmp_reference` (one sample per time step;
