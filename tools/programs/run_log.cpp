@@ -74,6 +74,8 @@ struct RunLog {
   nodes::RunRecord record;
   std::string scenario;  ///< the scenario name of the first TERRAIN
   std::optional<rbcp_msgs::process_status_t> verdict;
+  /// When the verdict was first published [us, simulated] (its heartbeats repeat it later).
+  int64_t verdict_utime = 0;
   std::optional<rbcp_msgs::terrain_mesh_t> terrain;         ///< the newest
   std::optional<rbcp_msgs::affordance_set_t> surfaces;      ///< the newest
   std::optional<rbcp_msgs::root_path_t> root_path;          ///< the first: the path from the start to the goal
@@ -141,7 +143,10 @@ struct RunLog {
   }
   void OnStatus(const rbcp_msgs::process_status_t& msg) {
     const bool decided = msg.state == rbcp_msgs::process_status_t::OK || msg.state == rbcp_msgs::process_status_t::FAILED;
-    if (msg.process == "anymal_sim" && decided) verdict = msg;
+    if (msg.process == "anymal_sim" && decided) {
+      if (!verdict || verdict->state != msg.state || verdict->reason != msg.reason) verdict_utime = msg.utime;
+      verdict = msg;
+    }
     const auto planner = answers.find(msg.process);
     if (decided && planner != answers.end() && answered.emplace(msg.process, msg.pid, msg.handled).second) {
       if (msg.state == rbcp_msgs::process_status_t::OK) planner->second.ok_ms.push_back(msg.compute_ms);
@@ -162,7 +167,9 @@ void AddWalkedPlan(const RunLog& log, nlohmann::json& j) {
   j["sim_ok"] = ok;
   j["reached_goal"] = ok;
   j["outcome"] = log.verdict ? nlohmann::json(log.verdict->reason) : nlohmann::json("no verdict in the log");
-  j["sim_time_s"] = static_cast<double>(log.record.Latest()->utime) * 1e-6;
+  // The simulated time of the verdict (the simulator goes on publishing while the pipeline stops),
+  // else of the last state logged.
+  j["sim_time_s"] = static_cast<double>(log.verdict ? log.verdict_utime : log.record.Latest()->utime) * 1e-6;
 }
 
 /// The plans, the replans with their latency, and the planners' compute times.
