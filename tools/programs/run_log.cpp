@@ -178,6 +178,7 @@ void AddPlanning(const RunLog& log, nlohmann::json& j) {
   j["plans"] = record.Plans();
   j["goal_plans"] = record.GoalPlans();
   j["unanswered_waits"] = record.UnansweredWaits();
+  j["startup_s"] = record.StartupWallS();
   j["waiting_s"] = record.WaitingWallS();
   j["waiting_share"] = record.WaitingShare();
   const auto& lat = record.LatenciesMs();

@@ -302,8 +302,9 @@ class LoopFollower {
        << watch_.record.Plans() << " plans (" << planner_failures_ << " failed replans), " << restarts_
        << " process restarts, replanning latency median "
        << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.5), 1) << " ms, 95th percentile "
-       << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.95), 1) << " ms, waited for plans "
-       << FixedNumber(100.0 * watch_.record.WaitingShare(), 1) << " % of the run";
+       << FixedNumber(nodes::Percentile(watch_.record.LatenciesMs(), 0.95), 1) << " ms, walking after "
+       << FixedNumber(watch_.record.StartupWallS(), 1) << " s of start-up, waited for plans "
+       << FixedNumber(100.0 * watch_.record.WaitingShare(), 1) << " % of the walk";
     std::cout << os.str() << std::endl;
     return rc;
   }

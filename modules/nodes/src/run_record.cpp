@@ -22,13 +22,18 @@ void RunRecord::Received(int64_t receive_us) {
   last_receive_us_ = std::max(last_receive_us_.value_or(receive_us), receive_us);
 }
 
-double RunRecord::RunWallS() const {
-  return first_receive_us_ ? 1e-6 * static_cast<double>(*last_receive_us_ - *first_receive_us_) : 0.0;
+double RunRecord::StartupWallS() const {
+  if (!first_receive_us_) return 0.0;
+  return 1e-6 * static_cast<double>(walk_start_us_.value_or(*last_receive_us_) - *first_receive_us_);
+}
+
+double RunRecord::WalkWallS() const {
+  return walk_start_us_ ? 1e-6 * static_cast<double>(*last_receive_us_ - *walk_start_us_) : 0.0;
 }
 
 double RunRecord::WaitingShare() const {
-  const double run_s = RunWallS();
-  return run_s > 0.0 ? std::min(1.0, WaitingWallS() / run_s) : 0.0;
+  const double walk_s = WalkWallS();
+  return walk_s > 0.0 ? std::min(1.0, WaitingWallS() / walk_s) : 0.0;
 }
 
 void RunRecord::OnRobotState(int64_t receive_us, const rbcp_msgs::robot_state_t& msg) {
@@ -45,10 +50,11 @@ void RunRecord::OnRobotState(int64_t receive_us, const rbcp_msgs::robot_state_t&
 
 void RunRecord::OnControllerStatus(int64_t receive_us, const rbcp_msgs::controller_status_t& msg) {
   Received(receive_us);
-  if (waiting_since_receive_us_ && receive_us > *waiting_since_receive_us_) {
+  if (walk_start_us_ && waiting_since_receive_us_ && receive_us > *waiting_since_receive_us_) {
     waiting_us_ += receive_us - *waiting_since_receive_us_;
   }
   waiting_since_receive_us_.reset();
+  if (!walk_start_us_ && plans_ > 0 && !msg.awaiting_plan) walk_start_us_ = receive_us;
   if (msg.awaiting_plan) waiting_since_receive_us_ = receive_us;
   if (msg.awaiting_plan && (!wait_ || wait_->since != msg.awaiting_since)) {
     if (wait_ && !wait_->answered) unanswered_ += 1;

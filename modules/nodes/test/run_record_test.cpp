@@ -54,11 +54,13 @@ TEST(RunRecord, RebuildsTheWalkedPlanAndTheReplanLatency) {
 
   EXPECT_EQ(run.Plans(), 3);
   EXPECT_EQ(run.GoalPlans(), 1);
-  // Waiting from the statuses received at 1 ms (until 60 ms), 70 ms and 72 ms (until 80 ms): 69 ms
-  // of the 89 ms from the first message to the last.
-  EXPECT_NEAR(run.WaitingWallS(), 0.069, 1e-12);
-  EXPECT_NEAR(run.RunWallS(), 0.089, 1e-12);
-  EXPECT_NEAR(run.WaitingShare(), 69.0 / 89.0, 1e-12);
+  // The start-up: from the first message (1 ms) until the robot walks the first plan (60 ms).
+  // Then it waits from the statuses received at 70 ms and 72 ms until 80 ms: 10 ms of the walk's
+  // 30 ms.
+  EXPECT_NEAR(run.StartupWallS(), 0.059, 1e-12);
+  EXPECT_NEAR(run.WaitingWallS(), 0.010, 1e-12);
+  EXPECT_NEAR(run.WalkWallS(), 0.030, 1e-12);
+  EXPECT_NEAR(run.WaitingShare(), 10.0 / 30.0, 1e-12);
   ASSERT_EQ(run.LatenciesMs().size(), 1u);
   EXPECT_DOUBLE_EQ(run.LatenciesMs()[0], 4.0);
   ASSERT_EQ(run.LatencyTimesS().size(), 1u);

@@ -51,13 +51,18 @@ class RunRecord {
   const std::vector<TraceEntry>& Trace() const { return trace_; }
   /// The largest distance of the measured base from the controller's reference over the run [m].
   double MaxBaseErrorM() const { return max_base_error_m_; }
-  /// The wall time [s] the robot stood at a step boundary waiting for a plan: the time from each
-  /// CONTROLLER_STATUS that says it waits (awaiting_plan) to the next one received.
+  /// The pipeline's start-up [s, wall clock]: from the first message received until the robot
+  /// first walks after the first plan arrived (a CONTROLLER_STATUS that no longer waits). Until
+  /// then, the time so far. It holds the world's extraction, the root path and the first plan,
+  /// and a first plan that failed and was planned again along another guide.
+  double StartupWallS() const;
+  /// The walk's wall time so far [s]: from the end of the start-up to the latest message.
+  double WalkWallS() const;
+  /// The wall time [s] the robot stood at a step boundary waiting for a plan during the walk: the
+  /// time from each CONTROLLER_STATUS that says it waits (awaiting_plan) to the next one received.
   double WaitingWallS() const { return 1e-6 * static_cast<double>(waiting_us_); }
-  /// The run's wall time so far [s]: from the first message received to the latest.
-  double RunWallS() const;
-  /// WaitingWallS() over RunWallS(): the share of the run the robot stood waiting for a plan
-  /// (0 before any time has passed).
+  /// WaitingWallS() over WalkWallS(): the share of the walk the robot stood waiting for a plan
+  /// (0 before the walk began).
   double WaitingShare() const;
 
   /// The plan the robot walked: the first walked plan's first state, then the states of each plan
@@ -70,6 +75,7 @@ class RunRecord {
  private:
   /// Keeps the first and the latest receive time.
   void Received(int64_t receive_us);
+  std::optional<int64_t> walk_start_us_;  // the end of the start-up (StartupWallS)
 
   struct Wait {
     int64_t since = 0;
