@@ -170,21 +170,14 @@ TraceSample MeasuredTraceSample(const RobotModel& robot, const RobotState& state
 CentreOfPressure MeasuredCentreOfPressure(const RobotModel& robot, const RobotState& state) {
   const Eigen::Isometry3d base = Eigen::Translation3d(state.base_position_W) * state.base_orientation_W.normalized();
   const std::array<Eigen::Vector3d, kNumLegs> feet_B = robot.FootPositions(state.q);
-  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
-  double fz = 0.0;
-  std::vector<Eigen::Vector3d> support;
+  std::vector<Eigen::Vector3d> feet_W;
+  std::vector<double> fz;
   for (std::size_t i = 0; i < kNumLegs; ++i) {
     if (!state.foot_contact[i]) continue;
-    const Eigen::Vector3d foot_W = base * feet_B[i];
-    support.push_back(foot_W);
-    weighted += state.foot_force_W[i].z() * foot_W;
-    fz += state.foot_force_W[i].z();
+    feet_W.push_back(base * feet_B[i]);
+    fz.push_back(state.foot_force_W[i].z());
   }
-  CentreOfPressure cop;
-  if (fz <= 1.0 || support.size() < 3) return cop;
-  cop.position = weighted / fz;
-  cop.margin_m = SupportPolygonMargin(support, cop.position);
-  return cop;
+  return ComputeCentreOfPressure(feet_W, fz);
 }
 
 nlohmann::json TraceSampleToJson(const TraceSample& s) {

@@ -456,19 +456,16 @@ void PlanController::AdvanceUnload(const Measured& m, std::size_t sl, double ela
 }
 
 bool PlanController::Tipping(const Measured& m) const {
-  // The centre of pressure of the stance feet's measured forces, against their polygon.
+  // The centre of pressure of the stance feet's measured forces along their normals.
   std::vector<Eigen::Vector3d> feet;
-  Eigen::Vector3d cop = Eigen::Vector3d::Zero();
-  double total_N = 0.0;
+  std::vector<double> normal_N;
   for (std::size_t i = 0; i < kNumLegs; ++i) {
     if (!status_.stance[i]) continue;
-    const double fn = std::max(0.0, m.force_W[i].dot(normal_W_[i]));
     feet.push_back(m.feet_W[i]);
-    cop += fn * m.feet_W[i];
-    total_N += fn;
+    normal_N.push_back(m.force_W[i].dot(normal_W_[i]));
   }
-  if (feet.size() < 3 || total_N < 1.0) return false;
-  return SupportPolygonMargin(feet, cop / total_N) < config_.swing.tip_margin_m;
+  const CentreOfPressure cop = ComputeCentreOfPressure(feet, normal_N);
+  return cop.margin_m < config_.swing.tip_margin_m;  // false when NaN (no three feet pushing)
 }
 
 double PlanController::SwingTime(double t) const {

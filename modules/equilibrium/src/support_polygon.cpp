@@ -70,6 +70,26 @@ double SupportPolygonMargin(const std::vector<Eigen::Vector3d>& feet_W, const Ei
   return inside ? dist : -dist;
 }
 
+CentreOfPressure ComputeCentreOfPressure(const std::vector<Eigen::Vector3d>& feet_W,
+                                         const std::vector<double>& normal_force_N) {
+  if (feet_W.size() != normal_force_N.size()) {
+    throw InputError("centre of pressure: " + std::to_string(feet_W.size()) + " feet and " +
+                     std::to_string(normal_force_N.size()) + " forces");
+  }
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  double total_N = 0.0;
+  for (std::size_t i = 0; i < feet_W.size(); ++i) {
+    const double f = std::max(0.0, normal_force_N[i]);
+    weighted += f * feet_W[i];
+    total_N += f;
+  }
+  CentreOfPressure cop;
+  if (feet_W.size() < 3 || !(total_N > 1.0)) return cop;
+  cop.position = weighted / total_N;
+  cop.margin_m = SupportPolygonMargin(feet_W, cop.position);
+  return cop;
+}
+
 double SupportPolygonMargin(const std::vector<ContactPoint>& contacts, const Eigen::Vector3d& com_W) {
   std::vector<Eigen::Vector3d> feet;
   feet.reserve(contacts.size());

@@ -27,6 +27,27 @@ TEST(SupportPolygon, RectangleMarginsByHand) {
   EXPECT_NEAR(SupportPolygonMargin(feet, {-0.5, -0.2, 0.0}), -0.2, 1e-12);
 }
 
+TEST(SupportPolygon, CentreOfPressureByHand) {
+  const auto feet = Rectangle();
+  // Equal forces: the centre of the rectangle, 0.2 m inside it.
+  CentreOfPressure cop = ComputeCentreOfPressure(feet, {100, 100, 100, 100});
+  EXPECT_NEAR(cop.position.x(), 0.0, 1e-12);
+  EXPECT_NEAR(cop.position.y(), 0.0, 1e-12);
+  EXPECT_NEAR(cop.margin_m, 0.2, 1e-12);
+  // Three times the force on the fore feet: x = 0.3 * (300 - 100) / 400 = 0.15; a pulling foot
+  // counts as none.
+  cop = ComputeCentreOfPressure(feet, {150, 150, 50, 50});
+  EXPECT_NEAR(cop.position.x(), 0.15, 1e-12);
+  EXPECT_NEAR(cop.margin_m, 0.15, 1e-12);
+  cop = ComputeCentreOfPressure(feet, {100, 100, 100, -50});
+  EXPECT_NEAR(cop.position.x(), 0.1, 1e-12);
+  EXPECT_NEAR(cop.position.y(), 200.0 * 0.2 / 300.0 - 100.0 * 0.2 / 300.0, 1e-12);
+  // Two feet, or hardly any force: none.
+  EXPECT_TRUE(std::isnan(ComputeCentreOfPressure({feet[0], feet[1]}, {100, 100}).margin_m));
+  EXPECT_TRUE(std::isnan(ComputeCentreOfPressure(feet, {0.2, 0.2, 0.2, 0.2}).margin_m));
+  EXPECT_THROW(ComputeCentreOfPressure(feet, {1.0}), InputError);
+}
+
 TEST(SupportPolygon, TriangleMarginsByHand) {
   const std::vector<Eigen::Vector3d> feet = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   EXPECT_NEAR(SupportPolygonMargin(feet, {0.25, 0.25, 1}), 0.25, 1e-12);

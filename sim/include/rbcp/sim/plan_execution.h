@@ -31,6 +31,7 @@
 
 #include "rbcp/controller/plan_controller.h"
 #include "rbcp/core/contact_plan.h"
+#include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/scenario/scenario.h"
 #include "rbcp/sim/bullet_world.h"
@@ -75,14 +76,8 @@ struct TraceSample {
   Eigen::Vector2d cop = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
-/// The centre of pressure of the measured vertical (world z) foot forces over the feet in contact,
-/// the feet at the forward kinematics of the measured joints, and its signed distance inside their
-/// polygon [m] (positive inside). Both NaN unless three feet or more are in contact and carry more
-/// than 1 N together.
-struct CentreOfPressure {
-  Eigen::Vector3d position = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  double margin_m = std::numeric_limits<double>::quiet_NaN();
-};
+/// The centre of pressure (ComputeCentreOfPressure) of the measured vertical (world z) foot forces
+/// over the feet in contact, the feet at the forward kinematics of the measured joints.
 CentreOfPressure MeasuredCentreOfPressure(const RobotModel& robot, const RobotState& state);
 
 /// A trace sample of a measured state: the feet at the forward kinematics of the measured joints,

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -20,6 +21,17 @@ std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d> points);
 /// Throws InputError when feet_W is empty.
 double SupportPolygonMargin(const std::vector<Eigen::Vector3d>& feet_W, const Eigen::Vector3d& com_W);
 double SupportPolygonMargin(const std::vector<ContactPoint>& contacts, const Eigen::Vector3d& com_W);
+
+/// The centre of pressure of forces on the feet, and its signed distance inside their polygon
+/// (SupportPolygonMargin) [m]. Both NaN unless three feet or more push with more than 1 N together.
+struct CentreOfPressure {
+  Eigen::Vector3d position = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double margin_m = std::numeric_limits<double>::quiet_NaN();
+};
+/// The centre of pressure of `normal_force_N[i]` on `feet_W[i]` (negative forces count as zero).
+/// Throws InputError when the two differ in size.
+CentreOfPressure ComputeCentreOfPressure(const std::vector<Eigen::Vector3d>& feet_W,
+                                         const std::vector<double>& normal_force_N);
 
 /// The centre of the largest circle inside a triangle (a support triangle, say).
 Eigen::Vector2d TriangleIncentre(const std::array<Eigen::Vector2d, 3>& tri);
