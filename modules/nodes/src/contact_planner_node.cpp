@@ -458,6 +458,18 @@ bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status
   return true;
 }
 
+std::optional<ContactPlanResult> ContactPlannerNode::SearchAheadFrom(const WholeBodyState& from) {
+  double offset = 0.0;
+  const std::size_t at = PathProgress(from.base_position, from.base_rpy.z(), &offset);
+  const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
+  try {
+    return planner_.PlanHorizon(from, remaining, options_.horizon_steps + options_.lookahead_steps);
+  } catch (const std::exception& e) {
+    if (verbose_) std::fprintf(stderr, "[%s] planning ahead failed: %s\n", kProcessName, e.what());
+    return std::nullopt;
+  }
+}
+
 void ContactPlannerNode::PlanAhead(int steps_committed) {
   if (!options_.plan_ahead || !last_plan_ || last_plan_->states.size() < 2) return;
   if (last_plan_->reaches_goal && last_plan_->states.size() == 2) return;  // the last step: nothing after it
@@ -497,18 +509,8 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
   // The stance the new search starts from, with the leg that stepped into it (the crawl's order
   // goes on from there).
   const WholeBodyState& from = searched_.states[static_cast<std::size_t>(kept) + 1];
-  std::optional<ContactPlanResult> fresh;
-  {
-    double offset = 0.0;
-    const std::size_t at = PathProgress(from.base_position, from.base_rpy.z(), &offset);
-    const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
-    try {
-      fresh = planner_.PlanHorizon(from, remaining, options_.horizon_steps + options_.lookahead_steps);
-    } catch (const std::exception& e) {
-      if (verbose_) std::fprintf(stderr, "[%s] planning ahead failed: %s\n", kProcessName, e.what());
-      return;
-    }
-  }
+  std::optional<ContactPlanResult> fresh = SearchAheadFrom(from);
+  if (!fresh) return;
   if (verbose_) {
     std::fprintf(stderr, "[%s] planned ahead from the stance %d step(s) after the next: %s in %.3f s\n", kProcessName,
                  kept, fresh->ok ? "ok" : fresh->reason.c_str(), fresh->planning_time_s);

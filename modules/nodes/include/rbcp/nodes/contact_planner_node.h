@@ -201,6 +201,9 @@ class ContactPlannerNode {
   /// `steps_committed` steps kept (CONTROLLER_STATUS: the controller's motion prepares for them),
   /// then a new search from the stance they lead to, or the earlier search's continuation.
   void PlanAhead(int steps_committed);
+  /// Horizon mode: a search (K steps and the look-ahead deep) from `from` along the rest of the
+  /// path from its nearest point; none when the planner threw (logged).
+  std::optional<ContactPlanResult> SearchAheadFrom(const WholeBodyState& from);
   /// Path sample nearest to a base pose, not behind path_progress_; its horizontal distance in
   /// *offset_xy.
   std::size_t PathProgress(const Eigen::Vector3d& base_W, double yaw, double* offset_xy) const;
