@@ -198,7 +198,7 @@ void PlanController::StartPattern(const Measured& m) {
     start.com = pattern_->ComAt(pattern_time_s_);  // walking: go on from where the CoM is headed
     start.zmp = pattern_->ZmpReferenceAt(pattern_time_s_);
     // A foot down before its swing's end: the rest of the swing's time goes on.
-    if (status_.step >= 1 && 2 * static_cast<std::size_t>(status_.step) - 1 < pattern_->phases.size()) {
+    if (status_.step >= 1 && status_.step <= pattern_->Steps()) {
       start.hold_s = std::max(0.0, pattern_->SwingOf(status_.step).end_s - pattern_time_s_);
     }
   } else {
@@ -206,7 +206,6 @@ void PlanController::StartPattern(const Measured& m) {
   }
   pattern_ = PlanWalkingPattern(plan_, timing, model, start);
   pattern_time_s_ = 0.0;
-
 }
 
 int PlanController::CommittedSteps() const {

@@ -103,6 +103,8 @@ struct WalkingPattern {
   ComTrajectory com;                          ///< per sample; com.zmp is the ZMP it implies
 
   double Duration() const { return phases.empty() ? 0.0 : phases.back().end_s; }
+  /// The plan's steps the pattern walks (a four-foot phase and a swing each, then the last phase).
+  int Steps() const { return static_cast<int>(phases.size() / 2); }
   /// The phase at time t (the last one beyond the end).
   const SupportPhase& PhaseAt(double t) const;
   /// The swing of plan state `state`'s moving leg (states 1..n).

@@ -75,7 +75,6 @@ class RunRecord {
  private:
   /// Keeps the first and the latest receive time.
   void Received(int64_t receive_us);
-  std::optional<int64_t> walk_start_us_;  // the end of the start-up (StartupWallS)
 
   struct Wait {
     int64_t since = 0;
@@ -98,6 +97,7 @@ class RunRecord {
   std::optional<rbcp_msgs::controller_status_t> latest_controller_;
   double max_base_error_m_ = 0.0;
   std::optional<int64_t> first_receive_us_, last_receive_us_;
+  std::optional<int64_t> walk_start_us_;  // the end of the start-up (StartupWallS)
   std::optional<int64_t> waiting_since_receive_us_;  // the receipt of the latest status while waiting
   int64_t waiting_us_ = 0;
   std::vector<TraceEntry> trace_;
