@@ -18,6 +18,7 @@
 #include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/robot/robot_model.h"
+#include "rbcp/stance/dynamic_walk.h"
 #include "search.h"
 #include "search_node.h"
 #include "stance_checks.h"
@@ -62,6 +63,15 @@ namespace {
 
 /// Interpolation step of a RootPath handed to Plan() [s].
 constexpr double kRootPathSampling = 0.01;
+
+void TimeWalkOf(const StanceChecker& stance, ContactPlan* plan, ContactPlanStats* stats) {
+  const std::vector<DynamicStepCheck> checks = TimeDynamicWalk(stance, plan);
+  if (stats == nullptr) return;
+  for (const DynamicStepCheck& c : checks) {
+    if (c.slowdowns > 0) ++stats->walk_steps_slowed;
+    if (!c.verdict.ok()) ++stats->walk_steps_failing;
+  }
+}
 
 }  // namespace
 
@@ -143,7 +153,10 @@ struct ContactPlanner::Impl {
           contact_planner_detail::MergeSteps(ctx(), std::move(result.plan.states), &stats.steps_merged);
       result.steps = static_cast<int>(result.plan.states.size()) - 1;
     }
-    if (result.ok) contact_planner_detail::AttachSwings(ctx(), result.plan.states);
+    if (result.ok) {
+      contact_planner_detail::AttachSwings(ctx(), result.plan.states);
+      if (result.plan.states.size() >= 2) TimeWalkOf(ctx().stance, &result.plan, &stats);
+    }
     result.planning_time_s = budget.Elapsed();
     result.stats = stats;
     return result;
@@ -289,6 +302,12 @@ StanceResult StanceFound(WholeBodyState state) {
 
 }  // namespace
 
+void ContactPlanner::TimeWalk(ContactPlan* plan, ContactPlanStats* stats) const {
+  RBCP_CHECK(plan != nullptr, "a plan to time");
+  if (plan->states.size() < 2) return;
+  TimeWalkOf(impl_->ctx().stance, plan, stats);
+}
+
 StanceResult ContactPlanner::StandingStance(const Eigen::Vector3d& base_position_W, double yaw) {
   impl_->budget.Start(impl_->config.time_budget_s);
   if (!impl_->context) return StanceFailure(ContactPlanStatus::kInvalidInput, "no terrain set");
@@ -377,6 +396,7 @@ ContactPlanResult ContactPlanner::MergeSteps(const ContactPlan& plan) {
   result.plan = plan;
   result.plan.states = contact_planner_detail::MergeSteps(impl_->ctx(), plan.states, &result.stats.steps_merged);
   contact_planner_detail::AttachSwings(impl_->ctx(), result.plan.states);
+  if (result.plan.states.size() >= 2) TimeWalkOf(impl_->ctx().stance, &result.plan, &result.stats);
   result.ok = true;
   result.status = ContactPlanStatus::kOk;
   result.steps = static_cast<int>(result.plan.states.size()) - 1;

@@ -8,6 +8,7 @@
 #include "rbcp/core/error.h"
 #include "rbcp/core/pose.h"
 #include "rbcp/root_planner/double_integrator.h"
+#include "rbcp/stance/dynamic_walk.h"
 #include "test_world.h"
 
 namespace rbcp {
@@ -85,6 +86,79 @@ TEST(ContactPlannerTest, FlatGroundPlanReachesTheGoalAndPassesEveryCheck) {
               PlannerConfig().goal_foot_tolerance_m + 1e-9)
         << LegName(leg);
   }
+}
+
+/// The plan's first CoM at rest: where the dynamic walk of a plan starts.
+PatternStart AtRest(const ContactPlan& plan) {
+  PatternStart rest;
+  const WholeBodyState& first = plan.states.front();
+  rest.com.position = (BasePose(first) * Robot().CenterOfMass(first.joints)).head<2>();
+  return rest;
+}
+
+TEST(ContactPlannerTest, APlanCarriesTheClockItsDynamicWalkFollows) {
+  const World& world = ScenarioWorld("flat_ground");
+  const RootPlanResult& root = ScenarioRootPath("flat_ground", 1);
+  ASSERT_TRUE(root.ok()) << root.reason;
+  ContactPlanner planner = MakePlanner(world);
+  const ContactPlanResult result = planner.Plan(root.path);
+  ASSERT_TRUE(result.ok) << result.reason;
+  const ContactPlan& plan = result.plan;
+  ASSERT_TRUE(plan.Timed());
+  EXPECT_FALSE(TimingProblem(plan).has_value());
+  StanceChecker checker(Robot(), test::Rules());
+  checker.SetTerrain(&world.terrain);
+  // The walking pattern of the timed plan lifts and puts down every foot on the plan's clock.
+  const WalkingPattern pattern = DynamicWalkPattern(checker, plan, AtRest(plan));
+  for (std::size_t i = 1; i < plan.states.size(); ++i) {
+    const SupportPhase& swing = pattern.SwingOf(static_cast<int>(i));
+    EXPECT_NEAR(swing.start_s, plan.states[i].lift_off_s, 1e-9) << i;
+    EXPECT_NEAR(swing.end_s, plan.states[i].touch_down_s, 1e-9) << i;
+    EXPECT_GE(swing.end_s - swing.start_s, test::Rules().config.dynamic_walk.min_swing_s - 1e-9) << i;
+  }
+}
+
+TEST(ContactPlannerTest, AClockTooFastForTheCoMIsSlowedWhereTheFeetCannotHoldIt) {
+  const World& world = ScenarioWorld("flat_ground");
+  const RootPlanResult& root = ScenarioRootPath("flat_ground", 1);
+  ASSERT_TRUE(root.ok()) << root.reason;
+  ContactPlanner planner = MakePlanner(world);
+  ContactPlan plan = planner.Plan(root.path).plan;
+  ASSERT_GE(plan.states.size(), 2u);
+  // A clock far faster than the configured one, and a CoM slow to follow its ZMP (a heavy jerk
+  // cost): the ZMP comes near the support's edge, where the feet cannot push the CoM hard enough.
+  StanceRules fast = test::Rules();
+  fast.config.dynamic_walk.gait.zmp_speed_mps = 4.0;
+  fast.config.dynamic_walk.gait.four_foot_s = 0.02;
+  fast.config.dynamic_walk.min_swing_s = 0.12;
+  fast.config.dynamic_walk.swing_speed_mps = 4.0;
+  fast.config.dynamic_walk.preview.r_jerk = 1e-3;
+  StanceChecker checker(Robot(), fast);
+  checker.SetTerrain(&world.terrain);
+  const auto pace_fails = [](const DynamicStepCheck& c) {
+    return c.verdict.check == StanceCheck::kTorque || c.verdict.check == StanceCheck::kBalance ||
+           c.verdict.check == StanceCheck::kSupport;
+  };
+  plan.ClearTiming();
+  const WalkingPattern hurried = DynamicWalkPattern(checker, plan, AtRest(plan));
+  int hurried_failures = 0;
+  for (std::size_t i = 1; i < plan.states.size(); ++i) {
+    const DynamicStepCheck c = CheckDynamicStep(checker, plan, hurried, static_cast<int>(i));
+    if (pace_fails(c)) ++hurried_failures;
+  }
+  ASSERT_GT(hurried_failures, 0) << "the fast clock should ask too much somewhere";
+
+  const std::vector<DynamicStepCheck> checks = TimeDynamicWalk(checker, &plan);
+  ASSERT_TRUE(plan.Timed());
+  int slowed = 0, failures = 0;
+  for (std::size_t i = 1; i < plan.states.size(); ++i) {
+    const DynamicStepCheck& c = checks[i - 1];
+    if (c.slowdowns > 0) ++slowed;
+    if (pace_fails(c)) ++failures;
+  }
+  EXPECT_GT(slowed, 0);
+  EXPECT_LT(failures, hurried_failures);
+  EXPECT_GT(plan.states.back().touch_down_s, hurried.SwingOf(static_cast<int>(plan.states.size()) - 1).end_s);
 }
 
 TEST(ContactPlannerTest, SamePathGivesTheSamePlan) {
@@ -514,6 +588,7 @@ TEST(ContactPlannerTest, MergingRemovesAStepTakenInTwo) {
   ASSERT_TRUE(ik.ok()) << ik.reason;
   SetLegJoints(half.joints, leg, ik.q);
   split.states.insert(split.states.begin() + static_cast<std::ptrdiff_t>(k), half);
+  split.ClearTiming();  // a step more: the planner's timing no longer fits
   ExpectValidPlan(split, world, w.samples);
 
   const ContactPlanResult merging = w.planner.MergeSteps(split);

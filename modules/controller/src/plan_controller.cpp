@@ -12,6 +12,7 @@
 #include "rbcp/equilibrium/stance_torques.h"
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
+#include "rbcp/stance/dynamic_walk.h"
 
 namespace rbcp {
 namespace {
@@ -20,9 +21,6 @@ constexpr double kTouchdownHeightM = 0.02;  // [m] a contact this close above th
 constexpr double kTouchdownForceN = 5.0;  // [N] least contact force of a touchdown higher up
 constexpr double kTouchdownCosine = 0.8;  // a touchdown force lies within 37 degrees of the normal (a
                                           // foot sliding down a riser face under friction 0.8: 52)
-
-double MinJerk(double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); }
-double MinJerkRate(double u) { return 30.0 * u * u * (1.0 - u) * (1.0 - u); }
 
 Eigen::Quaterniond QuaternionFromRpy(const Eigen::Vector3d& rpy) {
   return Eigen::Quaterniond(RotationFromRpy(rpy)).normalized();
@@ -160,40 +158,8 @@ void PlanController::MoveBaseOver(const Eigen::Vector3d& p, const Eigen::Quatern
   segment_ = s;
 }
 
-SwingPathConfig PlanController::SwingPath() const {
-  SwingPathConfig path = stance_.Config().swing;
-  if (Dynamic()) {
-    path.speed_mps = config_.dynamic.swing_speed_mps;
-    path.min_duration_s = config_.dynamic.min_swing_s;
-  }
-  return path;
-}
-
 void PlanController::StartPattern(const Measured& m) {
-  // The pendulum's height: the CoM above the mean height of the first stance's feet.
-  const WholeBodyState& first = plan_.states.front();
-  double feet_z = 0.0;
-  for (const FootContact& f : first.feet) feet_z += f.position.z() / kNumLegs;
-  const Eigen::Vector3d com_W = first.base_position + RotationFromRpy(first.base_rpy) * robot_.CenterOfMass(first.joints);
-  const DynamicWalkConfig& d = config_.dynamic;
-  ZmpPreviewParams params;
-  static_cast<ZmpPreviewSettings&>(params) = d.preview;
-  params.com_height_m = std::max(com_W.z() - feet_z, 0.1);
-  const ZmpPreviewModel model(params);
-
-  // Every step gets its own swing duration (below); swing_s is only the fallback GaitTiming needs.
-  GaitTiming timing;
-  static_cast<GaitPhases&>(timing) = d.gait;
-  timing.swing_s = d.min_swing_s;
-  for (std::size_t i = 1; i < plan_.states.size(); ++i) {
-    const std::size_t leg = static_cast<std::size_t>(plan_.states[i].moving_leg);
-    timing.step_swing_s.push_back(PlanSwing(static_cast<int>(i), plan_.states[i - 1].feet[leg].position).Duration());
-  }
   PatternStart start;
-  for (std::size_t i = 1; i < plan_.states.size(); ++i) {
-    const WholeBodyState& s = plan_.states[i];
-    start.step_com.push_back((s.base_position + RotationFromRpy(s.base_rpy) * robot_.CenterOfMass(s.joints)).head<2>());
-  }
   if (pattern_ && pattern_time_s_ < pattern_->Duration()) {
     start.com = pattern_->ComAt(pattern_time_s_);  // walking: go on from where the CoM is headed
     start.zmp = pattern_->ZmpReferenceAt(pattern_time_s_);
@@ -204,7 +170,7 @@ void PlanController::StartPattern(const Measured& m) {
   } else {
     start.com.position = m.com_W.head<2>();
   }
-  pattern_ = PlanWalkingPattern(plan_, timing, model, start);
+  pattern_ = DynamicWalkPattern(stance_, plan_, start);
   pattern_time_s_ = 0.0;
 }
 
@@ -214,7 +180,7 @@ int PlanController::CommittedSteps() const {
   const bool between_steps = status_.step == 0 || status_.phase == ControllerPhase::kAwait;
   const int current = status_.step + (between_steps ? 1 : 0);
   if (current > last) return 0;
-  const double horizon_s = pattern_->SwingOf(current).end_s + config_.dynamic.preview.preview_s;
+  const double horizon_s = pattern_->SwingOf(current).end_s + stance_.Config().dynamic_walk.preview.preview_s;
   int committed = 0;
   for (int i = current + 1; i <= last && pattern_->SwingOf(i).start_s < horizon_s; ++i) ++committed;
   return committed;
@@ -296,15 +262,16 @@ SwingTrajectory PlanController::PlanSwing(int index, const Eigen::Vector3d& foot
   // The path the planner checked: from the previous state's foothold to the new one, the base at
   // the step's pose, started where the foot really is (a few millimetres off, at most). A plan
   // that carries no swing is walked on the path the stance rules plan from the same footholds.
+  if (Dynamic()) return DynamicSwing(stance_, plan_, index).StartingAt(foot_W);
   const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
   const std::size_t i = static_cast<std::size_t>(target.moving_leg);
   if (target.HasSwing()) {
-    return SwingTrajectory::Given(foot_W, target.feet[i].position, target.swing_apex_z, target.swing_bow, SwingPath());
+    return SwingTrajectory::Given(foot_W, target.feet[i].position, target.swing_apex_z, target.swing_bow, stance_.Config().swing);
   }
   const WholeBodyState& before = plan_.states[static_cast<std::size_t>(index - 1)];
   const SwingTrajectory planned = stance_.PlanSwing(static_cast<Leg>(target.moving_leg), before.feet[i].position,
                                                     target.feet[i].position, BasePose(target), target.joints);
-  return Dynamic() ? planned.StartingAt(foot_W).Retimed(SwingPath()) : planned.StartingAt(foot_W);
+  return planned.StartingAt(foot_W);
 }
 
 void PlanController::FinishStep(const Measured& m) {

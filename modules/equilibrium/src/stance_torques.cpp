@@ -19,12 +19,14 @@ std::vector<StanceFoot> StanceFeet(const std::array<FootContact, kNumLegs>& feet
 
 StanceTorques ComputeStanceTorques(const RobotModel& robot, const Eigen::Isometry3d& base_W, const JointVector& q,
                                    const std::vector<StanceFoot>& feet, const Eigen::Vector3d& com_W,
-                                   const ForceDistributionParams& params) {
+                                   const ForceDistributionParams& params, const Eigen::Vector3d& com_acceleration_W) {
   StanceTorques out;
   const double weight_N = robot.TotalMass() * kGravity;
-  const Wrench weight = (Wrench() << 0, 0, weight_N, 0, 0, 0).finished();
-  out.forces = DistributeWrench(feet, com_W, weight, params);
-  const Wrench residual = out.forces.achieved - weight;
+  // The feet carry the weight and accelerate the CoM.
+  Wrench load = Wrench::Zero();
+  load.head<3>() = robot.TotalMass() * (com_acceleration_W + Eigen::Vector3d(0, 0, kGravity));
+  out.forces = DistributeWrench(feet, com_W, load, params);
+  const Wrench residual = out.forces.achieved - load;
   out.balanced = !feet.empty() && residual.head<3>().norm() <= 0.02 * weight_N &&
                  residual.tail<3>().norm() <= 0.02 * weight_N * 0.1;
   const Eigen::Matrix3d R_BW = base_W.linear().transpose();

@@ -491,6 +491,7 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
   const int after_next = static_cast<int>(continuation.states.size()) - 1;
   const int kept = std::clamp(steps_committed, 0, after_next);
   const auto take = [&](ContactPlan plan, const std::string& how) {
+    planner_.TimeWalk(&plan);  // its steps' times were the earlier plan's
     next.result = ContactPlanResult{};
     next.result.ok = true;
     next.result.status = ContactPlanStatus::kOk;
@@ -521,6 +522,7 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
     states.insert(states.end(), fresh->plan.states.begin() + 1, fresh->plan.states.end());
     fresh->plan.states = std::move(states);
     fresh->steps = static_cast<int>(fresh->plan.states.size()) - 1;
+    planner_.TimeWalk(&fresh->plan, &fresh->stats);
   }
   const auto progress = [&](const WholeBodyState& s) {
     double offset = 0.0;

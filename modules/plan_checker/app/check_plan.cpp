@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
       if (static_cast<int>(report.violations.size()) < report.violation_count) {
         std::cout << "... and " << report.violation_count - static_cast<int>(report.violations.size()) << " more\n";
       }
+      for (const auto& v : report.walk_violations) {
+        std::cout << "state " << v.state << ": " << v.check << ": " << v.detail << "\n";
+      }
       std::cout << scenario.name << ": " << report.Summary() << std::endl;
     }
     return report.ok ? 0 : 1;

@@ -17,6 +17,7 @@
 #include "rbcp/equilibrium/static_equilibrium.h"
 #include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/core/angle.h"
+#include "rbcp/stance/dynamic_walk.h"
 #include "rbcp/stance/stance_checker.h"
 
 namespace rbcp {
@@ -156,6 +157,11 @@ class PlanChecker {
       if (lift_off) CheckShift(i, plan.states[k - 1], state);
       if (lift_off && collision_ && lift_off->ik.ok()) CheckSwing(i, plan.states[k - 1], state, *lift_off);
     }
+    if (const auto bad = TimingProblem(plan)) {
+      sink_.Add(0, "timing", *bad);
+    } else if (plan.Timed()) {
+      CheckWalk(plan);
+    }
   }
 
  private:
@@ -173,6 +179,23 @@ class PlanChecker {
     const Leg swing = kAllLegs[static_cast<std::size_t>(state.moving_leg)];
     const Eigen::Vector3d foot_B = BasePose(state).inverse() * previous.feet[static_cast<std::size_t>(Index(swing))].position;
     return LiftOff{swing, foot_B, robot_.SolveLegIk(swing, foot_B)};
+  }
+
+  void CheckWalk(const ContactPlan& plan) {
+    for (const WholeBodyState& s : plan.states) {
+      if (&s != &plan.states.front() && (s.moving_leg < 0 || s.moving_leg >= kNumLegs)) return;  // "one_leg"
+    }
+    report_->timed = true;
+    PatternStart rest;
+    const WholeBodyState& first = plan.states.front();
+    rest.com.position = (BasePose(first) * robot_.CenterOfMass(first.joints)).head<2>();
+    const WalkingPattern pattern = DynamicWalkPattern(stance_, plan, rest);
+    for (std::size_t i = 1; i < plan.states.size(); ++i) {
+      const DynamicStepCheck c = CheckDynamicStep(stance_, plan, pattern, static_cast<int>(i));
+      report_->min_zmp_margin_m = std::min(report_->min_zmp_margin_m, c.min_zmp_margin_m);
+      report_->max_walk_torque_Nm = std::max(report_->max_walk_torque_Nm, c.max_torque_Nm);
+      if (!c.verdict.ok()) report_->walk_violations.push_back({static_cast<int>(i), "walk", c.verdict.Describe()});
+    }
   }
 
   void CheckSurfaces(int i, const WholeBodyState& state) {
@@ -563,6 +586,11 @@ void PlanCheckConfig::Validate() const {
 std::string PlanCheckReport::Summary() const {
   std::string metrics = "min robustness " + Num(min_robustness_N, 2) + " N, max torque " + Num(max_torque_Nm, 2) +
                         " N m, min support margin " + Num(min_support_margin_m, 4) + " m";
+  if (timed) {
+    metrics += "; its dynamic walk: " + std::to_string(walk_violations.size()) + " of " + std::to_string(states - 1) +
+               " steps fail a check, min ZMP margin " + Num(min_zmp_margin_m, 4) + " m, max torque " +
+               Num(max_walk_torque_Nm, 2) + " N m";
+  }
   if (ok) return "plan passes: " + std::to_string(states) + " states, " + metrics;
   std::vector<std::string> checks;
   for (const auto& v : violations) {
@@ -610,7 +638,18 @@ nlohmann::json PlanCheckReportToJson(const PlanCheckReport& report) {
       {"violations", std::move(violations)},
       {"min_robustness_N", FiniteOrNull(report.min_robustness_N)},
       {"max_torque_Nm", FiniteOrNull(report.max_torque_Nm)},
-      {"min_support_margin_m", FiniteOrNull(report.min_support_margin_m)}};
+      {"min_support_margin_m", FiniteOrNull(report.min_support_margin_m)},
+      {"walk", nullptr}};
+  if (report.timed) {
+    nlohmann::json walk_violations = nlohmann::json::array();
+    for (const auto& v : report.walk_violations) {
+      walk_violations.push_back({{"state", v.state}, {"check", v.check}, {"detail", v.detail}});
+    }
+    j["walk"] = {{"ok", report.walk_violations.empty()},
+                 {"violations", std::move(walk_violations)},
+                 {"min_zmp_margin_m", FiniteOrNull(report.min_zmp_margin_m)},
+                 {"max_torque_Nm", FiniteOrNull(report.max_walk_torque_Nm)}};
+  }
   AddSchemaKeys(j);
   return j;
 }

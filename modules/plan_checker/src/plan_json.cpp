@@ -104,7 +104,7 @@ class StateReader {
   WholeBodyState Read(const json& value) const {
     WholeBodyState state;
     Object(value, "");
-    RequireKeys(value, "", {"base", "joints", "feet", "moving_leg"}, {"swing"});
+    RequireKeys(value, "", {"base", "joints", "feet", "moving_leg"}, {"swing", "timing"});
 
     const json& base = Object(value["base"], "'base'");
     RequireKeys(base, "'base'", {"position", "rpy"});
@@ -141,6 +141,15 @@ class StateReader {
       if (!apex.is_number() || !std::isfinite(apex.get<double>())) Fail("'swing'.'apex_z'", "a finite number", apex);
       state.swing_apex_z = apex.get<double>();
       state.swing_bow = Numbers<2>(swing["bow"], "'swing'.'bow'");
+    }
+    if (value.contains("timing") && !value["timing"].is_null()) {
+      const json& timing = Object(value["timing"], "'timing'");
+      RequireKeys(timing, "'timing'", {"lift_off_s", "touch_down_s"});
+      for (const auto& [key, field] : {std::pair{"lift_off_s", &state.lift_off_s}, {"touch_down_s", &state.touch_down_s}}) {
+        const json& time = timing[key];
+        if (!time.is_number() || !std::isfinite(time.get<double>())) Fail("'timing'.'" + std::string(key) + "'", "a finite number", time);
+        *field = time.get<double>();
+      }
     }
     return state;
   }
@@ -180,6 +189,7 @@ json ContactPlanToJson(const ContactPlan& plan) {
     if (state.HasSwing()) {
       out["swing"] = json{{"apex_z", state.swing_apex_z}, {"bow", json::array({state.swing_bow.x(), state.swing_bow.y()})}};
     }
+    if (state.HasTiming()) out["timing"] = json{{"lift_off_s", state.lift_off_s}, {"touch_down_s", state.touch_down_s}};
     states.push_back(std::move(out));
   }
   return states;
@@ -192,6 +202,7 @@ ContactPlan ContactPlanFromJson(const json& states) {
   ContactPlan plan;
   plan.states.reserve(states.size());
   for (std::size_t i = 0; i < states.size(); ++i) plan.states.push_back(StateReader(i).Read(states[i]));
+  if (auto bad = TimingProblem(plan)) throw InputError("contact plan: timing: " + *bad);
   return plan;
 }
 

@@ -36,6 +36,10 @@ ContactPlan AwkwardPlan() {
       s.swing_apex_z = 1.0 / 7.0 + i;
       s.swing_bow = Eigen::Vector2d(uniform(rng), -0.0);
     }
+    if (i > 0) {  // every step timed
+      s.lift_off_s = 0.1 * i + 1.0 / 3.0;
+      s.touch_down_s = 0.1 * i + 0.4;
+    }
     plan.states.push_back(s);
   }
   return plan;
@@ -61,6 +65,10 @@ void ExpectBitwiseEqual(const ContactPlan& a, const ContactPlan& b) {
     if (s.HasSwing() && t.HasSwing()) {
       EXPECT_TRUE(same(s.swing_apex_z, t.swing_apex_z)) << i;
       EXPECT_TRUE(same(s.swing_bow.x(), t.swing_bow.x()) && same(s.swing_bow.y(), t.swing_bow.y())) << i;
+    }
+    EXPECT_EQ(s.HasTiming(), t.HasTiming()) << i;
+    if (s.HasTiming() && t.HasTiming()) {
+      EXPECT_TRUE(same(s.lift_off_s, t.lift_off_s) && same(s.touch_down_s, t.touch_down_s)) << i;
     }
   }
 }
@@ -169,7 +177,7 @@ INSTANTIATE_TEST_SUITE_P(
         Corruption{"missing_joints", [](json& j) { j[2].erase("joints"); },
                    "state 2: expected a key 'joints', got an object without it"},
         Corruption{"unknown_key", [](json& j) { j[1]["velocity"] = 0; },
-                   "state 1: expected only the keys base, joints, feet, moving_leg, swing (optional), got an unknown key 'velocity'"},
+                   "state 1: expected only the keys base, joints, feet, moving_leg, swing (optional), timing (optional), got an unknown key 'velocity'"},
         Corruption{"short_joints", [](json& j) { j[3]["joints"].erase(0); },
                    "state 3: 'joints': expected an array of 12 numbers, got an array of 11 elements"},
         Corruption{"string_joint", [](json& j) { j[3]["joints"][4] = "0.5"; },
@@ -196,6 +204,14 @@ INSTANTIATE_TEST_SUITE_P(
                    "state 2: expected a key 'moving_leg', got an object without it"},
         Corruption{"state_not_object", [](json& j) { j[1] = true; },
                    "state 1: expected an object, got a boolean (true)"},
+        Corruption{"timing_missing_key", [](json& j) { j[2]["timing"].erase("touch_down_s"); },
+                   "state 2: 'timing': expected a key 'touch_down_s', got an object without it"},
+        Corruption{"timing_nan", [](json& j) { j[2]["timing"]["lift_off_s"] = "nan"; },
+                   "state 2: 'timing'.'lift_off_s': expected a finite number"},
+        Corruption{"timing_backwards", [](json& j) { j[3]["timing"]["lift_off_s"] = 0.0; },
+                   "contact plan: timing: state 3: expected lift-off at or after 0.600 s"},
+        Corruption{"timing_partial", [](json& j) { j[4].erase("timing"); },
+                   "contact plan: timing: some steps are timed and others not"},
         Corruption{"overflow", [](json& j) { j[0]["joints"][0] = std::numeric_limits<double>::infinity(); },
                    "state 0: 'joints'[0]: expected a finite number"}),
     [](const ::testing::TestParamInfo<Corruption>& info) { return std::string(info.param.name); });

@@ -134,15 +134,22 @@ StanceVerdict StanceChecker::Support(const FootContacts& feet, int skip, const E
 
 StanceVerdict StanceChecker::Torques(const Eigen::Isometry3d& base_W, const JointVector& q, const FootContacts& feet,
                                      int skip, const Eigen::Vector3d& com_W, double* max_abs_Nm) const {
+  return Torques(base_W, q, feet, skip, com_W, Eigen::Vector3d::Zero(), max_abs_Nm);
+}
+
+StanceVerdict StanceChecker::Torques(const Eigen::Isometry3d& base_W, const JointVector& q, const FootContacts& feet,
+                                     int skip, const Eigen::Vector3d& com_W, const Eigen::Vector3d& com_acceleration_W,
+                                     double* max_abs_Nm) const {
   ForceDistributionParams params;
   params.friction = rules_.friction;
   params.min_normal_force_N = Config().min_normal_force_N;
-  const StanceTorques t = ComputeStanceTorques(*robot_, base_W, q, StanceFeet(feet, skip), com_W, params);
+  const StanceTorques t =
+      ComputeStanceTorques(*robot_, base_W, q, StanceFeet(feet, skip), com_W, params, com_acceleration_W);
   if (max_abs_Nm != nullptr) *max_abs_Nm = t.balanced ? t.max_abs_Nm : std::numeric_limits<double>::infinity();
   if (!t.balanced) return Fail(StanceCheck::kBalance, "the feet's friction cones cannot hold the weight");
   if (t.max_abs_Nm > TorqueCeiling()) {
     return Fail(StanceCheck::kTorque,
-                JointName(t.worst_joint) + " static torque " + FixedNumber(t.max_abs_Nm, 1) + " N m, above " +
+                JointName(t.worst_joint) + (com_acceleration_W.isZero() ? " static torque " : " torque ") + FixedNumber(t.max_abs_Nm, 1) + " N m, above " +
                     FixedNumber(TorqueCeiling(), 1) + " N m",
                 static_cast<Leg>(t.worst_joint / kJointsPerLeg));
   }

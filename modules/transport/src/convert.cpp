@@ -197,6 +197,8 @@ rbcp_msgs::contact_plan_t ToContactPlanMsg(const ContactPlan& plan, int64_t utim
     out.swing_apex_z = s.swing_apex_z;
     out.swing_bow[0] = s.swing_bow.x();
     out.swing_bow[1] = s.swing_bow.y();
+    out.lift_off_s = s.lift_off_s;
+    out.touch_down_s = s.touch_down_s;
     msg.states.push_back(out);
   }
   return msg;
@@ -247,8 +249,11 @@ ContactPlan FromContactPlanMsg(const rbcp_msgs::contact_plan_t& msg) {
       s.swing_apex_z = in.swing_apex_z;
       s.swing_bow = bow;
     }
+    s.lift_off_s = in.lift_off_s;
+    s.touch_down_s = in.touch_down_s;
     plan.states.push_back(s);
   }
+  if (auto bad = TimingProblem(plan)) throw InputError("contact plan: timing: " + *bad);
   return plan;
 }
 

@@ -88,7 +88,7 @@ const WireLayout kRootPath{"root_path_t",
                             Array("points", "num_points", kRootPathPointBytes)}};
 
 constexpr int64_t kWholeBodyStateBytes =
-    3 * kDouble + 3 * kDouble + 12 * kDouble + 12 * kDouble + 12 * kDouble + kInt8 + kDouble + 2 * kDouble;
+    3 * kDouble + 3 * kDouble + 12 * kDouble + 12 * kDouble + 12 * kDouble + kInt8 + kDouble + 2 * kDouble + 2 * kDouble;
 const WireLayout kContactPlan{"contact_plan_t",
                               {Bytes("utime", kInt64), Bytes("request_id", kInt64), Bytes("terrain_id", kInt64),
                                Bytes("plan_seq", kInt64),

@@ -161,6 +161,35 @@ TEST(Convert, APlanStateCarriesItsSwing) {
   EXPECT_THROW(FromContactPlanMsg(msg), InputError);
 }
 
+TEST(Convert, APlanStateCarriesItsTiming) {
+  ContactPlan plan;
+  plan.states.resize(3);
+  for (int i = 1; i <= 2; ++i) {
+    plan.states[static_cast<std::size_t>(i)].moving_leg = i;
+    plan.states[static_cast<std::size_t>(i)].lift_off_s = 0.6 * i;
+    plan.states[static_cast<std::size_t>(i)].touch_down_s = 0.6 * i + 0.4;
+  }
+  const ContactPlan back = FromContactPlanMsg(ToContactPlanMsg(plan, 1, 1, 5));
+  ASSERT_TRUE(back.Timed());
+  EXPECT_EQ(back.states[2].lift_off_s, 1.2);
+  EXPECT_EQ(back.states[2].touch_down_s, 1.6);
+  EXPECT_TRUE(std::isnan(back.states[0].lift_off_s));
+  auto msg = ToContactPlanMsg(plan, 1, 1, 5);
+  msg.states[2].lift_off_s = 0.9;  // before the previous touch-down
+  EXPECT_THROW(FromContactPlanMsg(msg), InputError);
+  msg = ToContactPlanMsg(plan, 1, 1, 5);
+  msg.states[1].touch_down_s = std::numeric_limits<double>::quiet_NaN();  // half timed
+  EXPECT_THROW(FromContactPlanMsg(msg), InputError);
+  msg = ToContactPlanMsg(plan, 1, 1, 5);
+  msg.states[2].lift_off_s = msg.states[2].touch_down_s = std::numeric_limits<double>::quiet_NaN();  // one step untimed
+  EXPECT_THROW(FromContactPlanMsg(msg), InputError);
+  msg = ToContactPlanMsg(plan, 1, 1, 5);
+  msg.states[0].lift_off_s = 0.0;  // the first state is where the plan starts
+  EXPECT_THROW(FromContactPlanMsg(msg), InputError);
+  plan.ClearTiming();
+  EXPECT_FALSE(FromContactPlanMsg(ToContactPlanMsg(plan, 1, 1, 5)).Timed());
+}
+
 TEST(Convert, AffordanceRoundTripAndValidation) {
   AffordanceSurface s;
   s.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};

@@ -120,6 +120,8 @@ struct ContactPlanStats {
   int swing_checks = 0;          ///< swing paths planned and checked (footholds that passed every other test)
   int backtracks = 0;            ///< steps undone
   int steps_merged = 0;          ///< steps removed from the found plan by step merging
+  int walk_steps_slowed = 0;     ///< steps the dynamic walk's timing slowed (TimeDynamicWalk)
+  int walk_steps_failing = 0;    ///< steps whose dynamic walk still fails its check at that timing
 
   /// Leg evaluations (keep checks and candidates evaluated): the work that
   /// ContactPlannerConfig::retry.max_evaluations bounds.
@@ -141,7 +143,8 @@ struct ContactPlanStats {
   static constexpr int ContactPlanStats::*kCounters[] = {
       &ContactPlanStats::keep_checks,   &ContactPlanStats::step_attempts,         &ContactPlanStats::candidates,
       &ContactPlanStats::candidates_evaluated, &ContactPlanStats::stability_evaluations, &ContactPlanStats::swing_checks,
-      &ContactPlanStats::backtracks,    &ContactPlanStats::steps_merged};
+      &ContactPlanStats::backtracks,    &ContactPlanStats::steps_merged,          &ContactPlanStats::walk_steps_slowed,
+      &ContactPlanStats::walk_steps_failing};
 };
 
 struct ContactPlanResult {
@@ -208,6 +211,12 @@ class ContactPlanner {
   /// The standing stance at a base pose: for each leg, the best foothold near the reference foot
   /// position below the hip; kNoStartStance when none is valid. Requires SetTerrain().
   StanceResult StandingStance(const Eigen::Vector3d& base_position_W, double yaw);
+
+  /// Times every step of `plan` for the dynamic walk and checks the walk it implies
+  /// (TimeDynamicWalk with the planner's stance rules and terrain); adds the steps it slowed and
+  /// those still failing to *stats (optional). Every plan the planner returns is timed so; a plan
+  /// assembled from pieces is timed again with this.
+  void TimeWalk(ContactPlan* plan, ContactPlanStats* stats = nullptr) const;
 
   /// The stance of a measured state, for PlanHorizon: the base pose as given and each foot's
   /// contact point (world frame, e.g. by forward kinematics of the measured joints) moved to the

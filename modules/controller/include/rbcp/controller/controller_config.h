@@ -7,8 +7,6 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "rbcp/controller/walking_pattern.h"
-#include "rbcp/controller/zmp_preview.h"
 #include "rbcp/core/config_fields.h"
 #include "rbcp/core/yaml_reader.h"
 
@@ -99,47 +97,11 @@ inline const EnumNames<WalkMode>& WalkModeNames() {
   return names;
 }
 
-/// The dynamic walk's clock and its ZMP preview (mode: dynamic). The keys of its gait phases and
-/// of its preview sit in the same map as its swing's.
-struct DynamicWalkConfig {
-  GaitPhases gait = [] {
-    GaitPhases g;
-    g.start_s = 0.6;
-    g.four_foot_s = 0.15;
-    g.zmp_speed_mps = 0.6;
-    g.base_rise_mps = 0.3;
-    g.base_turn_radps = 1.0;
-    g.final_s = 0.6;
-    g.zmp_margin_m = 0.05;
-    return g;
-  }();
-  double swing_speed_mps = 1.2;
-  double min_swing_s = 0.3;
-  ZmpPreviewSettings preview = [] {
-    ZmpPreviewSettings p;
-    p.time_step_s = 0.005;
-    p.preview_s = 1.6;
-    p.q_error = 1.0;
-    p.r_jerk = 1e-6;
-    return p;
-  }();
-
-  template <class Visitor>
-  void Serialize(Visitor* v) {
-    gait.Serialize(v);
-    v->Visit("swing_speed_mps", &swing_speed_mps, "m/s", bounds::Positive(),
-             "peak foot speed of a swing along the plan's swing path");
-    v->Visit("min_swing_s", &min_swing_s, "s", bounds::Positive().AtMost(60.0), "shortest swing");
-    preview.Serialize(v);
-  }
-};
-
 struct ControllerConfig {
   WalkMode mode = WalkMode::kStatic;
   BaseMotionConfig base;
   SwingConfig swing;
   StanceLegConfig stance;
-  DynamicWalkConfig dynamic;
 
   template <class Visitor>
   void Serialize(Visitor* v) {
@@ -148,7 +110,6 @@ struct ControllerConfig {
     v->Visit("base", &base, "how the trunk moves between steps and how it is held");
     v->Visit("swing", &swing, "the swing of a foot");
     v->Visit("stance", &stance, "the legs on the ground");
-    v->Visit("dynamic", &dynamic, "the dynamic walk (mode: dynamic)");
   }
 
   static ControllerConfig Load(const YamlMap& map) { return LoadConfig<ControllerConfig>(map); }

@@ -47,14 +47,14 @@
 #include <string>
 
 #include "rbcp/controller/controller_config.h"
-#include "rbcp/controller/walking_pattern.h"
-#include "rbcp/equilibrium/force_distribution.h"
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/core/triangle_mesh.h"
+#include "rbcp/equilibrium/force_distribution.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/robot/robot_state.h"
 #include "rbcp/stance/stance_checker.h"
 #include "rbcp/stance/swing_trajectory.h"
+#include "rbcp/stance/walking_pattern.h"
 
 namespace rbcp {
 
@@ -191,8 +191,6 @@ class PlanController {
   /// The base's min-jerk segment to (p, q), over exactly `duration`.
   void MoveBaseOver(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double t, double duration);
   bool Dynamic() const { return config_.mode == WalkMode::kDynamic; }
-  /// Dynamic walk: the swing path's timing (the stance rules' path at the dynamic swing speed).
-  SwingPathConfig SwingPath() const;
   /// Dynamic walk: the pattern of the current plan, from the pattern's CoM where one is being
   /// walked, else from the measured CoM at rest.
   void StartPattern(const Measured& m);

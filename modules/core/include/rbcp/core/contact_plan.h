@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "rbcp/core/leg.h"
@@ -30,11 +32,23 @@ struct WholeBodyState {
   double swing_apex_z = std::numeric_limits<double>::quiet_NaN();
   Eigen::Vector2d swing_bow = Eigen::Vector2d::Zero();
   bool HasSwing() const { return std::isfinite(swing_apex_z); }
-  /// This state as the first of a plan: no leg stepped to reach it, so no swing either.
+  /// When the dynamic walk lifts moving_leg off and puts it down to reach this state [s from the
+  /// plan's start] (TimeWalk, stance/walking_pattern.h): the timing the planner checked the step
+  /// with. NaN: untimed (the first state, or a plan without timing, which the controller times by
+  /// the same rules).
+  double lift_off_s = std::numeric_limits<double>::quiet_NaN();
+  double touch_down_s = std::numeric_limits<double>::quiet_NaN();
+  bool HasTiming() const { return std::isfinite(lift_off_s) && std::isfinite(touch_down_s); }
+  /// This state as the first of a plan: no leg stepped to reach it, so no swing and no timing.
   void MarkAsStart() {
     moving_leg = -1;
     swing_apex_z = std::numeric_limits<double>::quiet_NaN();
     swing_bow.setZero();
+    ClearTiming();
+  }
+  void ClearTiming() {
+    lift_off_s = std::numeric_limits<double>::quiet_NaN();
+    touch_down_s = std::numeric_limits<double>::quiet_NaN();
   }
 };
 
@@ -42,6 +56,23 @@ struct ContactPlan {
   std::vector<WholeBodyState> states;  ///< from the start state to the goal state
   /// The last state stands at the goal; false for a receding-horizon piece that stops short of it.
   bool reaches_goal = true;
+  /// Every step (states 1..n) carries its timing.
+  bool Timed() const {
+    if (states.size() < 2) return false;
+    for (std::size_t i = 1; i < states.size(); ++i) {
+      if (!states[i].HasTiming()) return false;
+    }
+    return true;
+  }
+  /// Drops every step's timing (a plan whose steps changed).
+  void ClearTiming() {
+    for (WholeBodyState& s : states) s.ClearTiming();
+  }
 };
+
+/// What is wrong with a plan's timing, if anything: each step timed or none; the first state
+/// untimed; every step's lift-off at or after the previous touch-down (the first at or after 0)
+/// and before its own touch-down, all within a day.
+std::optional<std::string> TimingProblem(const ContactPlan& plan);
 
 }  // namespace rbcp

@@ -20,4 +20,8 @@ Eigen::Isometry3d PoseFromRpy(const Eigen::Vector3d& position, const Eigen::Vect
 /// Base pose of a state (base to world): PoseFromRpy(base_position, base_rpy).
 Eigen::Isometry3d BasePose(const WholeBodyState& state);
 
+/// The minimum-jerk blend from 0 to 1 at u in [0, 1] (rest to rest), and its rate d/du.
+inline double MinJerk(double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); }
+inline double MinJerkRate(double u) { return 30.0 * u * u * (1.0 - u) * (1.0 - u); }
+
 }  // namespace rbcp

@@ -32,9 +32,11 @@ struct StanceTorques {
 std::vector<StanceFoot> StanceFeet(const std::array<FootContact, kNumLegs>& feet, int skip);
 
 /// Torques of the stance `feet` (contact points and normals, world frame) with the base at
-/// `base_W`, joint angles `q` (only the stance legs' are read) and the CoM at `com_W`.
+/// `base_W`, joint angles `q` (only the stance legs' are read) and the CoM at `com_W`, accelerating
+/// at `com_acceleration_W` (the feet then push m (a - g); zero: standing still).
 StanceTorques ComputeStanceTorques(const RobotModel& robot, const Eigen::Isometry3d& base_W, const JointVector& q,
                                    const std::vector<StanceFoot>& feet, const Eigen::Vector3d& com_W,
-                                   const ForceDistributionParams& params);
+                                   const ForceDistributionParams& params,
+                                   const Eigen::Vector3d& com_acceleration_W = Eigen::Vector3d::Zero());
 
 }  // namespace rbcp

@@ -67,7 +67,7 @@ class RunRecord {
 
   /// The plan the robot walked: the first walked plan's first state, then the states of each plan
   /// for the steps walked while it was the robot's plan (CONTROLLER_STATUS's plan_seq and
-  /// steps_done).
+  /// steps_done). Untimed: each piece was timed from its own start.
   /// Throws InputError when a walked plan was not received; with `missing`, such a plan's steps
   /// are left out instead (the plan then jumps there) and *missing names each one.
   ContactPlan ExecutedPlan(std::vector<std::string>* missing = nullptr) const;

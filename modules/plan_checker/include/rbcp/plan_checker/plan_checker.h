@@ -44,6 +44,14 @@
 ///    footholds): the foot within reach, no shape of the leg on the terrain (the foot sphere with a
 ///    stance foot's tolerance: the path keeps it swing.terrain_clearance_m above the terrain over
 ///    its middle), none on the trunk or another leg.
+///  - "timing" (state 0): the steps' lift-off and touch-down times are consistent (TimingProblem).
+///
+/// A timed plan (ContactPlan::Timed) is also checked along the dynamic walk its timing implies,
+/// from rest (CheckDynamicStep, stance/dynamic_walk.h): at poses every 40 ms from the previous
+/// touch-down to the step's own, the ZMP inside the support polygon, every stance foot in reach,
+/// the trunk and the stance legs clear of the terrain (with the stance rules' clearances), the
+/// stance torques with the CoM's acceleration within the stance rules' ceiling. Its findings
+/// ("walk") are reported apart: the plan's verdict is about its own states and steps.
 
 #include <nlohmann/json.hpp>
 
@@ -125,6 +133,14 @@ struct PlanCheckReport {
   double max_torque_Nm = 0.0;
   /// Smallest CoM margin in a stance triangle over all swings [m] (+infinity without a swing).
   double min_support_margin_m = std::numeric_limits<double>::infinity();
+  /// The plan carries its steps' timing, and its dynamic walk was checked.
+  bool timed = false;
+  /// The steps whose dynamic walk fails a check (check "walk", detail CheckDynamicStep's verdict).
+  std::vector<PlanViolation> walk_violations;
+  /// Of a timed plan's walk: the least margin of its ZMP inside the support polygon [m] and the
+  /// largest stance torque with the CoM's acceleration [N m].
+  double min_zmp_margin_m = std::numeric_limits<double>::infinity();
+  double max_walk_torque_Nm = 0.0;
 
   /// One line: "plan passes: 9 states, min robustness 14.2 N, ..." or "plan fails: 3
   /// violations in 9 states (stability, torque); ...".
@@ -145,7 +161,9 @@ PlanCheckReport CheckPlanForScenario(const std::string& config_dir, const Scenar
                                      const ContactPlan& plan);
 
 /// The report as JSON: {ok, states, violation_count, violations: [{state, check, detail}],
-/// min_robustness_N, max_torque_Nm, min_support_margin_m}; infinite values are written as null.
+/// min_robustness_N, max_torque_Nm, min_support_margin_m, walk}; walk is null for an untimed
+/// plan, else {ok, violations, min_zmp_margin_m, max_torque_Nm}; infinite values are written as
+/// null.
 nlohmann::json PlanCheckReportToJson(const PlanCheckReport& report);
 
 }  // namespace rbcp

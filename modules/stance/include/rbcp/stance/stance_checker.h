@@ -115,6 +115,10 @@ class StanceChecker {
   /// (optional) receives the largest |torque|, +inf when unbalanced.
   StanceVerdict Torques(const Eigen::Isometry3d& base_W, const JointVector& q, const FootContacts& feet, int skip,
                         const Eigen::Vector3d& com_W, double* max_abs_Nm = nullptr) const;
+  /// The same for a CoM accelerating at com_acceleration_W: the feet push m (a - g).
+  StanceVerdict Torques(const Eigen::Isometry3d& base_W, const JointVector& q, const FootContacts& feet, int skip,
+                        const Eigen::Vector3d& com_W, const Eigen::Vector3d& com_acceleration_W,
+                        double* max_abs_Nm = nullptr) const;
   /// The stance before `lifting` lifts off: the trunk and the stance legs clear of the terrain
   /// with their clearances, the lifting leg with its exact shapes (its knee rises from there),
   /// no self-collision. A stance leg on the terrain is the verdict's leg. Requires HasTerrain().

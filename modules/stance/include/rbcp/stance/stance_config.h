@@ -8,6 +8,7 @@
 #include "rbcp/core/config_fields.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/equilibrium/config.h"
+#include "rbcp/stance/gait_config.h"
 
 namespace rbcp {
 
@@ -44,6 +45,7 @@ struct StanceConfig {
   double trunk_clearance_m = 0.01;
   int transit_checks = 6;
   SwingPathConfig swing;
+  DynamicWalkConfig dynamic_walk;
 
   template <class Visitor>
   void Serialize(Visitor* v) {
@@ -64,6 +66,8 @@ struct StanceConfig {
     v->Visit("transit_checks", &transit_checks, "", bounds::AtLeast(1),
              "intermediate base poses checked while the base moves from one state's pose to the next");
     v->Visit("swing", &swing, "the path of a swinging foot");
+    v->Visit("dynamic_walk", &dynamic_walk,
+             "the clock of the dynamic walk, which times every step of a plan (the controller's mode dynamic)");
   }
 
   static StanceConfig Load(const YamlMap& map) { return LoadConfig<StanceConfig>(map); }

@@ -76,6 +76,13 @@ class SwingTrajectory {
     return s;
   }
 
+  /// The same path lasting duration_s (> 0): a swing timed by its plan.
+  SwingTrajectory Lasting(double duration_s) const {
+    SwingTrajectory s = *this;
+    s.duration_s_ = duration_s;
+    return s;
+  }
+
   double Duration() const { return duration_s_; }
   /// Phase in [0, 1] after t [s] of swing.
   double Phase(double t) const;

@@ -1,4 +1,4 @@
-#include "rbcp/controller/zmp_preview.h"
+#include "rbcp/stance/zmp_preview.h"
 
 #include <cmath>
 #include <string>

@@ -1,6 +1,6 @@
 // The walking pattern of a crawl: support phases on a clock, the ZMP reference, and a CoM that
 // moves while the legs swing with its ZMP inside the support.
-#include "rbcp/controller/walking_pattern.h"
+#include "rbcp/stance/walking_pattern.h"
 
 #include <gtest/gtest.h>
 

@@ -19,8 +19,8 @@
 
 namespace rbcp {
 
-/// The sampling and the cost of ZMP preview control: what a controller configures
-/// (DynamicWalkConfig); the pendulum's height comes with each plan.
+/// The sampling and the cost of ZMP preview control: part of the dynamic walk's
+/// configuration (DynamicWalkConfig); the pendulum's height comes with each plan.
 struct ZmpPreviewSettings {
   double time_step_s = 0.0;
   double preview_s = 0.0;

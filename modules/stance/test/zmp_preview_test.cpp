@@ -1,6 +1,6 @@
 // ZMP preview control of the cart-table model: the CoM moves ahead of a step of the reference so
 // that the ZMP follows it.
-#include "rbcp/controller/zmp_preview.h"
+#include "rbcp/stance/zmp_preview.h"
 
 #include <gtest/gtest.h>
 

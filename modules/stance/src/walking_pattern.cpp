@@ -1,4 +1,4 @@
-#include "rbcp/controller/walking_pattern.h"
+#include "rbcp/stance/walking_pattern.h"
 
 #include <algorithm>
 #include <cmath>
@@ -125,6 +125,8 @@ Eigen::Vector2d WalkingPattern::ZmpReferenceAt(double t) const {
   return Lerp(zmp_reference, Bracket(t, time_step_s, zmp_reference.size()));
 }
 
+Eigen::Vector2d WalkingPattern::ZmpAt(double t) const { return Lerp(com.zmp, Bracket(t, time_step_s, com.zmp.size())); }
+
 double WalkingPattern::MinZmpMargin() const {
   double least = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < com.zmp.size(); ++k) {
@@ -152,6 +154,10 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
   if (!timing.step_swing_s.empty() && timing.step_swing_s.size() + 1 != plan.states.size()) {
     throw InputError("walking pattern: expected a swing duration per step (" + std::to_string(plan.states.size() - 1) +
                      "), got " + std::to_string(timing.step_swing_s.size()));
+  }
+  if (!timing.step_shift_s.empty() && timing.step_shift_s.size() + 1 != plan.states.size()) {
+    throw InputError("walking pattern: expected a four-foot duration per step (" + std::to_string(plan.states.size() - 1) +
+                     "), got " + std::to_string(timing.step_shift_s.size()));
   }
   if (!start.step_com.empty() && start.step_com.size() + 1 != plan.states.size()) {
     throw InputError("walking pattern: expected a CoM per step (" + std::to_string(plan.states.size() - 1) + "), got " +
@@ -191,7 +197,10 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     // Four feet down as long as the ZMP needs to reach the next triangle (across the diagonal
     // between two swings on opposite sides, a few centimetres along one side).
     const double move_s = (target - knots.back().second).norm() / timing.zmp_speed_mps;
-    const double shift_s = std::max({timing.four_foot_s, move_s, BaseMoveS(before, plan.states[i], timing)});
+    const double given_shift = timing.step_shift_s.empty() ? std::numeric_limits<double>::quiet_NaN() : timing.step_shift_s[i - 1];
+    const double shift_s = i > 1 && !std::isnan(given_shift)
+                               ? given_shift
+                               : std::max({timing.four_foot_s, move_s, BaseMoveS(before, plan.states[i], timing)});
     const double four_foot_s = i > 1 ? shift_s : start.zmp ? start.hold_s + shift_s : timing.start_s;
     pattern.phases.push_back(MakePhase(t, four_foot_s, -1, state, four));
     t += four_foot_s;

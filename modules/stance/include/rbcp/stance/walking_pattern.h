@@ -24,45 +24,12 @@
 
 #include <Eigen/Core>
 
-#include "rbcp/controller/zmp_preview.h"
+#include "rbcp/stance/gait_config.h"
+#include "rbcp/stance/zmp_preview.h"
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/stance/stance_config.h"
 
 namespace rbcp {
-
-/// How long the four-foot phases of a walk last and where its ZMP reference keeps: what a
-/// controller configures (DynamicWalkConfig); the swings' own durations come with each plan
-/// (GaitTiming).
-struct GaitPhases {
-  double start_s = 0.0;
-  double four_foot_s = 0.0;
-  double zmp_speed_mps = 0.0;
-  double base_rise_mps = 0.0;
-  double base_turn_radps = 0.0;
-  double final_s = 0.0;
-  double zmp_margin_m = 0.0;
-
-  template <class Visitor>
-  void Serialize(Visitor* v) {
-    const Bounds duration = bounds::Positive().AtMost(60.0);
-    v->Visit("start_s", &start_s, "s", duration, "four feet down from rest before the first swing of a plan");
-    v->Visit("four_foot_s", &four_foot_s, "s", duration,
-             "four feet down between two swings, at least: the ZMP moves to the next support triangle, the leg "
-             "that touched down loads and the next one unloads");
-    v->Visit("zmp_speed_mps", &zmp_speed_mps, "m/s", bounds::Positive(),
-             "four feet stay down as long as the ZMP reference takes to reach the next support triangle at this speed");
-    v->Visit("base_rise_mps", &base_rise_mps, "m/s", bounds::Positive(),
-             "and as long as the base takes to reach the next step's height at this peak speed (a min-jerk move)");
-    v->Visit("base_turn_radps", &base_turn_radps, "rad/s", bounds::Positive(),
-             "and its attitude at this peak rate (a leg swings with the base at the height and attitude it was "
-             "planned at)");
-    v->Visit("final_s", &final_s, "s", duration,
-             "after a plan's last step the ZMP moves to where the CoM comes to rest in four_foot_s, then stays "
-             "there this long");
-    v->Visit("zmp_margin_m", &zmp_margin_m, "m", bounds::Closed(0.0, 1.0),
-             "distance the ZMP reference keeps from the support triangle's edges");
-  }
-};
 
 /// How long each phase of a step lasts: the gait's phases and each swing's duration.
 struct GaitTiming : GaitPhases {
@@ -71,6 +38,11 @@ struct GaitTiming : GaitPhases {
   /// takes along the swing path the plan carries (PlannedSwingDurations); empty, or NaN for a step:
   /// swing_s.
   std::vector<double> step_swing_s;
+  /// Per step likewise: the four-foot phase before its swing [s], e.g. a timed plan's (from its
+  /// previous touch-down to its lift-off). Empty, or NaN for a step, and always for the first
+  /// step (its four-foot phase is start_s from rest, the hold and the shift of a walk going on):
+  /// as long as the ZMP and the base need, at least four_foot_s.
+  std::vector<double> step_shift_s;
 
   template <class Visitor>
   void Serialize(Visitor* v) {
@@ -79,6 +51,9 @@ struct GaitTiming : GaitPhases {
     v->Visit("swing_s", &swing_s, "s", duration, "one leg in the air, where step_swing_s gives none");
     for (double s : step_swing_s) {
       v->Rule("step_swing_s", std::isnan(s) || duration.Holds(s), "NaN or a duration in (0, 60] s", ConfigNumber(s));
+    }
+    for (double s : step_shift_s) {
+      v->Rule("step_shift_s", std::isnan(s) || duration.Holds(s), "NaN or a duration in (0, 60] s", ConfigNumber(s));
     }
   }
   /// Throws InputError for a field outside its bounds.
@@ -113,6 +88,8 @@ struct WalkingPattern {
   ComState ComAt(double t) const;
   /// The ZMP reference at time t, likewise.
   Eigen::Vector2d ZmpReferenceAt(double t) const;
+  /// The ZMP of the CoM trajectory at time t, likewise.
+  Eigen::Vector2d ZmpAt(double t) const;
   /// The least signed distance of the CoM trajectory's ZMP to its support polygon over every
   /// sample [m]: positive when the ZMP never leaves the support.
   double MinZmpMargin() const;
