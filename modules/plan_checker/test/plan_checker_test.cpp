@@ -8,6 +8,7 @@
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
 #include "rbcp/core/pose.h"
+#include "rbcp/stance/dynamic_walk.h"
 
 namespace rbcp {
 namespace {
@@ -461,6 +462,45 @@ TEST_F(PlanCheckerTest, ReportAsJson) {
   const nlohmann::json one = PlanCheckReportToJson(Check(single));
   EXPECT_EQ(one["ok"], true);
   EXPECT_TRUE(one["min_support_margin_m"].is_null());  // no swing: +infinity
+}
+
+TEST_F(PlanCheckerTest, ATimedPlanIsCheckedAlongItsDynamicWalk) {
+  StanceChecker stance(world.robot, world.config.stance);
+  stance.SetTerrain(&world.scenario.terrain_mesh);
+  TimeDynamicWalk(stance, &plan);
+  ASSERT_TRUE(plan.Timed());
+  const PlanCheckReport report = Check(plan);
+  EXPECT_TRUE(report.ok) << Describe(report);
+  EXPECT_TRUE(report.timed);
+  EXPECT_TRUE(report.walk_violations.empty()) << report.walk_violations.front().detail;
+  EXPECT_GT(report.min_zmp_margin_m, 0.0);
+  EXPECT_LT(report.min_zmp_margin_m, 0.5);
+  EXPECT_GT(report.max_walk_torque_Nm, 1.0);
+  const nlohmann::json j = PlanCheckReportToJson(report);
+  EXPECT_EQ(j["walk"]["ok"], true);
+  EXPECT_TRUE(j["walk"]["min_zmp_margin_m"].is_number());
+
+  // The walk's torques are held to the stance rules' ceiling: below what the walk asks, the walk
+  // fails, while the plan's own states (held to the actuators' limit) still pass.
+  PlanCheckConfig strict = world.config;
+  strict.stance.config.torque_limit_fraction = 0.5 * report.max_walk_torque_Nm / world.robot.ContinuousTorqueLimit();
+  const PlanCheckReport strained = Check(plan, strict);
+  EXPECT_TRUE(strained.ok) << Describe(strained);
+  ASSERT_FALSE(strained.walk_violations.empty()) << strained.Summary();
+  EXPECT_EQ(strained.walk_violations.front().check, "walk");
+  EXPECT_NE(strained.walk_violations.front().detail.find("torque"), std::string::npos);
+  EXPECT_NE(strained.Summary().find("steps fail a check"), std::string::npos) << strained.Summary();
+
+  // A lift-off before the previous touch-down is no clock at all.
+  ContactPlan backwards = plan;
+  backwards.states[3].lift_off_s = backwards.states[2].lift_off_s;
+  const PlanCheckReport bad = Check(backwards);
+  EXPECT_FALSE(bad.ok);
+  EXPECT_TRUE(Has(bad, 0, "timing")) << Describe(bad);
+  EXPECT_FALSE(bad.timed);
+
+  // An untimed plan has no walk to check.
+  EXPECT_TRUE(PlanCheckReportToJson(Check(BuildFlatGroundPlan(world.robot)))["walk"].is_null());
 }
 
 TEST(PlanCheckerScenarioTest, CheckPlanForScenarioMatchesCheckPlan) {
