@@ -158,6 +158,41 @@ void BM_ContactPlan(benchmark::State& state, const std::string& name) {
   state.counters["max_evaluations"] = max_evaluations;
 }
 
+/// Timing a whole plan for the dynamic walk and checking its walk (ContactPlanner::TimeWalk, part
+/// of every Plan above): per plan, and the steps it slowed or found failing, over seed 1's plan.
+void BM_TimeDynamicWalk(benchmark::State& state, const std::string& name) {
+  const Prepared& prepared = Prepare(name);
+  ContactPlanner planner(Robot(), Database(), EquilibriumConfig::LoadFile(kConfigDir + "/equilibrium.yaml"),
+                         ContactPlannerConfig::LoadFile(kConfigDir + "/contact_planner.yaml"),
+                         StanceConfig::LoadFile(kConfigDir + "/stance.yaml"));
+  planner.SetTerrain(prepared.scenario.terrain_mesh, prepared.surfaces);
+  if (prepared.paths.empty()) {
+    state.SkipWithError("no root path");
+    return;
+  }
+  const ContactPlanResult r = planner.Plan(prepared.paths.front());
+  if (!r.ok) {
+    state.SkipWithError(r.reason.c_str());
+    return;
+  }
+  ContactPlanStats stats;
+  for (auto _ : state) {
+    ContactPlan plan = r.plan;
+    stats = ContactPlanStats{};
+    planner.TimeWalk(&plan, &stats);
+    benchmark::DoNotOptimize(plan.states.back().touch_down_s);
+  }
+  state.counters["steps"] = r.steps;
+  state.counters["per_step"] = benchmark::Counter(static_cast<double>(state.iterations()) * r.steps,
+                                                  benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["steps_slowed"] = stats.walk_steps_slowed;
+  state.counters["steps_failing"] = stats.walk_steps_failing;
+}
+
+BENCHMARK_CAPTURE(BM_TimeDynamicWalk, flat_ground, std::string("flat_ground"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TimeDynamicWalk, darpa_rubble, std::string("darpa_rubble"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TimeDynamicWalk, paper_plinth, std::string("paper_plinth"))->Unit(benchmark::kMillisecond);
+
 BENCHMARK_CAPTURE(BM_ContactPlan, flat_ground, std::string("flat_ground"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_ContactPlan, slalom_debris, std::string("slalom_debris"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_ContactPlan, plinth, std::string("plinth"))->Unit(benchmark::kMillisecond)->Iterations(1);

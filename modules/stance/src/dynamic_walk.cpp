@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "rbcp/core/error.h"
@@ -50,9 +51,9 @@ std::vector<double> CheckTimes(const WalkingPattern& pattern, int index) {
 
 /// The joints that put every foot of `feet` but `skip` where it is with the base at base_W,
 /// into *q (the skip leg's joints are left as they are): within the joint bounds, each knee bent
-/// at least the robot's margin (away from the stretched leg's singularity). The walk goes
-/// between the plan's poses, so the stance margins of the planner's hip distances, which allow
-/// for a base off its plan pose, are not asked for. Empty when solved, else what is out of reach.
+/// at least the robot's margin (away from the stretched leg's singularity). The planner's
+/// hip-distance margins, which allow for a base tracked a centimetre off its plan pose, are not
+/// asked for: these poses are the walk itself. Empty when solved, else what is out of reach.
 std::string SolveWalkStance(const RobotModel& robot, const Eigen::Isometry3d& base_W, const FootContacts& feet,
                             int skip, JointVector* q) {
   const Eigen::Isometry3d T_BW = base_W.inverse();
@@ -131,6 +132,9 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
   const double shift_begin = index == 1 ? 0.0 : pattern.SwingOf(index - 1).end_s;
   const Eigen::Quaterniond q_from(RotationFromRpy(from.base_rpy));
   const Eigen::Quaterniond q_to(RotationFromRpy(to.base_rpy));
+  const SwingTrajectory path = DynamicSwing(checker, plan, index);
+  const double start_z = path.Position(0.0).z();
+  const double end_z = to.feet[static_cast<std::size_t>(lifting)].position.z();
 
   DynamicStepCheck out;
   for (double t : CheckTimes(pattern, index)) {
@@ -171,6 +175,18 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
       fail(StanceCheck::kReach, unreachable);
       continue;
     }
+    // The swinging foot on its path, once it is 2 cm above the foothold it rises from, or then
+    // descends to (as the planner checks the leg along the path: SwingTrajectory::LegCheckPoints).
+    std::optional<Eigen::Vector3d> swing_q;
+    if (swinging) {
+      const double along = (t - swing.start_s) * path.Duration() / (swing.end_s - swing.start_s);
+      const Eigen::Vector3d foot_W = path.Position(along);
+      const IkResult ik = robot.SolveLegIk(static_cast<Leg>(lifting), base.inverse() * foot_W);
+      if (foot_W.z() > (path.Phase(along) <= 0.5 ? start_z : end_z) + 0.02) {
+        if (!ik.ok()) fail(StanceCheck::kSwingTerrain, "the swinging foot beyond its leg's reach");
+        else swing_q = ik.q;
+      }
+    }
     if (checker.HasTerrain()) {
       CollisionReport hit = checker.TerrainCollision().CheckTrunk(base);
       for (Leg leg : kAllLegs) {
@@ -178,6 +194,10 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
         if (Index(leg) != skip) hit = checker.TerrainCollision().CheckLeg(leg, base, LegJoints(q, leg), true);
       }
       if (hit.collision) fail(StanceCheck::kCollision, hit.first_shape + " on the terrain");
+      if (swing_q) {
+        const CollisionReport leg_hit = checker.TerrainCollision().CheckLeg(static_cast<Leg>(lifting), base, *swing_q, true);
+        if (leg_hit.collision) fail(StanceCheck::kSwingTerrain, leg_hit.first_shape + " on the terrain as it swings");
+      }
     }
     const Eigen::Vector3d com_W = base * robot.CenterOfMass(q);
     double torque = 0.0;

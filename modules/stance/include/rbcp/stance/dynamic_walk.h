@@ -46,8 +46,9 @@ struct DynamicStepCheck {
 
 /// Checks step `index` (1..n) of `plan` along `pattern` (DynamicWalkPattern's), every 40 ms from
 /// the previous touch-down to the step's own: the pattern's ZMP inside the support polygon; every
-/// stance foot in reach; the trunk and the stance legs clear of the terrain (with a terrain);
-/// the stance torques, the feet pushing the CoM along its acceleration, below the ceiling.
+/// stance foot in reach; the trunk and the stance legs clear of the terrain, and the swinging leg
+/// once its foot is 2 cm off the ground (with a terrain, and the stance rules' clearances); the
+/// stance torques, the feet pushing the CoM along its acceleration, below the ceiling.
 DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPlan& plan, const WalkingPattern& pattern,
                                   int index);
 
