@@ -64,8 +64,8 @@ namespace {
 /// Interpolation step of a RootPath handed to Plan() [s].
 constexpr double kRootPathSampling = 0.01;
 
-void TimeWalkOf(const StanceChecker& stance, ContactPlan* plan, ContactPlanStats* stats) {
-  const std::vector<DynamicStepCheck> checks = TimeDynamicWalk(stance, plan);
+void TimeWalkOf(const StanceChecker& stance, ContactPlan* plan, ContactPlanStats* stats, int keep_steps = 0) {
+  const std::vector<DynamicStepCheck> checks = TimeDynamicWalk(stance, plan, keep_steps);
   if (stats == nullptr) return;
   for (const DynamicStepCheck& c : checks) {
     if (c.slowdowns > 0) ++stats->walk_steps_slowed;
@@ -302,10 +302,10 @@ StanceResult StanceFound(WholeBodyState state) {
 
 }  // namespace
 
-void ContactPlanner::TimeWalk(ContactPlan* plan, ContactPlanStats* stats) const {
+void ContactPlanner::TimeWalk(ContactPlan* plan, ContactPlanStats* stats, int keep_steps) const {
   RBCP_CHECK(plan != nullptr, "a plan to time");
   if (plan->states.size() < 2) return;
-  TimeWalkOf(impl_->ctx().stance, plan, stats);
+  TimeWalkOf(impl_->ctx().stance, plan, stats, keep_steps);
 }
 
 StanceResult ContactPlanner::StandingStance(const Eigen::Vector3d& base_position_W, double yaw) {

@@ -491,7 +491,8 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
   const int after_next = static_cast<int>(continuation.states.size()) - 1;
   const int kept = std::clamp(steps_committed, 0, after_next);
   const auto take = [&](ContactPlan plan, const std::string& how) {
-    planner_.TimeWalk(&plan);  // its steps' times were the earlier plan's
+    // The earlier search's steps, on the clock the walk prepared for: their durations stay.
+    planner_.TimeWalk(&plan, nullptr, plan.Timed() ? static_cast<int>(plan.states.size()) - 1 : 0);
     next.result = ContactPlanResult{};
     next.result.ok = true;
     next.result.status = ContactPlanStatus::kOk;
@@ -522,7 +523,7 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
     states.insert(states.end(), fresh->plan.states.begin() + 1, fresh->plan.states.end());
     fresh->plan.states = std::move(states);
     fresh->steps = static_cast<int>(fresh->plan.states.size()) - 1;
-    planner_.TimeWalk(&fresh->plan, &fresh->stats);
+    planner_.TimeWalk(&fresh->plan, &fresh->stats, continuation.Timed() ? kept : 0);  // the committed steps' durations stay
   }
   const auto progress = [&](const WholeBodyState& s) {
     double offset = 0.0;

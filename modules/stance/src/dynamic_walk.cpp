@@ -209,44 +209,74 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
   return out;
 }
 
-std::vector<DynamicStepCheck> TimeDynamicWalk(const StanceChecker& checker, ContactPlan* plan) {
+std::vector<DynamicStepCheck> TimeDynamicWalk(const StanceChecker& checker, ContactPlan* plan, int keep_steps) {
   RBCP_CHECK(plan != nullptr, "a plan to time");
-  plan->ClearTiming();
   const std::size_t steps = plan->states.size() - 1;
-  // The pace of every step: its phases' durations at the dynamic walk's own pace, then slowed.
+  const std::size_t kept = static_cast<std::size_t>(std::clamp(keep_steps, 0, static_cast<int>(steps)));
+  // The kept steps' durations: each one's four-foot phase and swing.
+  std::vector<std::pair<double, double>> given;
+  for (std::size_t i = 1; i <= kept; ++i) {
+    const WholeBodyState& s = plan->states[i];
+    if (!s.HasTiming() || (i > 1 && !plan->states[i - 1].HasTiming())) {
+      throw InputError("dynamic walk: step " + std::to_string(i) + " is to keep its timing but has none");
+    }
+    given.emplace_back(i > 1 ? s.lift_off_s - plan->states[i - 1].touch_down_s : 0.0, s.touch_down_s - s.lift_off_s);
+  }
+  plan->ClearTiming();
+  // The other steps' phases at the dynamic walk's own pace, then slowed.
   PatternStart rest;
   rest.com.position = StateCom(checker.Robot(), plan->states.front()).head<2>();
   const WalkingPattern nominal = DynamicWalkPattern(checker, *plan, rest);
   std::vector<int> slowdowns(steps, 0);
   std::vector<DynamicStepCheck> checks(steps);
-  for (int round = 0;; ++round) {
-    // Time the plan at the current paces.
+  const auto time_and_check = [&] {
     double t = 0.0;
     for (std::size_t i = 1; i <= steps; ++i) {
-      const double k = std::pow(kSlowdown, slowdowns[i - 1]);
       const SupportPhase& swing = nominal.SwingOf(static_cast<int>(i));
-      const double shift_s = swing.start_s - (i == 1 ? 0.0 : nominal.SwingOf(static_cast<int>(i) - 1).end_s);
+      double shift_s = swing.start_s - (i == 1 ? 0.0 : nominal.SwingOf(static_cast<int>(i) - 1).end_s);
+      double swing_s = swing.end_s - swing.start_s;
+      if (i <= kept) {
+        if (i > 1) shift_s = given[i - 1].first;  // the first step's four-foot phase is the walk's start
+        swing_s = given[i - 1].second;
+      } else {
+        const double k = std::pow(kSlowdown, slowdowns[i - 1]);
+        if (i > 1) shift_s *= k;
+        swing_s *= k;
+      }
       WholeBodyState& s = plan->states[i];
-      s.lift_off_s = t + (i == 1 ? shift_s : k * shift_s);
-      s.touch_down_s = s.lift_off_s + k * (swing.end_s - swing.start_s);
+      s.lift_off_s = t + shift_s;
+      s.touch_down_s = s.lift_off_s + swing_s;
       t = s.touch_down_s;
     }
     const WalkingPattern pattern = DynamicWalkPattern(checker, *plan, rest);
-    for (std::size_t i = 1; i <= steps; ++i) {
-      checks[i - 1] = CheckDynamicStep(checker, *plan, pattern, static_cast<int>(i));
-    }
+    for (std::size_t i = 1; i <= steps; ++i) checks[i - 1] = CheckDynamicStep(checker, *plan, pattern, static_cast<int>(i));
+  };
+  const auto pace_fails = [&](std::size_t i) {
+    const StanceCheck c = checks[i].verdict.check;
+    return c == StanceCheck::kTorque || c == StanceCheck::kBalance || c == StanceCheck::kSupport;
+  };
+  for (int round = 0;; ++round) {
+    time_and_check();
     if (round == kMaxSlowdowns) break;
     bool slowed = false;
-    for (std::size_t i = 0; i < steps; ++i) {
-      const StanceCheck c = checks[i].verdict.check;
-      const bool pace_matters = c == StanceCheck::kTorque || c == StanceCheck::kBalance || c == StanceCheck::kSupport;
-      if (pace_matters && slowdowns[i] < kMaxSlowdowns) {
+    for (std::size_t i = kept; i < steps; ++i) {
+      if (pace_fails(i) && slowdowns[i] < kMaxSlowdowns) {
         ++slowdowns[i];
         slowed = true;
       }
     }
     if (!slowed) break;
   }
+  // A step no slower pace cured keeps its own: a slow step is not free (its leg hangs in the
+  // air, its CoM waits on three feet).
+  bool reverted = false;
+  for (std::size_t i = kept; i < steps; ++i) {
+    if (pace_fails(i) && slowdowns[i] > 0) {
+      slowdowns[i] = 0;
+      reverted = true;
+    }
+  }
+  if (reverted) time_and_check();
   for (std::size_t i = 0; i < steps; ++i) checks[i].slowdowns = slowdowns[i];
   return checks;
 }

@@ -215,8 +215,9 @@ class ContactPlanner {
   /// Times every step of `plan` for the dynamic walk and checks the walk it implies
   /// (TimeDynamicWalk with the planner's stance rules and terrain); adds the steps it slowed and
   /// those still failing to *stats (optional). Every plan the planner returns is timed so; a plan
-  /// assembled from pieces is timed again with this.
-  void TimeWalk(ContactPlan* plan, ContactPlanStats* stats = nullptr) const;
+  /// assembled from pieces is timed again with this, its first `keep_steps` steps keeping their
+  /// durations (TimeDynamicWalk). Throws InputError for a kept step without timing.
+  void TimeWalk(ContactPlan* plan, ContactPlanStats* stats = nullptr, int keep_steps = 0) const;
 
   /// The stance of a measured state, for PlanHorizon: the base pose as given and each foot's
   /// contact point (world frame, e.g. by forward kinematics of the measured joints) moved to the

@@ -54,9 +54,13 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
 
 /// Times every step of `plan` (at least two states) for the dynamic walk from rest and checks
 /// the walk: a step whose check fails on torque, balance or support is slowed (its swing and
-/// four-foot phase 1.5 times longer, at most three times), since a slower CoM accelerates less.
-/// Writes each step's lift-off and touch-down into the plan; returns every step's check at its
-/// final timing (a step may still fail: reach and collisions do not depend on the pace).
-std::vector<DynamicStepCheck> TimeDynamicWalk(const StanceChecker& checker, ContactPlan* plan);
+/// four-foot phase 1.5 times longer, at most three times), since a slower CoM accelerates less;
+/// a step no slower pace cures keeps its own pace. The first `keep_steps` steps keep the
+/// durations of their swings and of the four-foot phases between them from the plan's timing
+/// (which they must have): steps a walk already prepares for. Writes each step's lift-off and
+/// touch-down into the plan; returns every step's check at its final timing (a step may still
+/// fail: reach and collisions do not depend on the pace). Throws InputError for a kept step
+/// without timing.
+std::vector<DynamicStepCheck> TimeDynamicWalk(const StanceChecker& checker, ContactPlan* plan, int keep_steps = 0);
 
 }  // namespace rbcp
