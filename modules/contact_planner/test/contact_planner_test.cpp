@@ -161,6 +161,40 @@ TEST(ContactPlannerTest, AClockTooFastForTheCoMIsSlowedWhereTheFeetCannotHoldIt)
   EXPECT_GT(plan.states.back().touch_down_s, hurried.SwingOf(static_cast<int>(plan.states.size()) - 1).end_s);
 }
 
+TEST(ContactPlannerTest, StepsAWalkPreparesForKeepTheirClockWhenAPlanIsTimedAgain) {
+  const World& world = ScenarioWorld("flat_ground");
+  const RootPlanResult& root = ScenarioRootPath("flat_ground", 1);
+  ASSERT_TRUE(root.ok()) << root.reason;
+  ContactPlanner planner = MakePlanner(world);
+  ContactPlan plan = planner.Plan(root.path).plan;
+  ASSERT_GE(plan.states.size(), 6u);
+  // Steps 2 and 3 on another clock (as an earlier piece of plan timed them); the plan timed
+  // again keeping its first three steps keeps their durations and times the others anew.
+  ContactPlan given = plan;
+  for (std::size_t i = 2; i < given.states.size(); ++i) {
+    const double later = i <= 3 ? 0.2 * static_cast<double>(i - 1) : 0.6;  // each step 0.2 s later
+    given.states[i].lift_off_s += later - (i <= 3 ? 0.1 : 0.0);
+    given.states[i].touch_down_s += later;
+  }
+  ASSERT_FALSE(TimingProblem(given).has_value());
+  ContactPlan kept = given;
+  planner.TimeWalk(&kept, nullptr, 3);
+  ContactPlan fresh = given;
+  planner.TimeWalk(&fresh);
+  const auto swing = [](const ContactPlan& p, std::size_t i) { return p.states[i].touch_down_s - p.states[i].lift_off_s; };
+  const auto shift = [](const ContactPlan& p, std::size_t i) { return p.states[i].lift_off_s - p.states[i - 1].touch_down_s; };
+  for (std::size_t i = 1; i <= 3; ++i) {
+    EXPECT_NEAR(swing(kept, i), swing(given, i), 1e-9) << i;
+    if (i > 1) EXPECT_NEAR(shift(kept, i), shift(given, i), 1e-9) << i;
+  }
+  EXPECT_NEAR(swing(fresh, 2), swing(plan, 2), 1e-9);  // timed anew: the planner's own clock
+  for (std::size_t i = 4; i < plan.states.size(); ++i) EXPECT_NEAR(swing(kept, i), swing(plan, i), 1e-9) << i;
+  // Keeping a step that has no timing is a caller's error.
+  ContactPlan untimed = plan;
+  untimed.ClearTiming();
+  EXPECT_THROW(planner.TimeWalk(&untimed, nullptr, 2), InputError);
+}
+
 TEST(ContactPlannerTest, SamePathGivesTheSamePlan) {
   const World& world = ScenarioWorld("flat_ground");
   const RootPlanResult& root = ScenarioRootPath("flat_ground", 2);
