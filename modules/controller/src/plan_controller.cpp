@@ -262,7 +262,7 @@ SwingTrajectory PlanController::PlanSwing(int index, const Eigen::Vector3d& foot
   // The path the planner checked: from the previous state's foothold to the new one, the base at
   // the step's pose, started where the foot really is (a few millimetres off, at most). A plan
   // that carries no swing is walked on the path the stance rules plan from the same footholds.
-  if (Dynamic()) return DynamicSwing(stance_, plan_, index).StartingAt(foot_W);
+  if (Dynamic()) return DynamicSwing(stance_, plan_, index, foot_W);
   const WholeBodyState& target = plan_.states[static_cast<std::size_t>(index)];
   const std::size_t i = static_cast<std::size_t>(target.moving_leg);
   if (target.HasSwing()) {

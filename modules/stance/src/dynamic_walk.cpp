@@ -71,20 +71,25 @@ std::string SolveWalkStance(const RobotModel& robot, const Eigen::Isometry3d& ba
 
 }  // namespace
 
-SwingTrajectory DynamicSwing(const StanceChecker& checker, const ContactPlan& plan, int index) {
+SwingTrajectory DynamicSwing(const StanceChecker& checker, const ContactPlan& plan, int index,
+                             const std::optional<Eigen::Vector3d>& start_W) {
   RBCP_CHECK(index >= 1 && static_cast<std::size_t>(index) < plan.states.size(), "a step of the plan");
   const WholeBodyState& to = plan.states[static_cast<std::size_t>(index)];
   const WholeBodyState& from = plan.states[static_cast<std::size_t>(index - 1)];
   RBCP_CHECK(to.moving_leg >= 0 && to.moving_leg < kNumLegs, "a step has a moving leg");
   const std::size_t leg = static_cast<std::size_t>(to.moving_leg);
   const SwingPathConfig path = DynamicSwingPath(checker.Config());
+  const Eigen::Vector3d start = start_W.value_or(from.feet[leg].position);
   const SwingTrajectory swing =
       to.HasSwing()
-          ? SwingTrajectory::Given(from.feet[leg].position, to.feet[leg].position, to.swing_apex_z, to.swing_bow, path)
+          ? SwingTrajectory::Given(start, to.feet[leg].position, to.swing_apex_z, to.swing_bow, path)
           : checker.PlanSwing(static_cast<Leg>(to.moving_leg), from.feet[leg].position, to.feet[leg].position,
                               BasePose(to), to.joints)
+                .StartingAt(start)
                 .Retimed(path);
-  return to.HasTiming() ? swing.Lasting(to.touch_down_s - to.lift_off_s) : swing;
+  // The plan's time, or longer where the path from where the foot really is needs more at the
+  // clock's peak foot speed (a foot that starts off its foothold: the walk then lags).
+  return to.HasTiming() ? swing.Lasting(std::max(swing.Duration(), to.touch_down_s - to.lift_off_s)) : swing;
 }
 
 WalkingPattern DynamicWalkPattern(const StanceChecker& checker, const ContactPlan& plan, PatternStart start) {

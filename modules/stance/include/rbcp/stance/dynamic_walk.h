@@ -12,6 +12,7 @@
 /// poses sampled along that motion; CheckStep (stance_checker.h) checks the plan's own poses.
 
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "rbcp/core/contact_plan.h"
@@ -22,8 +23,11 @@ namespace rbcp {
 
 /// The swing of plan state `index`'s moving leg as the dynamic walk walks it: the plan's path
 /// (without one, the path the stance rules plan from the same footholds with the base at the
-/// state's pose) at the dynamic walk's swing speed, lasting the plan's time for a timed step.
-SwingTrajectory DynamicSwing(const StanceChecker& checker, const ContactPlan& plan, int index);
+/// state's pose) at the dynamic walk's swing speed; a timed step's lasts the plan's time, or
+/// longer if the path needs more at that speed. `start_W`: where the foot really is when it
+/// lifts (a few millimetres off its foothold), the path's start; none: the foothold.
+SwingTrajectory DynamicSwing(const StanceChecker& checker, const ContactPlan& plan, int index,
+                             const std::optional<Eigen::Vector3d>& start_W = std::nullopt);
 
 /// The walking pattern of `plan` from `start`: the pendulum at the height of the first state's
 /// CoM above the mean height of its feet; every swing DynamicSwing's; the ZMP of a swing nearest
