@@ -147,9 +147,17 @@ class Bench {
     run.guides = r.root ? static_cast<int>(r.failed_guides.size()) + 1 : 0;
     run.steps = run.planned ? r.contact->steps : 0;
     if (run.planned) {
-      const PlanCheckReport check = CheckPlanForScenario(o_.config_dir, scenario, r.contact->plan);
-      run.checked = check.ok;
-      if (!check.ok) Say(name + ": check_plan: " + check.Summary());
+      try {
+        const PlanCheckReport check = CheckPlanForScenario(o_.config_dir, scenario, r.contact->plan);
+        run.checked = check.ok;
+        if (!check.ok) Say(name + ": check_plan: " + check.Summary());
+      } catch (const std::exception& e) {
+        // The checker reads the configuration again: a file changed or broken since the start.
+        run.failure = "error";
+        run.detail = std::string("check_plan: ") + e.what();
+        Say(name + ": FAILED " + run.detail);
+        return run;
+      }
     }
     TakeWalk(r, run);
     Say(name + ": " + (run.reached ? "goal reached" : "FAILED " + run.detail) + " (" + std::to_string(run.steps) +
