@@ -64,7 +64,10 @@ namespace {
 /// Interpolation step of a RootPath handed to Plan() [s].
 constexpr double kRootPathSampling = 0.01;
 
+/// A plan of at least one step timed for the dynamic walk (TimeDynamicWalk); its steps slowed and
+/// failing added to *stats (optional).
 void TimeWalkOf(const StanceChecker& stance, ContactPlan* plan, ContactPlanStats* stats, int keep_steps = 0) {
+  if (plan->states.size() < 2) return;
   const std::vector<DynamicStepCheck> checks = TimeDynamicWalk(stance, plan, keep_steps);
   if (stats == nullptr) return;
   for (const DynamicStepCheck& c : checks) {
@@ -155,7 +158,7 @@ struct ContactPlanner::Impl {
     }
     if (result.ok) {
       contact_planner_detail::AttachSwings(ctx(), result.plan.states);
-      if (result.plan.states.size() >= 2) TimeWalkOf(ctx().stance, &result.plan, &stats);
+      TimeWalkOf(ctx().stance, &result.plan, &stats);
     }
     result.planning_time_s = budget.Elapsed();
     result.stats = stats;
@@ -304,7 +307,6 @@ StanceResult StanceFound(WholeBodyState state) {
 
 void ContactPlanner::TimeWalk(ContactPlan* plan, ContactPlanStats* stats, int keep_steps) const {
   RBCP_CHECK(plan != nullptr, "a plan to time");
-  if (plan->states.size() < 2) return;
   TimeWalkOf(impl_->ctx().stance, plan, stats, keep_steps);
 }
 
@@ -396,7 +398,7 @@ ContactPlanResult ContactPlanner::MergeSteps(const ContactPlan& plan) {
   result.plan = plan;
   result.plan.states = contact_planner_detail::MergeSteps(impl_->ctx(), plan.states, &result.stats.steps_merged);
   contact_planner_detail::AttachSwings(impl_->ctx(), result.plan.states);
-  if (result.plan.states.size() >= 2) TimeWalkOf(impl_->ctx().stance, &result.plan, &result.stats);
+  TimeWalkOf(impl_->ctx().stance, &result.plan, &result.stats);
   result.ok = true;
   result.status = ContactPlanStatus::kOk;
   result.steps = static_cast<int>(result.plan.states.size()) - 1;

@@ -88,14 +88,6 @@ TEST(ContactPlannerTest, FlatGroundPlanReachesTheGoalAndPassesEveryCheck) {
   }
 }
 
-/// The plan's first CoM at rest: where the dynamic walk of a plan starts.
-PatternStart AtRest(const ContactPlan& plan) {
-  PatternStart rest;
-  const WholeBodyState& first = plan.states.front();
-  rest.com.position = (BasePose(first) * Robot().CenterOfMass(first.joints)).head<2>();
-  return rest;
-}
-
 TEST(ContactPlannerTest, APlanCarriesTheClockItsDynamicWalkFollows) {
   const World& world = ScenarioWorld("flat_ground");
   const RootPlanResult& root = ScenarioRootPath("flat_ground", 1);
@@ -109,7 +101,7 @@ TEST(ContactPlannerTest, APlanCarriesTheClockItsDynamicWalkFollows) {
   StanceChecker checker(Robot(), test::Rules());
   checker.SetTerrain(&world.terrain);
   // The walking pattern of the timed plan lifts and puts down every foot on the plan's clock.
-  const WalkingPattern pattern = DynamicWalkPattern(checker, plan, AtRest(plan));
+  const WalkingPattern pattern = DynamicWalkPattern(checker, plan, DynamicWalkAtRest(checker, plan));
   for (std::size_t i = 1; i < plan.states.size(); ++i) {
     const SupportPhase& swing = pattern.SwingOf(static_cast<int>(i));
     EXPECT_NEAR(swing.start_s, plan.states[i].lift_off_s, 1e-9) << i;
@@ -140,7 +132,7 @@ TEST(ContactPlannerTest, AClockTooFastForTheCoMIsSlowedWhereTheFeetCannotHoldIt)
            c.verdict.check == StanceCheck::kSupport;
   };
   plan.ClearTiming();
-  const WalkingPattern hurried = DynamicWalkPattern(checker, plan, AtRest(plan));
+  const WalkingPattern hurried = DynamicWalkPattern(checker, plan, DynamicWalkAtRest(checker, plan));
   int hurried_failures = 0;
   for (std::size_t i = 1; i < plan.states.size(); ++i) {
     const DynamicStepCheck c = CheckDynamicStep(checker, plan, hurried, static_cast<int>(i));
@@ -185,7 +177,9 @@ TEST(ContactPlannerTest, StepsAWalkPreparesForKeepTheirClockWhenAPlanIsTimedAgai
   const auto shift = [](const ContactPlan& p, std::size_t i) { return p.states[i].lift_off_s - p.states[i - 1].touch_down_s; };
   for (std::size_t i = 1; i <= 3; ++i) {
     EXPECT_NEAR(swing(kept, i), swing(given, i), 1e-9) << i;
-    if (i > 1) EXPECT_NEAR(shift(kept, i), shift(given, i), 1e-9) << i;
+    if (i > 1) {
+      EXPECT_NEAR(shift(kept, i), shift(given, i), 1e-9) << i;
+    }
   }
   EXPECT_NEAR(swing(fresh, 2), swing(plan, 2), 1e-9);  // timed anew: the planner's own clock
   for (std::size_t i = 4; i < plan.states.size(); ++i) EXPECT_NEAR(swing(kept, i), swing(plan, i), 1e-9) << i;

@@ -186,10 +186,7 @@ class PlanChecker {
       if (&s != &plan.states.front() && (s.moving_leg < 0 || s.moving_leg >= kNumLegs)) return;  // "one_leg"
     }
     report_->timed = true;
-    PatternStart rest;
-    const WholeBodyState& first = plan.states.front();
-    rest.com.position = (BasePose(first) * robot_.CenterOfMass(first.joints)).head<2>();
-    const WalkingPattern pattern = DynamicWalkPattern(stance_, plan, rest);
+    const WalkingPattern pattern = DynamicWalkPattern(stance_, plan, DynamicWalkAtRest(stance_, plan));
     for (std::size_t i = 1; i < plan.states.size(); ++i) {
       const DynamicStepCheck c = CheckDynamicStep(stance_, plan, pattern, static_cast<int>(i));
       report_->min_zmp_margin_m = std::min(report_->min_zmp_margin_m, c.min_zmp_margin_m);
@@ -626,27 +623,29 @@ PlanCheckReport CheckPlanForScenario(const std::string& config_dir, const Scenar
                    PlanCheckConfig::FromConfigs(robot, equilibrium, StanceRules::LoadFromDir(config_dir)));
 }
 
+namespace {
+
+nlohmann::json ViolationsJson(const std::vector<PlanViolation>& violations) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& v : violations) out.push_back({{"state", v.state}, {"check", v.check}, {"detail", v.detail}});
+  return out;
+}
+
+}  // namespace
+
 nlohmann::json PlanCheckReportToJson(const PlanCheckReport& report) {
-  nlohmann::json violations = nlohmann::json::array();
-  for (const auto& v : report.violations) {
-    violations.push_back({{"state", v.state}, {"check", v.check}, {"detail", v.detail}});
-  }
   nlohmann::json j = {{"ok", report.ok},
       {"states", report.states},  // the count (kept for compatibility), as state_count
       {"state_count", report.states},
       {"violation_count", report.violation_count},
-      {"violations", std::move(violations)},
+      {"violations", ViolationsJson(report.violations)},
       {"min_robustness_N", FiniteOrNull(report.min_robustness_N)},
       {"max_torque_Nm", FiniteOrNull(report.max_torque_Nm)},
       {"min_support_margin_m", FiniteOrNull(report.min_support_margin_m)},
       {"walk", nullptr}};
   if (report.timed) {
-    nlohmann::json walk_violations = nlohmann::json::array();
-    for (const auto& v : report.walk_violations) {
-      walk_violations.push_back({{"state", v.state}, {"check", v.check}, {"detail", v.detail}});
-    }
     j["walk"] = {{"ok", report.walk_violations.empty()},
-                 {"violations", std::move(walk_violations)},
+                 {"violations", ViolationsJson(report.walk_violations)},
                  {"min_zmp_margin_m", FiniteOrNull(report.min_zmp_margin_m)},
                  {"max_torque_Nm", FiniteOrNull(report.max_walk_torque_Nm)}};
   }

@@ -94,6 +94,11 @@ class StateReader {
     return out;
   }
 
+  double FiniteNumber(const json& value, const std::string& path) const {
+    if (!value.is_number() || !std::isfinite(value.get<double>())) Fail(path, "a finite number", value);
+    return value.get<double>();
+  }
+
   Leg LegName(const json& value, const std::string& path) const {
     if (value.is_string()) {
       if (auto leg = LegFromName(value.get<std::string>())) return *leg;
@@ -137,19 +142,14 @@ class StateReader {
     if (value.contains("swing") && !value["swing"].is_null()) {
       const json& swing = Object(value["swing"], "'swing'");
       RequireKeys(swing, "'swing'", {"apex_z", "bow"});
-      const json& apex = swing["apex_z"];
-      if (!apex.is_number() || !std::isfinite(apex.get<double>())) Fail("'swing'.'apex_z'", "a finite number", apex);
-      state.swing_apex_z = apex.get<double>();
+      state.swing_apex_z = FiniteNumber(swing["apex_z"], "'swing'.'apex_z'");
       state.swing_bow = Numbers<2>(swing["bow"], "'swing'.'bow'");
     }
     if (value.contains("timing") && !value["timing"].is_null()) {
       const json& timing = Object(value["timing"], "'timing'");
       RequireKeys(timing, "'timing'", {"lift_off_s", "touch_down_s"});
-      for (const auto& [key, field] : {std::pair{"lift_off_s", &state.lift_off_s}, {"touch_down_s", &state.touch_down_s}}) {
-        const json& time = timing[key];
-        if (!time.is_number() || !std::isfinite(time.get<double>())) Fail("'timing'.'" + std::string(key) + "'", "a finite number", time);
-        *field = time.get<double>();
-      }
+      state.lift_off_s = FiniteNumber(timing["lift_off_s"], "'timing'.'lift_off_s'");
+      state.touch_down_s = FiniteNumber(timing["touch_down_s"], "'timing'.'touch_down_s'");
     }
     return state;
   }

@@ -92,6 +92,13 @@ SwingTrajectory DynamicSwing(const StanceChecker& checker, const ContactPlan& pl
   return to.HasTiming() ? swing.Lasting(std::max(swing.Duration(), to.touch_down_s - to.lift_off_s)) : swing;
 }
 
+PatternStart DynamicWalkAtRest(const StanceChecker& checker, const ContactPlan& plan) {
+  RBCP_CHECK(!plan.states.empty(), "a plan with a first state");
+  PatternStart rest;
+  rest.com.position = StateCom(checker.Robot(), plan.states.front()).head<2>();
+  return rest;
+}
+
 WalkingPattern DynamicWalkPattern(const StanceChecker& checker, const ContactPlan& plan, PatternStart start) {
   if (plan.states.size() < 2) {
     throw InputError("dynamic walk: expected a plan of at least two states, got " + std::to_string(plan.states.size()));
@@ -186,8 +193,8 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
     if (swinging) {
       const double along = (t - swing.start_s) * path.Duration() / (swing.end_s - swing.start_s);
       const Eigen::Vector3d foot_W = path.Position(along);
-      const IkResult ik = robot.SolveLegIk(static_cast<Leg>(lifting), base.inverse() * foot_W);
       if (foot_W.z() > (path.Phase(along) <= 0.5 ? start_z : end_z) + 0.02) {
+        const IkResult ik = robot.SolveLegIk(static_cast<Leg>(lifting), base.inverse() * foot_W);
         if (!ik.ok()) fail(StanceCheck::kSwingTerrain, "the swinging foot beyond its leg's reach");
         else swing_q = ik.q;
       }
@@ -229,8 +236,7 @@ std::vector<DynamicStepCheck> TimeDynamicWalk(const StanceChecker& checker, Cont
   }
   plan->ClearTiming();
   // The other steps' phases at the dynamic walk's own pace, then slowed.
-  PatternStart rest;
-  rest.com.position = StateCom(checker.Robot(), plan->states.front()).head<2>();
+  const PatternStart rest = DynamicWalkAtRest(checker, *plan);
   const WalkingPattern nominal = DynamicWalkPattern(checker, *plan, rest);
   std::vector<int> slowdowns(steps, 0);
   std::vector<DynamicStepCheck> checks(steps);

@@ -33,7 +33,7 @@ struct WholeBodyState {
   Eigen::Vector2d swing_bow = Eigen::Vector2d::Zero();
   bool HasSwing() const { return std::isfinite(swing_apex_z); }
   /// When the dynamic walk lifts moving_leg off and puts it down to reach this state [s from the
-  /// plan's start] (TimeWalk, stance/walking_pattern.h): the timing the planner checked the step
+  /// plan's start] (TimeDynamicWalk, stance/dynamic_walk.h): the timing the planner checked the step
   /// with. NaN: untimed (the first state, or a plan without timing, which the controller times by
   /// the same rules).
   double lift_off_s = std::numeric_limits<double>::quiet_NaN();

@@ -29,6 +29,10 @@ namespace rbcp {
 SwingTrajectory DynamicSwing(const StanceChecker& checker, const ContactPlan& plan, int index,
                              const std::optional<Eigen::Vector3d>& start_W = std::nullopt);
 
+/// Where the dynamic walk of `plan` starts when the robot stands still: its CoM at rest over the
+/// first state's.
+PatternStart DynamicWalkAtRest(const StanceChecker& checker, const ContactPlan& plan);
+
 /// The walking pattern of `plan` from `start`: the pendulum at the height of the first state's
 /// CoM above the mean height of its feet; every swing DynamicSwing's; the ZMP of a swing nearest
 /// the CoM of the step's plan pose (start.step_com is set here); for a timed plan, the durations
