@@ -91,38 +91,64 @@ Eigen::Vector3d RobotModel::StaticTorques(Leg leg, const Eigen::Vector3d& q_leg,
   return -FootJacobian(leg, q_leg).transpose() * foot_force_base;
 }
 
-Eigen::Vector3d RobotModel::LegGravityTorques(Leg leg, const Eigen::Vector3d& q_leg,
-                                              const Eigen::Vector3d& gravity_base) const {
+RobotModel::LegBodies RobotModel::LegBodiesAt(Leg leg, const Eigen::Vector3d& q_leg) const {
   const LegChain& c = legs_[static_cast<std::size_t>(Index(leg))];
-  // Joint origins and axes, and the lumped mass and world CoM of each joint's child body.
-  std::array<Eigen::Vector3d, kJointsPerLeg> origin;
-  std::array<Eigen::Vector3d, kJointsPerLeg> axis;
-  std::array<Eigen::Vector3d, kJointsPerLeg> moment;  // m_k * c_k of child body k
-  std::array<double, kJointsPerLeg> mass{};
+  LegBodies b;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   for (int j = 0; j < kJointsPerLeg; ++j) {
     const std::size_t k = static_cast<std::size_t>(j);
     p += R * c.origin_translation[k];
     const Eigen::Matrix3d F = R * c.origin_rotation[k];
-    origin[k] = p;
-    axis[k] = F * c.axis[k];
+    b.origin[k] = p;
+    b.axis[k] = F * c.axis[k];
     R = F * AxisRotation(c.axis[k], q_leg[j]);
+    b.pose[k].linear() = R;
+    b.pose[k].translation() = p;
     const std::size_t body = static_cast<std::size_t>(1 + kJointsPerLeg * Index(leg) + j);
-    mass[k] = body_mass_[body];
-    moment[k] = body_mass_[body] * (p + R * body_com_[body]);
+    b.mass[k] = body_mass_[body];
+    b.com[k] = p + R * body_com_[body];
   }
+  return b;
+}
+
+Eigen::Vector3d RobotModel::LegGravityTorques(Leg leg, const Eigen::Vector3d& q_leg,
+                                              const Eigen::Vector3d& gravity_base) const {
+  const LegBodies b = LegBodiesAt(leg, q_leg);
   // The actuator of joint j cancels the gravity moment of every body it carries about its axis.
   Eigen::Vector3d tau = Eigen::Vector3d::Zero();
-  for (int j = 0; j < kJointsPerLeg; ++j) {
-    for (int k = j; k < kJointsPerLeg; ++k) {
-      const std::size_t jj = static_cast<std::size_t>(j);
-      const std::size_t kk = static_cast<std::size_t>(k);
-      const Eigen::Vector3d lever = moment[kk] - mass[kk] * origin[jj];  // m_k (c_k - p_j)
-      tau[j] -= axis[jj].dot(lever.cross(gravity_base));
+  for (std::size_t j = 0; j < b.axis.size(); ++j) {
+    for (std::size_t k = j; k < b.axis.size(); ++k) {
+      const Eigen::Vector3d lever = b.mass[k] * (b.com[k] - b.origin[j]);
+      tau[static_cast<int>(j)] -= b.axis[j].dot(lever.cross(gravity_base));
     }
   }
   return tau;
+}
+
+Eigen::Matrix3d RobotModel::LegMassMatrix(Leg leg, const Eigen::Vector3d& q_leg) const {
+  const LegBodies b = LegBodiesAt(leg, q_leg);
+  // M = sum over the leg's links of m J_v^T J_v + J_w^T I J_w, where joint j moves a link on
+  // body k >= j: its CoM at a_j x (c - o_j) and its frame at a_j per unit rate.
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  const int first_body = 1 + kJointsPerLeg * Index(leg);
+  for (std::size_t i = 0; i < placements_.size(); ++i) {
+    const int k = placements_[i].body - first_body;
+    if (k < 0 || k >= kJointsPerLeg) continue;
+    const RobotLink& link = links_[i];
+    const Eigen::Isometry3d pose = b.pose[static_cast<std::size_t>(k)] * placements_[i].body_to_link;
+    const Eigen::Vector3d c = pose * link.com;
+    Eigen::Matrix3d Jv = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d Jw = Eigen::Matrix3d::Zero();
+    for (int j = 0; j <= k; ++j) {
+      const std::size_t jj = static_cast<std::size_t>(j);
+      Jv.col(j) = b.axis[jj].cross(c - b.origin[jj]);
+      Jw.col(j) = b.axis[jj];
+    }
+    const Eigen::Matrix3d I = pose.linear() * link.inertia * pose.linear().transpose();
+    M += link.mass * Jv.transpose() * Jv + Jw.transpose() * I * Jw;
+  }
+  return M;
 }
 
 bool RobotModel::WithinJointBounds(Leg leg, const Eigen::Vector3d& q_leg) const {

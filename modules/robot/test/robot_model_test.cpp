@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <Eigen/Eigenvalues>
 #include <random>
 #include <set>
 
@@ -223,6 +224,44 @@ TEST(RobotModel, LegGravityTorquesAreThePotentialEnergyGradient) {
         const double vm = -Anymal().TotalMass() * Anymal().CenterOfMass(qm).dot(g);
         EXPECT_NEAR(tau[j], (vp - vm) / (2 * h), 1e-6) << LegName(leg) << " joint " << j;
       }
+    }
+  }
+}
+
+TEST(RobotModel, LegMassMatrixGivesTheLegsKineticEnergy) {
+  // 1/2 qd^T M qd against the kinetic energy of every link of the leg, its CoM's velocity and its
+  // frame's angular velocity by central differences of the link poses.
+  const RobotModel& m = Anymal();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-1.0, 1.0);
+  for (int trial = 0; trial < 10; ++trial) {
+    JointVector q = m.ReferenceConfiguration();
+    JointVector qd = JointVector::Zero();
+    for (int i = 0; i < kNumJoints; ++i) {
+      q[i] += 0.3 * angle(rng);
+      qd[i] = 3.0 * angle(rng);
+    }
+    for (Leg leg : kAllLegs) {
+      const Eigen::Matrix3d M = m.LegMassMatrix(leg, LegJoints(q, leg));
+      EXPECT_TRUE(M.isApprox(M.transpose(), 1e-12)) << LegName(leg);
+      EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(M).eigenvalues().minCoeff(), 0.0) << LegName(leg);
+      const double h = 1e-6;
+      JointVector qp = q, qm = q;
+      SetLegJoints(qp, leg, LegJoints(q, leg) + h * LegJoints(qd, leg));
+      SetLegJoints(qm, leg, LegJoints(q, leg) - h * LegJoints(qd, leg));
+      const std::vector<Eigen::Isometry3d> pp = m.LinkPoses(qp), pm = m.LinkPoses(qm);
+      double energy = 0.0;
+      for (std::size_t l = 0; l < m.Links().size(); ++l) {
+        const RobotLink& link = m.Links()[l];
+        if (link.leg != leg) continue;
+        const Eigen::Vector3d v = (pp[l] * link.com - pm[l] * link.com) / (2 * h);
+        const Eigen::AngleAxisd turn(pp[l].linear() * pm[l].linear().transpose());
+        const Eigen::Vector3d w_l = turn.axis() * turn.angle() / (2 * h);
+        const Eigen::Vector3d w_link = pp[l].linear().transpose() * w_l;
+        energy += 0.5 * link.mass * v.squaredNorm() + 0.5 * w_link.dot(link.inertia * w_link);
+      }
+      const Eigen::Vector3d w = LegJoints(qd, leg);
+      EXPECT_NEAR(0.5 * w.dot(M * w), energy, 1e-6 * energy + 1e-9) << LegName(leg) << " trial " << trial;
     }
   }
 }

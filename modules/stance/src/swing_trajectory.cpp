@@ -274,4 +274,10 @@ Eigen::Vector3d SwingTrajectory::Velocity(double t) const {
   return ds / duration_s_;
 }
 
+Eigen::Vector3d SwingTrajectory::Acceleration(double t) const {
+  if (t <= 0.0 || t >= duration_s_) return Eigen::Vector3d::Zero();
+  const double h = 1e-3 * duration_s_;
+  return (Velocity(t + h) - Velocity(t - h)) / (2.0 * h);
+}
+
 }  // namespace rbcp

@@ -150,6 +150,9 @@ class RobotModel {
   /// fixed: gravity_base is the gravity acceleration in base axes [m/s^2], e.g.
   /// R_WB^T (0, 0, -9.81). A positive component acts in the positive joint direction.
   Eigen::Vector3d LegGravityTorques(Leg leg, const Eigen::Vector3d& q_leg, const Eigen::Vector3d& gravity_base) const;
+  /// The leg's joint-space inertia [kg m^2] with the trunk held fixed (every link's mass and
+  /// rotational inertia): M q_dd are the torques that accelerate the leg's joints by q_dd from rest.
+  Eigen::Matrix3d LegMassMatrix(Leg leg, const Eigen::Vector3d& q_leg) const;
 
   // ---- Whole body ------------------------------------------------------------------------------
 
@@ -250,6 +253,16 @@ class RobotModel {
 
   /// Rigid bodies moved by the joints: 0 is the trunk, 1 + 3 * leg + j the child of joint j.
   static constexpr int kNumBodies = 1 + kNumJoints;
+  /// A leg's joints and bodies in the base frame at q_leg: joint j's origin and axis, and the
+  /// mass and centre of mass of the body it turns (its child link and the links fixed to it).
+  struct LegBodies {
+    std::array<Eigen::Vector3d, kJointsPerLeg> origin;
+    std::array<Eigen::Vector3d, kJointsPerLeg> axis;
+    std::array<Eigen::Vector3d, kJointsPerLeg> com;
+    std::array<double, kJointsPerLeg> mass{};
+    std::array<Eigen::Isometry3d, kJointsPerLeg> pose;  ///< the body's frame
+  };
+  LegBodies LegBodiesAt(Leg leg, const Eigen::Vector3d& q_leg) const;
   struct LinkPlacement {
     int body = 0;
     Eigen::Isometry3d body_to_link = Eigen::Isometry3d::Identity();

@@ -89,6 +89,8 @@ class SwingTrajectory {
   /// Contact point position and velocity after t [s] of swing (held at the end after Duration()).
   Eigen::Vector3d Position(double t) const;
   Eigen::Vector3d Velocity(double t) const;
+  /// Its acceleration [m/s^2] (zero before the start and after the end).
+  Eigen::Vector3d Acceleration(double t) const;
 
   /// The foot positions at which Plan checks the leg [m, world]: every other of its path samples,
   /// once the foot is 2 cm above the foothold it rises from, or then descends to.
