@@ -513,7 +513,7 @@ void WriteTickCsvHeader(std::ostream& out) {
   for (int j = 0; j < kNumJoints; ++j) out << ",tau_" << JointName(j);
   for (Leg leg : kAllLegs) out << ",contact_" << LegName(leg);
   for (Leg leg : kAllLegs) out << ",fz_" << LegName(leg);
-  out << ",cop_x,cop_y,cop_margin_m,lag_s\n";
+  out << ",cop_x,cop_y,cop_margin_m,zmp_x,zmp_y,swing_x,swing_y,swing_z,lag_s\n";
 }
 
 void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution) {
@@ -533,8 +533,18 @@ void WriteTickCsvRow(std::ostream& out, const PlanExecution& execution) {
   // The centre of pressure of the vertical foot forces, and how far inside the feet in contact.
   const CentreOfPressure cop = MeasuredCentreOfPressure(execution.Robot(), s);
   out << ',' << FixedNumber(cop.position.x(), 4) << ',' << FixedNumber(cop.position.y(), 4) << ','
-      << FixedNumber(cop.margin_m, 4) << ','
-      << FixedNumber(status.lag_s, 3) << '\n';
+      << FixedNumber(cop.margin_m, 4);
+  // The ZMP the walking pattern plans now (none in the static crawl).
+  const WalkingPattern* pattern = execution.Controller().Pattern();
+  const Eigen::Vector2d zmp = pattern != nullptr ? pattern->ZmpAt(execution.Controller().PatternTime())
+                                                 : Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  out << ',' << FixedNumber(zmp.x(), 4) << ',' << FixedNumber(zmp.y(), 4);
+  // Where the swinging foot is to be now (none with four feet down).
+  const bool swinging = status.phase == ControllerPhase::kSwing || status.phase == ControllerPhase::kSearch;
+  for (int k = 0; k < 3; ++k) {
+    out << ',' << FixedNumber(swinging ? execution.Controller().SwingTarget()[k] : std::numeric_limits<double>::quiet_NaN(), 4);
+  }
+  out << ',' << FixedNumber(status.lag_s, 3) << '\n';
 }
 
 }  // namespace rbcp::sim

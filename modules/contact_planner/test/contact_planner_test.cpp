@@ -117,11 +117,14 @@ TEST(ContactPlannerTest, AClockTooFastForTheCoMIsSlowedWhereTheFeetCannotHoldIt)
   ContactPlanner planner = MakePlanner(world);
   ContactPlan plan = planner.Plan(root.path).plan;
   ASSERT_GE(plan.states.size(), 2u);
-  // A clock far faster than the configured one, and a CoM slow to follow its ZMP (a heavy jerk
-  // cost): the ZMP comes near the support's edge, where the feet cannot push the CoM hard enough.
+  // A clock far faster than the configured one (no load ramps to wait for), and a CoM slow to
+  // follow its ZMP (a heavy jerk cost): the ZMP comes near the support's edge, where the feet
+  // cannot push the CoM hard enough.
   StanceRules fast = test::Rules();
   fast.config.dynamic_walk.gait.zmp_speed_mps = 4.0;
   fast.config.dynamic_walk.gait.four_foot_s = 0.02;
+  fast.config.dynamic_walk.gait.load_s = 0.001;
+  fast.config.dynamic_walk.gait.unload_s = 0.001;
   fast.config.dynamic_walk.min_swing_s = 0.12;
   fast.config.dynamic_walk.swing_speed_mps = 4.0;
   fast.config.dynamic_walk.preview.r_jerk = 1e-3;

@@ -194,8 +194,10 @@ void PlanController::AdvanceClock(const Measured& m) {
   // next piece of plan, at the next lift-off.
   double limit = pattern_->Duration();
   switch (status_.phase) {
-    case ControllerPhase::kShift:
     case ControllerPhase::kUnload:
+      limit = pattern_->SwingOf(status_.step).start_s;  // until the leg is unloaded (AdvanceUnload)
+      break;
+    case ControllerPhase::kShift:
     case ControllerPhase::kSwing:
     case ControllerPhase::kSearch:
       limit = pattern_->SwingOf(status_.step).end_s;
@@ -217,7 +219,7 @@ void PlanController::AdvanceClock(const Measured& m) {
 void PlanController::RampLoads(const Measured& m) {
   for (std::size_t i = 0; i < kNumLegs; ++i) {
     if (std::isnan(touchdown_s_[i])) continue;
-    load_[i] = std::clamp((m.t - touchdown_s_[i]) / config_.stance.load_s, 0.0, 1.0);
+    load_[i] = std::clamp((m.t - touchdown_s_[i]) / Ramps().load_s, 0.0, 1.0);
     if (load_[i] >= 1.0) touchdown_s_[i] = std::numeric_limits<double>::quiet_NaN();
   }
 }
@@ -380,9 +382,10 @@ void PlanController::AdvancePhase(const Measured& m) {
       }
       break;
     case ControllerPhase::kShift:
-      if (pattern_ ? pattern_time_s_ >= pattern_->SwingOf(status_.step).start_s - config_.stance.unload_s
+      if (pattern_ ? pattern_time_s_ >= pattern_->SwingOf(status_.step).start_s - Ramps().unload_s
                    : segment_.Done(t)) {
         Enter(ControllerPhase::kUnload, t);
+        unload_began_s_ = t;
       }
       break;
     case ControllerPhase::kUnload: AdvanceUnload(m, sl, elapsed); break;
@@ -393,8 +396,8 @@ void PlanController::AdvancePhase(const Measured& m) {
         FinishStep(m);  // the leg loads while the walk goes on (RampLoads)
         break;
       }
-      load_[sl] = std::clamp(elapsed / config_.stance.load_s, 0.0, 1.0);
-      if (elapsed >= config_.stance.load_s) {
+      load_[sl] = std::clamp(elapsed / Ramps().load_s, 0.0, 1.0);
+      if (elapsed >= Ramps().load_s) {
         load_[sl] = 1.0;
         FinishStep(m);
       }
@@ -411,13 +414,23 @@ void PlanController::AdvancePhase(const Measured& m) {
 
 void PlanController::AdvanceUnload(const Measured& m, std::size_t sl, double elapsed) {
   touchdown_s_[sl] = std::numeric_limits<double>::quiet_NaN();  // a leg that steps again unloads from here
-  load_[sl] = std::clamp(1.0 - elapsed / config_.stance.unload_s, 0.0, 1.0);
-  if (elapsed < config_.stance.unload_s) return;
+  load_[sl] = std::clamp(1.0 - elapsed / Ramps().unload_s, 0.0, 1.0);
+  if (elapsed < Ramps().unload_s) return;
+  // The leg lifts when the other three feet carry the robot: the centre of pressure of the feet's
+  // measured forces inside their triangle. A trunk leaning over the leg (a push) makes it take its
+  // load again and unload anew, the walk's clock waiting, for a while.
+  constexpr double kLiftOffWaitS = 0.5;
+  if (Dynamic() && m.t - unload_began_s_ < Ramps().unload_s + kLiftOffWaitS && !CarriedWithout(m, sl)) {
+    load_[sl] = 1.0;
+    status_.phase_start_s = m.t;
+    return;
+  }
   load_[sl] = 0.0;
   status_.stance[sl] = false;
   swing_ = PlanSwing(status_.step, m.feet_W[sl]);
   swing_q_des_ = LegJoints(m.q, static_cast<Leg>(sl));
   swing_hurried_at_.reset();
+  tipping_since_.reset();
   Enter(ControllerPhase::kSwing, m.t);
 }
 
@@ -434,6 +447,20 @@ bool PlanController::Tipping(const Measured& m) const {
   return cop.margin_m < config_.swing.tip_margin_m;  // false when NaN (no three feet pushing)
 }
 
+bool PlanController::CarriedWithout(const Measured& m, std::size_t leg) const {
+  std::vector<Eigen::Vector3d> feet, others;
+  std::vector<double> normal_N;
+  for (std::size_t i = 0; i < kNumLegs; ++i) {
+    if (!status_.stance[i]) continue;
+    feet.push_back(m.feet_W[i]);
+    normal_N.push_back(m.force_W[i].dot(normal_W_[i]));
+    if (i != leg) others.push_back(m.feet_W[i]);
+  }
+  const CentreOfPressure cop = ComputeCentreOfPressure(feet, normal_N);
+  if (!cop.position.allFinite() || others.size() < 3) return true;  // nothing to go by
+  return SupportPolygonMargin(others, cop.position) >= config_.swing.tip_margin_m;
+}
+
 double PlanController::SwingTime(double t) const {
   const double elapsed = t - status_.phase_start_s;
   if (!swing_hurried_at_) return elapsed;
@@ -442,9 +469,16 @@ double PlanController::SwingTime(double t) const {
 }
 
 void PlanController::AdvanceSwing(const Measured& m, std::size_t sl) {
-  if (!swing_hurried_at_ && Tipping(m)) {
-    swing_hurried_at_ = m.t;
-    status_.hurried_swings += 1;
+  if (!swing_hurried_at_) {
+    if (!Tipping(m)) {
+      tipping_since_.reset();
+    } else if (!tipping_since_) {
+      tipping_since_ = m.t;
+    }
+    if (tipping_since_ && m.t - *tipping_since_ >= config_.swing.tip_hold_s) {
+      swing_hurried_at_ = m.t;
+      status_.hurried_swings += 1;
+    }
   }
   const double elapsed = SwingTime(m.t);
   const double phase = swing_.Phase(elapsed);
@@ -607,10 +641,13 @@ void PlanController::AddSwingTorques(const Measured& m, Leg leg, const Eigen::Ma
   const Eigen::Vector3d qd = LegJoints(m.qd, leg);
   const Eigen::Matrix3d& R = m.R;
   const double elapsed = m.t - status_.phase_start_s;
+  Eigen::Vector3d acceleration_W = Eigen::Vector3d::Zero();
   if (status_.phase == ControllerPhase::kSwing) {
     const double along = SwingTime(m.t);
+    const double rate = swing_hurried_at_ ? config_.swing.tip_speedup : 1.0;
     swing_target_W_ = swing_.Position(along);
-    swing_velocity_W_ = (swing_hurried_at_ ? config_.swing.tip_speedup : 1.0) * swing_.Velocity(along);
+    swing_velocity_W_ = rate * swing_.Velocity(along);
+    acceleration_W = rate * rate * swing_.Acceleration(along);
   } else if (status_.phase == ControllerPhase::kSearch) {
     const Eigen::Vector3d n = plan_.states[static_cast<std::size_t>(status_.step)].feet[i].normal.normalized();
     const double depth = std::min(elapsed * config_.swing.search_speed_mps, config_.swing.search_depth_m);
@@ -625,6 +662,14 @@ void PlanController::AddSwingTorques(const Measured& m, Leg leg, const Eigen::Ma
   Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
   if (std::abs(J.determinant()) > 1e-4) qd_des = J.partialPivLu().solve(v_rel_B);
   t += config_.swing.kp.cwiseProduct(swing_q_des_ - q) + config_.swing.kd.cwiseProduct(qd_des - qd);
+  // Feed-forward of the leg's inertia along the path (the trunk taken as still): the joint
+  // accelerations that give the foot the path's acceleration, beyond what the joint rates give it.
+  if (std::abs(J.determinant()) > 1e-4) {
+    constexpr double kStep = 1e-4;  // [s] for the change of the Jacobian along the joint rates
+    const Eigen::Vector3d jdot_qd = (robot_.FootJacobian(leg, q + kStep * qd) - J) * qd / kStep;
+    const Eigen::Vector3d qdd_des = J.partialPivLu().solve(R.transpose() * acceleration_W - jdot_qd);
+    t += robot_.LegMassMatrix(leg, q) * qdd_des;
+  }
 }
 
 JointVector PlanController::Torques(const Measured& m) {

@@ -24,8 +24,8 @@ TEST(ControllerConfig, RejectsUnknownMissingAndOutOfRangeKeys) {
   extra["swing"]["apex"] = 0.1;
   EXPECT_NE(ErrorOf([&] { ControllerConfig::Load(YamlMap(extra, "c")); }).find("apex"), std::string::npos);
   YAML::Node missing = YAML::Clone(node);
-  missing["stance"].remove("load_s");
-  EXPECT_NE(ErrorOf([&] { ControllerConfig::Load(YamlMap(missing, "c")); }).find("load_s"), std::string::npos);
+  missing["stance"].remove("kd");
+  EXPECT_NE(ErrorOf([&] { ControllerConfig::Load(YamlMap(missing, "c")); }).find("kd"), std::string::npos);
   YAML::Node bad = YAML::Clone(node);
   bad["swing"]["touchdown_phase"] = 1.5;
   EXPECT_EQ(ErrorOf([&] { ControllerConfig::Load(YamlMap(bad, "c")); }),

@@ -198,11 +198,26 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     // between two swings on opposite sides, a few centimetres along one side).
     const double move_s = (target - knots.back().second).norm() / timing.zmp_speed_mps;
     const double given_shift = timing.step_shift_s.empty() ? std::numeric_limits<double>::quiet_NaN() : timing.step_shift_s[i - 1];
-    const double shift_s = i > 1 && !std::isnan(given_shift)
-                               ? given_shift
-                               : std::max({timing.four_foot_s, move_s, BaseMoveS(before, plan.states[i], timing)});
+    // The ZMP stays in the last triangle while the leg that touched down loads, and is in the
+    // next one when the leg that lifts next begins to unload. A point the margin inside a
+    // triangle is within it for margin / speed before and after it: the holds are that much
+    // shorter than the ramps (and in a phase too short for them, shrink to leave it a fifth).
+    const double lead_s = timing.zmp_margin_m / timing.zmp_speed_mps;
+    const double load_hold_s = std::max(0.0, timing.load_s - lead_s);
+    const double unload_hold_s = std::max(0.0, timing.unload_s - lead_s);
+    const double shift_s =
+        i > 1 && !std::isnan(given_shift)
+            ? given_shift
+            : std::max({timing.four_foot_s, load_hold_s + move_s + unload_hold_s, BaseMoveS(before, plan.states[i], timing)});
     const double four_foot_s = i > 1 ? shift_s : start.zmp ? start.hold_s + shift_s : timing.start_s;
     pattern.phases.push_back(MakePhase(t, four_foot_s, -1, state, four));
+    const double moving_from = i > 1 ? t : start.zmp ? start.hold_s : knots.back().first;
+    const double holds_s = load_hold_s + unload_hold_s;
+    const double scale = holds_s > 0.0 ? std::min(1.0, 0.8 * (t + four_foot_s - moving_from) / holds_s) : 0.0;
+    if ((i > 1 || start.zmp) && scale * load_hold_s > 0.0) {
+      knots.emplace_back(moving_from + scale * load_hold_s, knots.back().second);
+    }
+    if (scale * unload_hold_s > 0.0) knots.emplace_back(t + four_foot_s - scale * unload_hold_s, target);
     t += four_foot_s;
     knots.emplace_back(t, target);
     const double given = timing.step_swing_s.empty() ? std::numeric_limits<double>::quiet_NaN() : timing.step_swing_s[i - 1];

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/leg.h"
@@ -49,6 +50,8 @@ GaitTiming Timing() {
   t.swing_s = 0.5;
   t.four_foot_s = 0.2;
   t.zmp_speed_mps = 10.0;  // four-foot phases of four_foot_s
+  t.load_s = 0.05;
+  t.unload_s = 0.08;
   t.base_rise_mps = 10.0;
   t.base_turn_radps = 10.0;
   t.final_s = 1.0;
@@ -69,17 +72,48 @@ TEST(WalkingPattern, TheComMovesWhileTheLegsSwingWithItsZmpInsideTheSupport) {
   }
   // The ZMP of the CoM trajectory never comes nearer than 5 cm to an edge of the feet down.
   EXPECT_GT(pattern.MinZmpMargin(), 0.05);
-  // The base advances during every swing, not only with four feet down.
+  // The base advances during every swing, not only with four feet down (least where the reference
+  // reaches the next triangle before the next leg unloads).
   const double dt = pattern.time_step_s;
   for (const SupportPhase& phase : pattern.phases) {
     if (phase.swing_leg < 0) continue;
     const auto at = [&](double t) { return pattern.com.position[static_cast<std::size_t>(std::lround(t / dt))]; };
-    EXPECT_GT(at(phase.end_s).x() - at(phase.start_s).x(), 0.01) << "swing at " << phase.start_s << " s";
+    EXPECT_GT(at(phase.end_s).x() - at(phase.start_s).x(), 0.005) << "swing at " << phase.start_s << " s";
   }
   // It ends at rest over the centre of the last stance, each foot 0.2 m ahead of where it began.
   EXPECT_NEAR(pattern.com.position.back().x(), 0.2, 1e-3);
   EXPECT_NEAR(pattern.com.position.back().y(), 0.0, 1e-3);
   EXPECT_LT(pattern.com.velocity.back().norm(), 0.005) << "at rest: slower than 5 mm/s";
+}
+
+TEST(WalkingPattern, ALegUnloadsWithTheZmpOverTheFeetThatStayAndLoadsBeforeItLeavesTheLastOnes) {
+  // Between two swings the leg that touched down takes its load while the ZMP reference is still
+  // over the last three feet, and the next leg gives up its load with the reference already over
+  // the three that stay down: no ramp asks a foot for a load the ZMP says it must not carry.
+  const ContactPlan plan = Crawl(8, 0.1);
+  GaitTiming timing = Timing();
+  timing.load_s = 0.1;
+  timing.unload_s = 0.15;
+  timing.zmp_speed_mps = 0.5;  // moves of a few tenths of a second
+  timing.zmp_margin_m = 0.03;
+  const WalkingPattern pattern = PlanWalkingPattern(plan, timing, Model(), Eigen::Vector2d::Zero());
+  const auto margin = [&](const SupportPhase& swing, double t) {
+    std::vector<Eigen::Vector3d> feet;
+    for (const Eigen::Vector2d& v : swing.polygon) feet.emplace_back(v.x(), v.y(), 0.0);
+    const Eigen::Vector2d zmp = pattern.ZmpReferenceAt(t);
+    return SupportPolygonMargin(feet, Eigen::Vector3d(zmp.x(), zmp.y(), 0.0));
+  };
+  for (int i = 2; i <= 8; ++i) {
+    const SupportPhase& last = pattern.SwingOf(i - 1);
+    const SupportPhase& next = pattern.SwingOf(i);
+    EXPECT_GE(next.start_s - last.end_s, timing.load_s + timing.unload_s - 2 * timing.zmp_margin_m / timing.zmp_speed_mps - 1e-9);
+    for (double t = last.end_s; t <= last.end_s + timing.load_s; t += 0.01) {
+      EXPECT_GE(margin(last, t), -1e-9) << "step " << i << ", " << t - last.end_s << " s after the touchdown";
+    }
+    for (double t = next.start_s - timing.unload_s; t <= next.start_s; t += 0.01) {
+      EXPECT_GE(margin(next, t), -1e-9) << "step " << i << ", " << next.start_s - t << " s before the lift-off";
+    }
+  }
 }
 
 TEST(WalkingPattern, APatternContinuedWhenAFootTouchesDownEarlyGoesOnAsTheWholeOne) {

@@ -44,6 +44,7 @@ struct SwingConfig {
   double search_depth_m = 0.08;
   double search_speed_mps = 0.15;
   double tip_margin_m = 0.01;
+  double tip_hold_s = 0.02;
   double tip_speedup = 2.5;
   Eigen::Vector3d kp = Eigen::Vector3d(90, 180, 150);
   Eigen::Vector3d kd = Eigen::Vector3d(3, 5.7, 4.9);
@@ -59,6 +60,8 @@ struct SwingConfig {
     v->Visit("tip_margin_m", &tip_margin_m, "m", bounds::NonNegative(),
              "when the centre of pressure of the stance feet comes this close to the edge of their polygon during "
              "a swing (the robot tips towards the leg in the air, say after a push) ...");
+    v->Visit("tip_hold_s", &tip_hold_s, "s", bounds::Closed(0.0, 1.0),
+             "... and stays there this long (a stance foot's contact lost for a tick is no tip) ...");
     v->Visit("tip_speedup", &tip_speedup, "", bounds::AtLeast(1.0),
              "... the rest of the swing runs this many times faster, to put the foot down sooner");
     v->Visit("kp", &kp, "N m/rad", bounds::NonNegative(), "joint PD of a swing leg, (HAA, HFE, KFE)");
@@ -66,17 +69,14 @@ struct SwingConfig {
   }
 };
 
-/// Stance legs: load ramps and joint PD (their contact forces: StanceRules).
+/// Stance legs: joint PD (their contact forces: StanceRules; their load ramps: the stance
+/// library's walk, StanceConfig::dynamic_walk).
 struct StanceLegConfig {
-  double unload_s = 0.15;
-  double load_s = 0.1;
   Eigen::Vector3d kp = Eigen::Vector3d(30, 30, 15);
   Eigen::Vector3d kd = Eigen::Vector3d(3, 5.7, 4.9);
 
   template <class Visitor>
   void Serialize(Visitor* v) {
-    v->Visit("unload_s", &unload_s, "s", bounds::Positive(), "load ramp of a leg before lift-off");
-    v->Visit("load_s", &load_s, "s", bounds::Positive(), "load ramp of a leg after touchdown");
     v->Visit("kp", &kp, "N m/rad", bounds::NonNegative(), "joint PD of a stance leg, (HAA, HFE, KFE)");
     v->Visit("kd", &kd, "N m s/rad", bounds::NonNegative(), "its damping");
   }

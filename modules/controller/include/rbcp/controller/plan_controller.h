@@ -16,7 +16,7 @@
 ///     least 5 N within 37 degrees of it: the terrain is higher than planned); a sideways contact
 ///     above the foothold, such as the face of a riser beside it, is not;
 ///     When the centre of pressure of the stance feet (from their measured forces) comes within
-///     swing.tip_margin_m of their polygon's edge, the robot tips towards the leg in the air: the
+///     swing.tip_margin_m of their polygon's edge for swing.tip_hold_s, the robot tips towards the leg in the air: the
 ///     rest of the swing runs swing.tip_speedup times faster, on the same path;
 ///  4. search: a foot that reaches the end of its path without contact reaches down along the
 ///     normal (a late touchdown), and fails as "no ground" beyond swing.search_depth_m;
@@ -144,6 +144,8 @@ class PlanController {
   /// (null in the static crawl, before a plan and after a failure).
   const WalkingPattern* Pattern() const { return pattern_ ? &*pattern_ : nullptr; }
   double PatternTime() const { return pattern_time_s_; }
+  /// Where the swinging foot is to be now (world frame), during a swing or a search.
+  const Eigen::Vector3d& SwingTarget() const { return swing_target_W_; }
   /// Dynamic walk: the steps after the current one (the step being walked, or at a boundary the
   /// next) whose lift-off lies within the ZMP preview of the current step's end. The CoM's motion
   /// already prepares for their support, so a plan that replaces this one should keep them. 0 in
@@ -174,6 +176,11 @@ class PlanController {
   void AdvanceSwing(const Measured& m, std::size_t sl);
   /// The centre of pressure of the stance feet within swing.tip_margin_m of their polygon's edge.
   bool Tipping(const Measured& m) const;
+  /// The centre of pressure of the stance feet's measured forces at least swing.tip_margin_m
+  /// inside the polygon of the stance feet but `leg` (true when there is nothing to go by).
+  bool CarriedWithout(const Measured& m, std::size_t leg) const;
+  /// The legs' load ramps (the stance library's walk: one clock for planner and controller).
+  const GaitPhases& Ramps() const { return stance_.Config().dynamic_walk.gait; }
   /// Time along the swing path at time t: the time since lift-off, faster once hurried.
   double SwingTime(double t) const;
   /// The foot reaches down along the foothold's normal until it touches down, or fails.
@@ -238,6 +245,8 @@ class PlanController {
   Eigen::Vector3d search_start_W_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d swing_q_des_ = Eigen::Vector3d::Zero();
   std::optional<double> swing_hurried_at_;  // when the robot tipped during this swing
+  std::optional<double> tipping_since_;     // since when the centre of pressure is at the edge
+  double unload_began_s_ = 0.0;             // when the current step's leg began to unload
   // Dynamic walk.
   std::optional<WalkingPattern> pattern_;
   double pattern_time_s_ = 0.0;  // on the pattern's clock

@@ -19,6 +19,8 @@ struct GaitPhases {
   double base_turn_radps = 0.0;
   double final_s = 0.0;
   double zmp_margin_m = 0.0;
+  double load_s = 0.1;
+  double unload_s = 0.15;
 
   template <class Visitor>
   void Serialize(Visitor* v) {
@@ -39,6 +41,12 @@ struct GaitPhases {
              "there this long");
     v->Visit("zmp_margin_m", &zmp_margin_m, "m", bounds::Closed(0.0, 1.0),
              "distance the ZMP reference keeps from the support triangle's edges");
+    v->Visit("load_s", &load_s, "s", duration,
+             "a leg that touched down takes its share of the load over this time (the static crawl's too); the ZMP "
+             "stays in the last support triangle meanwhile");
+    v->Visit("unload_s", &unload_s, "s", duration,
+             "a leg gives up its load over this time before it lifts off (the static crawl's too); the ZMP is in the "
+             "next support triangle by then");
   }
 };
 

@@ -9,7 +9,9 @@
 /// CoM the plan holds during that swing (PatternStart::step_com; without it, the centre of the four
 /// feet before the step: the least sway that keeps the margin). It is the triangle's incentre when
 /// the triangle is too small for the margin. Between two swings all four feet are down and the
-/// reference moves in a straight line from one such point to the next, at most at zmp_speed_mps;
+/// reference stays where it was while the leg that touched down loads (load_s), moves in a straight
+/// line to the next point at most at zmp_speed_mps, and is there before the next leg unloads
+/// (unload_s): a leg gives up its load only with the ZMP over the feet that stay down;
 /// the base also takes that time to reach the height and attitude of the step's plan state, which
 /// a swing keeps (the planner checked it there). A pattern starts from the CoM at rest, held there
 /// for the first half of the start phase (the preview needs to see a change coming to prepare for
