@@ -153,6 +153,8 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
     const bool swinging = t > swing.start_s && t < swing.end_s;
     const StepPhase phase = swinging ? StepPhase::kSwing : StepPhase::kShift;
     const int skip = swinging ? lifting : -1;
+    // The feet down: the step's own once its foot has touched down (the last sample).
+    const FootContacts& feet = t >= swing.end_s ? to.feet : from.feet;
     const auto fail = [&](StanceCheck check, const std::string& detail) {
       if (out.verdict.ok()) {
         out.verdict = Failure(check, phase, "at " + FixedNumber(t, 2) + " s of the walk: " + detail);
@@ -181,7 +183,7 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
     for (int pass = 0; pass < 2 && unreachable.empty(); ++pass) {  // the CoM's offset depends on the joints
       const Eigen::Vector3d offset = base.linear() * robot.CenterOfMass(q);
       base.translation().head<2>() = com.position - offset.head<2>();
-      unreachable = SolveWalkStance(robot, base, from.feet, skip, &q);
+      unreachable = SolveWalkStance(robot, base, feet, skip, &q);
     }
     if (!unreachable.empty()) {
       fail(StanceCheck::kReach, unreachable);
@@ -213,7 +215,7 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
     }
     const Eigen::Vector3d com_W = base * robot.CenterOfMass(q);
     double torque = 0.0;
-    const StanceVerdict v = checker.Torques(base, q, from.feet, skip, com_W,
+    const StanceVerdict v = checker.Torques(base, q, feet, skip, com_W,
                                             Eigen::Vector3d(com.acceleration.x(), com.acceleration.y(), 0.0), &torque);
     out.max_torque_Nm = std::max(out.max_torque_Nm, torque);
     if (!v.ok()) fail(v.check, v.detail);
