@@ -57,14 +57,14 @@ struct DynamicWalkConfig {
     GaitPhases g;
     g.start_s = 0.6;
     g.four_foot_s = 0.15;
-    g.zmp_speed_mps = 0.6;
+    g.zmp_speed_mps = 1.0;
     g.base_rise_mps = 0.3;
     g.base_turn_radps = 1.0;
     g.final_s = 0.6;
     g.zmp_margin_m = 0.05;
     return g;
   }();
-  double swing_speed_mps = 1.2;
+  double swing_speed_mps = 2.0;
   double min_swing_s = 0.3;
   ZmpPreviewSettings preview = [] {
     ZmpPreviewSettings p;
