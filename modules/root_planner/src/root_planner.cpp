@@ -274,12 +274,26 @@ std::optional<PlanFailure> StartVelocityProblem(const KinodynamicLimits& limits,
   return std::nullopt;
 }
 
-// Checks before any search: the start and the goal satisfy the reachability condition, and a
-// chain of contact surfaces joins the surfaces in reach at the start to those at the goal.
+// A start whose trunk volume touches the terrain (a robot standing a little lower than the
+// reachability condition's conservative trunk allows, say on stairs) begins its path at the
+// lowest height at most this much above it, in centimetre steps, where the condition holds.
+constexpr double kStartRaiseM = 0.05;
+
+// Checks before any search: the start (raised as above) and the goal satisfy the reachability
+// condition, and a chain of contact surfaces joins the surfaces in reach at the start to those at
+// the goal.
 std::optional<PlanFailure> EndsProblem(const RootPlannerConfig& config, const std::vector<AffordanceSurface>& surfaces,
-                                       const PlanEnds& ends, ReachabilityChecker& checker) {
-  const ReachabilityReport start_report =
-      checker.Check(ends.start.p, config.yaw.Yaw(ends.start.v.head<2>(), ends.rest_start));
+                                       PlanEnds& ends, ReachabilityChecker& checker) {
+  const double start_yaw = config.yaw.Yaw(ends.start.v.head<2>(), ends.rest_start);
+  ReachabilityReport start_report = checker.Check(ends.start.p, start_yaw);
+  for (int cm = 1; start_report.trunk_collision && cm <= std::lround(kStartRaiseM * 100); ++cm) {
+    const Eigen::Vector3d raised = ends.start.p + Eigen::Vector3d(0, 0, 0.01 * cm);
+    const ReachabilityReport report = checker.Check(raised, start_yaw);
+    if (!report.Valid()) continue;
+    ends.start.p = raised;
+    if (config.limits.VerticalFixed()) ends.goal.p.z() = raised.z();
+    start_report = report;
+  }
   if (!start_report.Valid()) return PlanFailure{RootPlanStatus::kStartInvalid, "start: " + start_report.Reason()};
   const ReachabilityReport goal_report = checker.Check(ends.goal.p, ends.rest_goal);
   if (!goal_report.Valid()) return PlanFailure{RootPlanStatus::kGoalInvalid, "goal: " + goal_report.Reason()};
@@ -536,7 +550,7 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   }
 
   // Checks of the ends, cheapest first.
-  const PlanEnds ends = EndsOf(config_, request);
+  PlanEnds ends = EndsOf(config_, request);
   if (auto failure = StartVelocityProblem(config_.limits, ends.start)) return done(failure->status, failure->reason);
   if (surfaces.empty()) return done(RootPlanStatus::kStartInvalid, "no contact surfaces");
   ReachabilityChecker checker = MakeChecker(terrain, surfaces);

@@ -282,6 +282,30 @@ TEST(RootPlannerTest, InvalidStartOrGoalIsReported) {
   EXPECT_EQ(ToString(sunk.status), "start_invalid");
 }
 
+TEST(RootPlannerTest, AStartALittleLowBeginsItsPathAtTheLowestValidHeight) {
+  // A robot standing lower than the conservative trunk volume allows: its path begins at most
+  // 5 cm higher, at the lowest height (centimetre steps) where the reachability condition holds.
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms ground = test::MakePlatforms({{-3.0, 3.0}});
+  const double h = Robot().NominalBaseHeight();
+  ReachabilityChecker checker = planner.MakeChecker(ground.terrain, ground.surfaces);
+  double lowest = h;  // the lowest valid height, by centimetres below the nominal one
+  while (checker.Check({-1.0, 0.0, lowest - 0.01}, 0.0).Valid()) lowest -= 0.01;
+  const double low = lowest - 0.03;
+  ASSERT_TRUE(checker.Check({-1.0, 0.0, low}, 0.0).trunk_collision);
+  int raise_cm = 1;
+  while (!checker.Check({-1.0, 0.0, low + 0.01 * raise_cm}, 0.0).Valid()) ++raise_cm;
+  EXPECT_LE(raise_cm, 3);
+  const RootPlanResult result = planner.Plan(ground.terrain, ground.surfaces, {-1.0, 0.0, low}, 0.0, {1.0, 0.0, h}, 0.0, 1, 5.0);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_NEAR(result.samples.front().p.z(), low + 0.01 * raise_cm, 1e-9);
+  EXPECT_NEAR(result.samples.front().p.x(), -1.0, 1e-9);
+  // Deeper than that, the start stays invalid.
+  const RootPlanResult deep =
+      planner.Plan(ground.terrain, ground.surfaces, {-1.0, 0.0, lowest - 0.07}, 0.0, {1.0, 0.0, h}, 0.0, 1, 5.0);
+  EXPECT_EQ(deep.status, RootPlanStatus::kStartInvalid) << deep.reason;
+}
+
 TEST(RootPlannerTest, AMeasuredBaseInsideTheTerrainOrOverNoneIsNamed) {
   const RootPlanner planner(Robot(), DefaultConfig());
   const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
