@@ -1,5 +1,7 @@
 #include "rbcp/controller/plan_controller.h"
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -434,8 +436,7 @@ void PlanController::AdvanceUnload(const Measured& m, std::size_t sl, double ela
   Enter(ControllerPhase::kSwing, m.t);
 }
 
-bool PlanController::Tipping(const Measured& m) const {
-  // The centre of pressure of the stance feet's measured forces along their normals.
+CentreOfPressure PlanController::StanceCentreOfPressure(const Measured& m) const {
   std::vector<Eigen::Vector3d> feet;
   std::vector<double> normal_N;
   for (std::size_t i = 0; i < kNumLegs; ++i) {
@@ -443,20 +444,19 @@ bool PlanController::Tipping(const Measured& m) const {
     feet.push_back(m.feet_W[i]);
     normal_N.push_back(m.force_W[i].dot(normal_W_[i]));
   }
-  const CentreOfPressure cop = ComputeCentreOfPressure(feet, normal_N);
-  return cop.margin_m < config_.swing.tip_margin_m;  // false when NaN (no three feet pushing)
+  return ComputeCentreOfPressure(feet, normal_N);
+}
+
+bool PlanController::Tipping(const Measured& m) const {
+  return StanceCentreOfPressure(m).margin_m < config_.swing.tip_margin_m;  // false when NaN (no three feet pushing)
 }
 
 bool PlanController::CarriedWithout(const Measured& m, std::size_t leg) const {
-  std::vector<Eigen::Vector3d> feet, others;
-  std::vector<double> normal_N;
+  std::vector<Eigen::Vector3d> others;
   for (std::size_t i = 0; i < kNumLegs; ++i) {
-    if (!status_.stance[i]) continue;
-    feet.push_back(m.feet_W[i]);
-    normal_N.push_back(m.force_W[i].dot(normal_W_[i]));
-    if (i != leg) others.push_back(m.feet_W[i]);
+    if (status_.stance[i] && i != leg) others.push_back(m.feet_W[i]);
   }
-  const CentreOfPressure cop = ComputeCentreOfPressure(feet, normal_N);
+  const CentreOfPressure cop = StanceCentreOfPressure(m);
   if (!cop.position.allFinite() || others.size() < 3) return true;  // nothing to go by
   return SupportPolygonMargin(others, cop.position) >= config_.swing.tip_margin_m;
 }
@@ -659,17 +659,21 @@ void PlanController::AddSwingTorques(const Measured& m, Leg leg, const Eigen::Ma
   const IkResult ik = robot_.SolveLegIk(leg, R.transpose() * (swing_target_W_ - m.p));
   if (ik.status != IkResult::Status::kOutOfReach) swing_q_des_ = ik.q;
   const Eigen::Vector3d v_rel_B = R.transpose() * (swing_velocity_W_ - m.v - m.w_W.cross(swing_target_W_ - m.p));
+  // The joint rates of the foot's velocity relative to the trunk, and the joint accelerations that
+  // give the foot the path's acceleration beyond what those rates give it (the trunk taken as
+  // still): the latter with the leg's inertia as a feed-forward.
+  const bool regular = std::abs(J.determinant()) > 1e-4;
   Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
-  if (std::abs(J.determinant()) > 1e-4) qd_des = J.partialPivLu().solve(v_rel_B);
-  t += config_.swing.kp.cwiseProduct(swing_q_des_ - q) + config_.swing.kd.cwiseProduct(qd_des - qd);
-  // Feed-forward of the leg's inertia along the path (the trunk taken as still): the joint
-  // accelerations that give the foot the path's acceleration, beyond what the joint rates give it.
-  if (std::abs(J.determinant()) > 1e-4) {
+  Eigen::Vector3d qdd_des = Eigen::Vector3d::Zero();
+  if (regular) {
+    const Eigen::PartialPivLU<Eigen::Matrix3d> lu = J.partialPivLu();
+    qd_des = lu.solve(v_rel_B);
     constexpr double kStep = 1e-4;  // [s] for the change of the Jacobian along the joint rates
     const Eigen::Vector3d jdot_qd = (robot_.FootJacobian(leg, q + kStep * qd) - J) * qd / kStep;
-    const Eigen::Vector3d qdd_des = J.partialPivLu().solve(R.transpose() * acceleration_W - jdot_qd);
-    t += robot_.LegMassMatrix(leg, q) * qdd_des;
+    qdd_des = lu.solve(R.transpose() * acceleration_W - jdot_qd);
   }
+  t += config_.swing.kp.cwiseProduct(swing_q_des_ - q) + config_.swing.kd.cwiseProduct(qd_des - qd);
+  if (regular) t += robot_.LegMassMatrix(leg, q) * qdd_des;
 }
 
 JointVector PlanController::Torques(const Measured& m) {

@@ -50,6 +50,7 @@
 #include "rbcp/core/contact_plan.h"
 #include "rbcp/core/triangle_mesh.h"
 #include "rbcp/equilibrium/force_distribution.h"
+#include "rbcp/equilibrium/support_polygon.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/robot/robot_state.h"
 #include "rbcp/stance/stance_checker.h"
@@ -174,6 +175,8 @@ class PlanController {
   void AdvanceUnload(const Measured& m, std::size_t sl, double elapsed);
   /// Touchdown on the foothold late enough in the swing; at the swing's end, the search.
   void AdvanceSwing(const Measured& m, std::size_t sl);
+  /// The centre of pressure of the stance feet's measured forces along their normals.
+  CentreOfPressure StanceCentreOfPressure(const Measured& m) const;
   /// The centre of pressure of the stance feet within swing.tip_margin_m of their polygon's edge.
   bool Tipping(const Measured& m) const;
   /// The centre of pressure of the stance feet's measured forces at least swing.tip_margin_m
