@@ -16,7 +16,7 @@ constexpr int kSamples = 40;
 constexpr double kMaxRise = 0.3;     // [m] highest extra lift tried
 constexpr double kRiseStep = 0.02;   // [m]
 constexpr double kRiseEnd = 0.4;     // the height reaches the apex over s in [0, kRiseEnd] (and back)
-constexpr double kCrossBegin = 0.2;  // the horizontal motion runs over s in [kCrossBegin, 1 - kCrossBegin]
+constexpr double kCrossBegin = 0.1;  // the horizontal motion runs over s in [kCrossBegin, 1 - kCrossBegin]
 constexpr double kEndSkip = 0.97;    // beyond this the path dips below the foothold on purpose
 constexpr int kBows = 4;             // sideways bows tried: 0, 3, 6, 9 cm
 constexpr double kBowStep = 0.03;    // [m]
@@ -242,7 +242,7 @@ SwingTrajectory SwingTrajectory::Given(const Eigen::Vector3d& start_W, const Eig
 
 void SwingTrajectory::SetDuration(const SwingPathConfig& config) {
   // No part of the path faster than speed_mps at its peak. The rise and the descent each take
-  // 40 % of the swing and the crossing 60 %, all on smooth steps (peak 1.5 x mean).
+  // 40 % of the swing and the crossing 80 %, all on smooth steps (peak 1.5 x mean).
   const double up = std::max(apex_z_ - start_.z(), apex_z_ - end_.z());
   const double across = (end_.head<2>() - start_.head<2>()).norm();
   duration_s_ = std::max({config.min_duration_s, 1.5 * std::hypot(up, bow_.norm()) / (kRiseEnd * config.speed_mps),

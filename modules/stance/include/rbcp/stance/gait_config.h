@@ -19,8 +19,8 @@ struct GaitPhases {
   double base_turn_radps = 0.0;
   double final_s = 0.0;
   double zmp_margin_m = 0.0;
-  double load_s = 0.1;
-  double unload_s = 0.15;
+  double load_s = 0.06;
+  double unload_s = 0.1;
 
   template <class Visitor>
   void Serialize(Visitor* v) {

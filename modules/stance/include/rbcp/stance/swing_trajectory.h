@@ -2,8 +2,8 @@
 /// The path of a swinging foot: it rises vertically from its lift-off point, crosses at an apex
 /// height to above its new foothold and descends vertically onto it (to touchdown_depth_m below
 /// the foothold, so that it touches down), each part blended smoothly into the next: the height
-/// reaches the apex over the first 40 % of the swing while the horizontal motion runs from 20 %
-/// to 80 %. The apex is raised until the path clears the terrain under it (and, when a check is
+/// reaches the apex over the first 40 % of the swing while the horizontal motion runs from 10 %
+/// to 90 %. The apex is raised until the path clears the terrain under it (and, when a check is
 /// given, until the whole leg does); if raising alone does not clear the leg, the path also bows
 /// sideways towards the body (a lifted foot under an abducted leg swings its knee outwards, into
 /// a wall beside the robot; drawing the foot in keeps the leg upright), and then back against the
