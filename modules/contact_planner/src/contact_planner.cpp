@@ -28,6 +28,7 @@
 
 namespace rbcp {
 
+using contact_planner_detail::AvoidedStep;
 using contact_planner_detail::ConvexPolygon3d;
 using contact_planner_detail::kNoMargins;
 using contact_planner_detail::Node;
@@ -64,16 +65,49 @@ namespace {
 /// Interpolation step of a RootPath handed to Plan() [s].
 constexpr double kRootPathSampling = 0.01;
 
-/// A plan of at least one step timed for the dynamic walk (TimeDynamicWalk); its steps slowed and
-/// failing added to *stats (optional).
-void TimeWalkOf(const StanceChecker& stance, ContactPlan* plan, ContactPlanStats* stats, int keep_steps = 0) {
-  if (plan->states.size() < 2) return;
-  const std::vector<DynamicStepCheck> checks = TimeDynamicWalk(stance, plan, keep_steps);
-  if (stats == nullptr) return;
-  for (const DynamicStepCheck& c : checks) {
-    if (c.slowdowns > 0) ++stats->walk_steps_slowed;
-    if (!c.verdict.ok()) ++stats->walk_steps_failing;
+/// Steps of `checks` whose dynamic walk fails its check.
+int FailingSteps(const std::vector<DynamicStepCheck>& checks) {
+  return static_cast<int>(std::count_if(checks.begin(), checks.end(), [](const auto& c) { return !c.verdict.ok(); }));
+}
+
+/// A failure of a foot out of reach or of the robot on the terrain, which no pace cures.
+bool IsGeometric(StanceCheck check) {
+  return check == StanceCheck::kReach || check == StanceCheck::kCollision || check == StanceCheck::kSwingTerrain;
+}
+
+/// How badly a plan's dynamic walk fails, worst first: steps out of reach or on the terrain, then
+/// all failing steps (torque, balance and support have margins).
+std::pair<int, int> WalkFailures(const std::vector<DynamicStepCheck>& checks) {
+  const int geometric = static_cast<int>(
+      std::count_if(checks.begin(), checks.end(), [](const auto& c) { return IsGeometric(c.verdict.check); }));
+  return {geometric, FailingSteps(checks)};
+}
+
+/// The step of `plan` to blame for the failure of state `index`'s dynamic walk: with four feet
+/// down (the shift before its swing), the step that put the leg out of reach or on the terrain
+/// where it stands, if the plan made it, from any stance; else state `index`'s own step.
+AvoidedStep WalkFailureStep(const ContactPlan& plan, std::size_t index, const StanceVerdict& verdict) {
+  if (verdict.phase == StepPhase::kShift && verdict.leg) {
+    for (std::size_t j = index - 1; j >= 1; --j) {
+      if (plan.states[j].moving_leg == Index(*verdict.leg)) return AvoidedStep::Of(plan.states[j - 1], plan.states[j], false);
+    }
   }
+  return AvoidedStep::Of(plan.states[index - 1], plan.states[index]);
+}
+
+/// A plan of at least one step timed for the dynamic walk (TimeDynamicWalk); its steps slowed and
+/// failing added to *stats (optional). Returns the steps' checks.
+std::vector<DynamicStepCheck> TimeWalkOf(const StanceChecker& stance, ContactPlan* plan, ContactPlanStats* stats,
+                                         int keep_steps = 0) {
+  if (plan->states.size() < 2) return {};
+  std::vector<DynamicStepCheck> checks = TimeDynamicWalk(stance, plan, keep_steps);
+  if (stats != nullptr) {
+    for (const DynamicStepCheck& c : checks) {
+      if (c.slowdowns > 0) ++stats->walk_steps_slowed;
+    }
+    stats->walk_steps_failing += FailingSteps(checks);
+  }
+  return checks;
 }
 
 }  // namespace
@@ -89,6 +123,7 @@ struct ContactPlanner::Impl {
   std::vector<StaticEquilibrium*> spare;
   StanceChecker stance;  // with the terrain's collision structures
   std::vector<ConvexPolygon3d> surfaces;
+  std::vector<AvoidedStep> avoided;  // per query: steps whose dynamic walk failed (SearchFrom)
   std::unique_ptr<SurfaceGraph> surface_graph;
   std::optional<PlannerContext> context;  // all of the above, for the stages; set with the terrain
 
@@ -111,7 +146,8 @@ struct ContactPlanner::Impl {
   const PlannerContext& ctx() const { return *context; }
 
   void SetTerrainContext() {
-    context.emplace(PlannerContext{robot, db, eq_config, config, stance, surfaces, equilibrium, stats, budget, body_poses});
+    context.emplace(
+        PlannerContext{robot, db, eq_config, config, stance, surfaces, avoided, equilibrium, stats, budget, body_poses});
   }
 
   /// The answer to a query whose path ends where no surface in the feet's reach is joined,
@@ -148,20 +184,59 @@ struct ContactPlanner::Impl {
     path.emplace(std::move(samples), config.path_yaw_smoothing_s);
   }
 
-  /// The search from `root` with the query's planning time and work counters.
+  /// The search from `root` with the query's planning time and work counters. A plan whose
+  /// dynamic walk fails a step's check is searched for again (retry.walk_searches times at most),
+  /// each time also without the step blamed for the first failure of the best plan found that is
+  /// not avoided yet (WalkFailureStep); the answer is the plan that fails least (WalkFailures),
+  /// the first found among equals.
   ContactPlanResult SearchFrom(const Node& root, int max_steps) {
+    avoided.clear();
+    std::vector<DynamicStepCheck> checks;
+    ContactPlanResult result = SearchOnce(root, max_steps, &checks);
+    for (int k = 0; k < config.retry.walk_searches && result.ok; ++k) {
+      std::optional<AvoidedStep> blamed;
+      for (std::size_t i = 0; i < checks.size() && !blamed; ++i) {
+        if (!IsGeometric(checks[i].verdict.check)) continue;
+        const AvoidedStep step = WalkFailureStep(result.plan, i + 1, checks[i].verdict);
+        if (std::none_of(avoided.begin(), avoided.end(), [&](const AvoidedStep& a) { return a == step; })) blamed = step;
+      }
+      if (!blamed) break;
+      avoided.push_back(*blamed);
+      ++stats.walk_searches;
+      std::vector<DynamicStepCheck> again_checks;
+      ContactPlanResult again = SearchOnce(root, max_steps, &again_checks);
+      if (!again.ok) break;  // no plan without the steps avoided (or out of time)
+      if (WalkFailures(again_checks) < WalkFailures(checks)) {
+        result = std::move(again);
+        checks = std::move(again_checks);
+      }
+    }
+    result.planning_time_s = budget.Elapsed();
+    const int merged = result.stats.steps_merged;  // the answer's, not every search's
+    result.stats = stats;
+    result.stats.steps_merged = merged;
+    result.stats.walk_steps_slowed = static_cast<int>(
+        std::count_if(checks.begin(), checks.end(), [](const auto& c) { return c.slowdowns > 0; }));
+    result.stats.walk_steps_failing = FailingSteps(checks);
+    return result;
+  }
+
+  /// One search from `root` with the steps `avoided`: the plan found, merged (the steps merged in
+  /// its stats.steps_merged), with its swings and timed for the dynamic walk (its steps' checks in
+  /// *checks).
+  ContactPlanResult SearchOnce(const Node& root, int max_steps, std::vector<DynamicStepCheck>* checks) {
+    checks->clear();
     ContactPlanResult result = SearchWithRetries(ctx(), *path, root, max_steps, spare);
+    result.stats.steps_merged = 0;
     if (result.ok && config.merge.enabled) {
       result.plan.states =
-          contact_planner_detail::MergeSteps(ctx(), std::move(result.plan.states), &stats.steps_merged);
+          contact_planner_detail::MergeSteps(ctx(), std::move(result.plan.states), &result.stats.steps_merged);
       result.steps = static_cast<int>(result.plan.states.size()) - 1;
     }
     if (result.ok) {
       contact_planner_detail::AttachSwings(ctx(), result.plan.states);
-      TimeWalkOf(ctx().stance, &result.plan, &stats);
+      *checks = TimeWalkOf(ctx().stance, &result.plan, nullptr);
     }
-    result.planning_time_s = budget.Elapsed();
-    result.stats = stats;
     return result;
   }
 

@@ -107,13 +107,15 @@ std::optional<std::vector<WholeBodyState>> WithoutStep(const PlannerContext& ctx
     WholeBodyState cur = states[i];
     cur.feet[l] = held;
     std::optional<WholeBodyState> valid = Revalidated(ctx, *prev, cur, leg);
-    if (!valid) return std::nullopt;
+    if (!valid || IsAvoided(ctx.avoided, *prev, *valid)) return std::nullopt;
     out.push_back(std::move(*valid));
     prev = &out.back();
   }
   // The step after the rewritten ones lifts off from the last of them.
   const std::size_t next = arrive_early ? m + 1 : m;
-  if (next < states.size() && !LiftOffValid(ctx, *prev, states[next])) return std::nullopt;
+  if (next < states.size() && (!LiftOffValid(ctx, *prev, states[next]) || IsAvoided(ctx.avoided, *prev, states[next]))) {
+    return std::nullopt;
+  }
   if (!arrive_early) out.push_back(states[m]);
   return out;
 }

@@ -3,8 +3,10 @@
 /// configuration and the terrain (read only), and the equilibrium LP workspace, the work counters
 /// and the time budget (written).
 
+#include <array>
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <vector>
 
 #include "rbcp/collision/robot_terrain_collision.h"
@@ -60,6 +62,63 @@ class TimeBudget {
   const std::atomic<bool>* cancel_ = nullptr;
 };
 
+/// A step the search is not to take again (the plan found with it failed the dynamic walk's
+/// check): `leg` to `foothold`, from the stance with its feet at `feet_before`, or from any stance
+/// (a foothold where the leg's stance fails, whatever the other feet).
+struct AvoidedStep {
+  int leg = -1;
+  Eigen::Vector3d foothold = Eigen::Vector3d::Zero();
+  std::optional<std::array<Eigen::Vector3d, kNumLegs>> feet_before;
+
+  /// Two footholds (or stances' feet) closer than this are the same [m].
+  static constexpr double kSameM = 0.03;
+
+  /// The step of `after` (its moving leg) from `before`; from any stance if not `from_before`.
+  static AvoidedStep Of(const WholeBodyState& before, const WholeBodyState& after, bool from_before = true) {
+    AvoidedStep s;
+    s.leg = after.moving_leg;
+    s.foothold = after.feet[static_cast<std::size_t>(s.leg)].position;
+    if (from_before) {
+      s.feet_before.emplace();
+      for (std::size_t i = 0; i < kNumLegs; ++i) (*s.feet_before)[i] = before.feet[i].position;
+    }
+    return s;
+  }
+  bool operator==(const AvoidedStep& o) const {
+    if (leg != o.leg || (foothold - o.foothold).norm() > kSameM || feet_before.has_value() != o.feet_before.has_value()) {
+      return false;
+    }
+    return !feet_before || SameFeet(*feet_before, *o.feet_before);
+  }
+  /// Whether the step from `before` to `after` is this one.
+  bool Is(const WholeBodyState& before, const WholeBodyState& after) const {
+    if (after.moving_leg != leg || (after.feet[static_cast<std::size_t>(leg)].position - foothold).norm() > kSameM) {
+      return false;
+    }
+    if (!feet_before) return true;
+    std::array<Eigen::Vector3d, kNumLegs> feet;
+    for (std::size_t i = 0; i < kNumLegs; ++i) feet[i] = before.feet[i].position;
+    return SameFeet(*feet_before, feet);
+  }
+
+ private:
+  static bool SameFeet(const std::array<Eigen::Vector3d, kNumLegs>& a, const std::array<Eigen::Vector3d, kNumLegs>& b) {
+    for (std::size_t i = 0; i < kNumLegs; ++i) {
+      if ((a[i] - b[i]).norm() > kSameM) return false;
+    }
+    return true;
+  }
+};
+
+/// Whether the step from `before` to `after` is one of `avoided`.
+inline bool IsAvoided(const std::vector<AvoidedStep>& avoided, const WholeBodyState& before,
+                      const WholeBodyState& after) {
+  for (const AvoidedStep& s : avoided) {
+    if (s.Is(before, after)) return true;
+  }
+  return false;
+}
+
 /// The planner's robot, database, configuration, stance rules and terrain, shared by reference
 /// with every stage. Through its last four members a stage writes the LP workspace, counts its
 /// work, checks the budget and keeps its centre-of-mass scratch; a thread has its own of those.
@@ -72,6 +131,7 @@ struct PlannerContext {
   /// clearances (TerrainCollision) and exact (ExactCollision), the swing path.
   const StanceChecker& stance;
   const std::vector<ConvexPolygon3d>& surfaces; ///< the contact surfaces, as given to SetTerrain
+  const std::vector<AvoidedStep>& avoided;       ///< steps this query's searches do not take
   StaticEquilibrium& equilibrium;
   ContactPlanStats& stats;
   TimeBudget& budget;

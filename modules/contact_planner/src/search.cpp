@@ -322,7 +322,8 @@ class DepthFirstSearch {
     const bool duplicate = std::any_of(node.children.begin(), node.children.end(), [&](const auto& c) {
       return c.leg == option.leg && std::abs(c.t - child.t) < 1e-9 && (c.foot - foot).norm() < kSameFoothold;
     });
-    if (duplicate || dead_ends_.count(KeyOf(child))) return;  // reached by another way: failed already
+    // Reached by another way (failed already), or a step whose dynamic walk failed.
+    if (duplicate || dead_ends_.count(KeyOf(child)) || IsAvoided(ctx_.avoided, node.state, child.state)) return;
     node.children.push_back({option.leg, child.t, foot});
     stack_.push_back(std::move(child));
     if (path_to_furthest_ && stack_.back().t > path_to_furthest_->back().t + 1e-9) {
@@ -508,8 +509,8 @@ class RetrySequence {
     ContactPlanStats stats = before;
     TimeBudget budget = ctx_.budget.CancelledBy(&stop_);
     BodyPoseData body_poses;
-    const PlannerContext ctx{ctx_.robot, ctx_.db, ctx_.eq_config, ctx_.config, ctx_.stance, ctx_.surfaces,
-                             equilibrium, stats, budget, body_poses};
+    const PlannerContext ctx{ctx_.robot,   ctx_.db,       ctx_.eq_config, ctx_.config, ctx_.stance,
+                             ctx_.surfaces, ctx_.avoided, equilibrium, stats, budget, body_poses};
     const Node& start = task.from_root ? root_ : restart_node_;
     const int steps = max_steps_ < 0 || task.from_root ? max_steps_ : max_steps_ - static_cast<int>(restart_);
     std::vector<Node> path_to_furthest;

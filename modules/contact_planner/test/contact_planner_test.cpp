@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <iostream>
 #include <limits>
 
@@ -656,6 +657,7 @@ TEST(ContactPlannerTest, MergingShortensARubblePlanAndKeepsItValid) {
   ContactPlannerConfig off = PlannerConfig();
   off.merge.enabled = false;
   off.time_budget_s = 600.0;
+  off.retry.walk_searches = 0;  // the first plan each finds, merged and not
   ContactPlannerConfig on = off;
   on.merge.enabled = true;
   ContactPlanner unmerging = MakePlanner(world, off);
@@ -681,6 +683,37 @@ TEST(ContactPlannerTest, MergingShortensARubblePlanAndKeepsItValid) {
     EXPECT_EQ(after.states[k].base_position, merged.plan.states[k].base_position);
     EXPECT_EQ(after.states[k].moving_leg, merged.plan.states[k].moving_leg);
   }
+}
+
+TEST(ContactPlannerTest, APlanWhoseWalkPutsALegOnTheTerrainIsSearchedAgainWithoutThatStep) {
+  // slalom_debris seed 3: the first plan found has steps whose dynamic walk (the CoM where the
+  // walking pattern carries it) puts a leg on the terrain. Searched again without them, the plan
+  // fails fewer steps, passes every check, and its stats count its own failing steps.
+  const World& world = ScenarioWorld("slalom_debris");
+  const RootPlanResult& root = ScenarioRootPath("slalom_debris", 3);
+  ASSERT_TRUE(root.ok()) << root.reason;
+  const auto samples = root.path.SampleEvery(0.01);
+  ContactPlannerConfig once = PlannerConfig();
+  once.time_budget_s = 600.0;
+  once.retry.walk_searches = 0;
+  ContactPlannerConfig again = once;
+  again.retry.walk_searches = 3;
+  const ContactPlanResult first = MakePlanner(world, once).Plan(samples);
+  const ContactPlanResult searched = MakePlanner(world, again).Plan(samples);
+  ASSERT_TRUE(first.ok) << first.reason;
+  ASSERT_TRUE(searched.ok) << searched.reason;
+  EXPECT_EQ(first.stats.walk_searches, 0);
+  ASSERT_GT(first.stats.walk_steps_failing, 0) << "the first plan should fail a step of its walk";
+  EXPECT_GT(searched.stats.walk_searches, 0);
+  EXPECT_LT(searched.stats.walk_steps_failing, first.stats.walk_steps_failing);
+  ExpectValidPlan(searched.plan, world, samples);
+
+  StanceChecker checker(Robot(), test::Rules());
+  checker.SetTerrain(&world.terrain);
+  ContactPlan retimed = searched.plan;
+  const std::vector<DynamicStepCheck> checks = TimeDynamicWalk(checker, &retimed);
+  const auto failing = std::count_if(checks.begin(), checks.end(), [](const auto& c) { return !c.verdict.ok(); });
+  EXPECT_EQ(failing, searched.stats.walk_steps_failing);
 }
 
 TEST(ContactPlannerTest, StandingStanceIsAtTheReference) {

@@ -1,6 +1,7 @@
 // The pieces of the contact search on their own: the keep phase, one step attempt, step merging.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "feet_kept.h"
@@ -60,8 +61,9 @@ class SearchPieces : public ::testing::Test {
   ContactPlanStats stats_;
   TimeBudget budget_;
   BodyPoseData body_poses_;
-  PlannerContext ctx_{Robot(),   SmallDatabase(), Equilibrium(), config_, stance_,
-                      surfaces_, equilibrium_,    stats_,        budget_, body_poses_};
+  std::vector<AvoidedStep> avoided_;
+  PlannerContext ctx_{Robot(),   SmallDatabase(), Equilibrium(), config_,  stance_,    surfaces_,
+                      avoided_,  equilibrium_,    stats_,        budget_,  body_poses_};
   std::unique_ptr<PathTrack> path_;
 };
 
@@ -158,6 +160,47 @@ TEST_F(SearchPieces, MergingRemovesAStepAndKeepsEveryStepWalkable) {
     const StanceVerdict v = stance_.CheckStep(merged[k - 1], merged[k]);
     EXPECT_TRUE(v.ok()) << "state " << k << ": " << v.Describe();
   }
+
+  // With LF's last foothold avoided from any stance (its dynamic walk failed there), no merge
+  // steps there earlier: the steps stay as they were.
+  const auto lf_step = std::find_if(merged.begin() + 1, merged.end(),
+                                    [](const WholeBodyState& s) { return s.moving_leg == Index(Leg::kLF); });
+  ASSERT_NE(lf_step, merged.end());
+  avoided_.push_back(AvoidedStep::Of(*(lf_step - 1), *lf_step, false));
+  EXPECT_TRUE(IsAvoided(avoided_, *(lf_step - 1), *lf_step));
+  EXPECT_EQ(MergeSteps(ctx_, states, &removed).size(), states.size());
+  EXPECT_EQ(removed, 0);
+}
+
+TEST(AvoidedStepTest, IsTheLegsFootholdFromThatStanceOrFromAnyWithinThreeCentimetres) {
+  WholeBodyState before;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kNumLegs); ++i) {
+    before.feet[i].position = Eigen::Vector3d(i < 2 ? 0.3 : -0.3, i % 2 == 0 ? 0.2 : -0.2, 0.0);
+  }
+  WholeBodyState after = before;
+  after.moving_leg = Index(Leg::kRF);
+  after.feet[1].position.x() += 0.2;
+  const AvoidedStep from_before = AvoidedStep::Of(before, after);
+  const AvoidedStep from_any = AvoidedStep::Of(before, after, false);
+  EXPECT_TRUE(from_before.Is(before, after));
+
+  WholeBodyState near = after;  // the foothold 2 cm off
+  near.feet[1].position.y() += 0.02;
+  EXPECT_TRUE(from_before.Is(before, near));
+  WholeBodyState far = after;  // 4 cm off
+  far.feet[1].position.y() += 0.04;
+  EXPECT_FALSE(from_before.Is(before, far));
+  EXPECT_FALSE(from_any.Is(before, far));
+
+  WholeBodyState other_stance = before;  // LH stands 5 cm back
+  other_stance.feet[2].position.x() -= 0.05;
+  EXPECT_FALSE(from_before.Is(other_stance, after));
+  EXPECT_TRUE(from_any.Is(other_stance, after));
+
+  WholeBodyState other_leg = after;  // LF to RF's foothold is another step
+  other_leg.moving_leg = Index(Leg::kLF);
+  EXPECT_FALSE(from_any.Is(before, other_leg));
+  EXPECT_FALSE(from_before == from_any);
 }
 
 TEST(StepFailureTest, SaysWhatFailedWithItsNumbersAndHowTheStepEnded) {

@@ -53,17 +53,21 @@ std::vector<double> CheckTimes(const WalkingPattern& pattern, int index) {
 /// into *q (the skip leg's joints are left as they are): within the joint bounds, each knee bent
 /// at least the robot's margin (away from the stretched leg's singularity). The planner's
 /// hip-distance margins, which allow for a base tracked a centimetre off its plan pose, are not
-/// asked for: these poses are the walk itself. Empty when solved, else what is out of reach.
+/// asked for: these poses are the walk itself. Empty when solved, else what is out of reach (and
+/// that leg in *failed).
 std::string SolveWalkStance(const RobotModel& robot, const Eigen::Isometry3d& base_W, const FootContacts& feet,
-                            int skip, JointVector* q) {
+                            int skip, JointVector* q, std::optional<Leg>* failed) {
   const Eigen::Isometry3d T_BW = base_W.inverse();
   for (Leg leg : kAllLegs) {
     if (Index(leg) == skip) continue;
     const Eigen::Vector3d p_B = T_BW * feet[static_cast<std::size_t>(Index(leg))].position;
     const std::string distance = FixedNumber((p_B - robot.HipPosition(leg)).norm(), 3) + " m from its hip";
     const IkResult ik = robot.SolveLegIk(leg, p_B);
-    if (!ik.ok()) return std::string(LegName(leg)) + " foot beyond the leg's reach, " + distance;
-    if (!robot.KneeBent(ik.q)) return std::string(LegName(leg)) + " knee straighter than the margin, " + distance;
+    if (!ik.ok() || !robot.KneeBent(ik.q)) {
+      *failed = leg;
+      return std::string(LegName(leg)) + (ik.ok() ? " knee straighter than the margin, " : " foot beyond the leg's reach, ") +
+             distance;
+    }
     SetLegJoints(*q, leg, ik.q);
   }
   return {};
@@ -155,9 +159,10 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
     const int skip = swinging ? lifting : -1;
     // The feet down: the step's own once its foot has touched down (the last sample).
     const FootContacts& feet = t >= swing.end_s ? to.feet : from.feet;
-    const auto fail = [&](StanceCheck check, const std::string& detail) {
+    const auto fail = [&](StanceCheck check, const std::string& detail, std::optional<Leg> leg = std::nullopt) {
       if (out.verdict.ok()) {
         out.verdict = Failure(check, phase, "at " + FixedNumber(t, 2) + " s of the walk: " + detail);
+        out.verdict.leg = leg;
         out.time_s = t;
       }
     };
@@ -180,13 +185,14 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
     base.translation() = from.base_position + w * (to.base_position - from.base_position);
     JointVector q = to.joints;  // the swinging leg's for its share of the CoM
     std::string unreachable;
+    std::optional<Leg> unreachable_leg;
     for (int pass = 0; pass < 2 && unreachable.empty(); ++pass) {  // the CoM's offset depends on the joints
       const Eigen::Vector3d offset = base.linear() * robot.CenterOfMass(q);
       base.translation().head<2>() = com.position - offset.head<2>();
-      unreachable = SolveWalkStance(robot, base, feet, skip, &q);
+      unreachable = SolveWalkStance(robot, base, feet, skip, &q, &unreachable_leg);
     }
     if (!unreachable.empty()) {
-      fail(StanceCheck::kReach, unreachable);
+      fail(StanceCheck::kReach, unreachable, unreachable_leg);
       continue;
     }
     // The swinging foot on its path, once it is 2 cm above the foothold it rises from, or then
@@ -203,11 +209,13 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
     }
     if (checker.HasTerrain()) {
       CollisionReport hit = checker.TerrainCollision().CheckTrunk(base);
+      std::optional<Leg> hit_leg;
       for (Leg leg : kAllLegs) {
         if (hit.collision) break;
         if (Index(leg) != skip) hit = checker.TerrainCollision().CheckLeg(leg, base, LegJoints(q, leg), true);
+        if (hit.collision) hit_leg = leg;
       }
-      if (hit.collision) fail(StanceCheck::kCollision, hit.first_shape + " on the terrain");
+      if (hit.collision) fail(StanceCheck::kCollision, hit.first_shape + " on the terrain", hit_leg);
       if (swing_q) {
         const CollisionReport leg_hit = checker.TerrainCollision().CheckLeg(static_cast<Leg>(lifting), base, *swing_q, true);
         if (leg_hit.collision) fail(StanceCheck::kSwingTerrain, leg_hit.first_shape + " on the terrain as it swings");

@@ -122,6 +122,7 @@ struct ContactPlanStats {
   int steps_merged = 0;          ///< steps removed from the found plan by step merging
   int walk_steps_slowed = 0;     ///< steps the dynamic walk's timing slowed (TimeDynamicWalk)
   int walk_steps_failing = 0;    ///< steps whose dynamic walk still fails its check at that timing
+  int walk_searches = 0;         ///< searches repeated without a step whose dynamic walk failed its check
 
   /// Leg evaluations (keep checks and candidates evaluated): the work that
   /// ContactPlannerConfig::retry.max_evaluations bounds.
@@ -144,7 +145,7 @@ struct ContactPlanStats {
       &ContactPlanStats::keep_checks,   &ContactPlanStats::step_attempts,         &ContactPlanStats::candidates,
       &ContactPlanStats::candidates_evaluated, &ContactPlanStats::stability_evaluations, &ContactPlanStats::swing_checks,
       &ContactPlanStats::backtracks,    &ContactPlanStats::steps_merged,          &ContactPlanStats::walk_steps_slowed,
-      &ContactPlanStats::walk_steps_failing};
+      &ContactPlanStats::walk_steps_failing,   &ContactPlanStats::walk_searches};
 };
 
 struct ContactPlanResult {

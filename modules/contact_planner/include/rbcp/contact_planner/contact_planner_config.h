@@ -152,6 +152,7 @@ struct RetryConfig {
   double restart_back_s = 4.0;
   int max_search_evaluations = 400000;
   int parallel_searches = 2;
+  int walk_searches = 3;
 
   template <class Visitor>
   void Serialize(Visitor* v) {
@@ -176,6 +177,10 @@ struct RetryConfig {
              "leg evaluations one search (one timing) may make before the next is tried");
     v->Visit("parallel_searches", &parallel_searches, "", bounds::Closed(1, 16),
              "searches run at once, on as many threads; the plan does not depend on it");
+    v->Visit("walk_searches", &walk_searches, "", bounds::AtLeast(0),
+             "a plan whose dynamic walk fails a step's check (at the slowest pace tried) is searched for again at "
+             "most this many times, each search without the first failing step of the last plan found; the plan "
+             "with the fewest failing steps is the answer");
   }
 };
 

@@ -42,7 +42,9 @@ WalkingPattern DynamicWalkPattern(const StanceChecker& checker, const ContactPla
 
 /// How a step of the dynamic walk fares along its pattern.
 struct DynamicStepCheck {
-  StanceVerdict verdict;  ///< the first failure: phase kShift with four feet down, kSwing with three
+  /// The first failure: phase kShift with four feet down, kSwing with three; its leg the one out
+  /// of reach or on the terrain, where one is.
+  StanceVerdict verdict;
   double time_s = std::numeric_limits<double>::quiet_NaN();  ///< pattern time of that failure [s]
   /// Least distance of the pattern's ZMP inside the support polygon over the step [m].
   double min_zmp_margin_m = std::numeric_limits<double>::infinity();
