@@ -185,20 +185,25 @@ struct ContactPlanner::Impl {
   }
 
   /// The search from `root` with the query's planning time and work counters. A plan whose
-  /// dynamic walk fails a step's check is searched for again (retry.walk_searches times at most),
-  /// each time also without the step blamed for the first failure of the best plan found that is
-  /// not avoided yet (WalkFailureStep); the answer is the plan that fails least (WalkFailures),
-  /// the first found among equals.
+  /// dynamic walk puts a leg on the terrain or a foot out of reach is searched for again
+  /// (retry.walk_searches times at most), each time also without the step blamed (WalkFailureStep)
+  /// for the first such failure of the best plan found that is not avoided yet, collisions before
+  /// reach; the answer is the plan that fails least (WalkFailures), the first found among equals.
   ContactPlanResult SearchFrom(const Node& root, int max_steps) {
     avoided.clear();
     std::vector<DynamicStepCheck> checks;
     ContactPlanResult result = SearchOnce(root, max_steps, &checks);
     for (int k = 0; k < config.retry.walk_searches && result.ok; ++k) {
+      // A leg on the terrain first (the robot falls or a foot slides), then a foot out of reach
+      // (the walk lags); torque, balance and support have margins and are not searched around.
       std::optional<AvoidedStep> blamed;
-      for (std::size_t i = 0; i < checks.size() && !blamed; ++i) {
-        if (!IsGeometric(checks[i].verdict.check)) continue;
-        const AvoidedStep step = WalkFailureStep(result.plan, i + 1, checks[i].verdict);
-        if (std::none_of(avoided.begin(), avoided.end(), [&](const AvoidedStep& a) { return a == step; })) blamed = step;
+      for (const bool collision : {true, false}) {
+        for (std::size_t i = 0; i < checks.size() && !blamed; ++i) {
+          const StanceCheck c = checks[i].verdict.check;
+          if (!IsGeometric(c) || (c != StanceCheck::kReach) != collision) continue;
+          const AvoidedStep step = WalkFailureStep(result.plan, i + 1, checks[i].verdict);
+          if (std::none_of(avoided.begin(), avoided.end(), [&](const AvoidedStep& a) { return a == step; })) blamed = step;
+        }
       }
       if (!blamed) break;
       avoided.push_back(*blamed);

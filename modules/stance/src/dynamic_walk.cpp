@@ -203,7 +203,7 @@ DynamicStepCheck CheckDynamicStep(const StanceChecker& checker, const ContactPla
       const Eigen::Vector3d foot_W = path.Position(along);
       if (foot_W.z() > (path.Phase(along) <= 0.5 ? start_z : end_z) + 0.02) {
         const IkResult ik = robot.SolveLegIk(static_cast<Leg>(lifting), base.inverse() * foot_W);
-        if (!ik.ok()) fail(StanceCheck::kSwingTerrain, "the swinging foot beyond its leg's reach");
+        if (!ik.ok()) fail(StanceCheck::kReach, "the swinging foot beyond its leg's reach", static_cast<Leg>(lifting));
         else swing_q = ik.q;
       }
     }

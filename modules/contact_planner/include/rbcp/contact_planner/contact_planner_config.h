@@ -178,9 +178,10 @@ struct RetryConfig {
     v->Visit("parallel_searches", &parallel_searches, "", bounds::Closed(1, 16),
              "searches run at once, on as many threads; the plan does not depend on it");
     v->Visit("walk_searches", &walk_searches, "", bounds::AtLeast(0),
-             "a plan whose dynamic walk fails a step's check (at the slowest pace tried) is searched for again at "
-             "most this many times, each search without the first failing step of the last plan found; the plan "
-             "with the fewest failing steps is the answer");
+             "a plan whose dynamic walk puts a leg on the terrain or a foot out of reach is searched for again at "
+             "most this many times, each search also without the step blamed for the first such failure of the best "
+             "plan so far (collisions first); the plan with the fewest such steps, then the fewest failing steps, is "
+             "the answer");
   }
 };
 
