@@ -253,12 +253,19 @@ class LoopFollower {
     return std::nullopt;
   }
 
-  /// A contact planner's failure costs a replan; another process's ends the run.
+  /// A contact planner's failure costs a replan, and so does a root planner's (its new path from
+  /// where the robot stands: the robot goes on along the previous one); another process's ends
+  /// the run.
   std::optional<int> TakeFailures() {
     while (auto f = board_.TakeFailure()) {
       if (f->process == "contact_planner") {
         planner_failures_ += 1;
         std::cout << "contact_planner: no plan for this step boundary: " << f->reason << std::endl;
+        continue;
+      }
+      if (f->process == "root_planner") {
+        planner_failures_ += 1;
+        std::cout << "root_planner: no new root path from where the robot stands: " << f->reason << std::endl;
         continue;
       }
       std::cout << f->process << ": FAILED: " << f->reason << std::endl;

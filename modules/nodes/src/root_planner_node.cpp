@@ -94,7 +94,7 @@ bool RootPlannerNode::Step() {
     if (!why) return false;
     rbcp_msgs::plan_request_t again = *active_;
     again.use_start = false;
-    PlanHandled(again, *why);
+    PlanHandled(again, *why, /*replan=*/true);
     return true;
   }
   if (!pending_->use_start && !robot_state_.Latest()) {
@@ -136,10 +136,11 @@ void RootPlannerNode::AnswerAgain() {
   }
 }
 
-void RootPlannerNode::PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why) {
-  Plan(request, why);
+void RootPlannerNode::PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why, bool replan) {
+  Plan(request, why, replan);
   const rbcp_msgs::process_status_t answer = status_.last();
-  if (answer.state == rbcp_msgs::process_status_t::FAILED) handled_failure_ = answer.reason;
+  // A replan that failed leaves the request its previous path: that is its answer.
+  if (answer.state == rbcp_msgs::process_status_t::FAILED && !published_) handled_failure_ = answer.reason;
   else handled_failure_.reset();
 }
 
@@ -183,8 +184,19 @@ std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {
   return "the robot stands " + FixedNumber(nearest, 2) + " m from the path";
 }
 
-void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::string& why) {
+void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::string& why, bool replan) {
   status_.Busy(Now(), request.utime);
+  // A replan that fails leaves the path the robot follows as it is: the loop goes on along it
+  // (the contact planner plans from where the robot stands; its next failure asks for the next
+  // guide). A new request's failure leaves no path.
+  const bool keep = replan && last_result_ && last_result_->ok() && published_;
+  const auto failed = [&](double ms, const std::string& reason) {
+    if (!keep) {
+      last_result_.reset();
+      published_.reset();
+    }
+    status_.Failed(Now(), request.utime, ms, reason + (keep ? " (the robot goes on along the previous path)" : ""));
+  };
   terrain_replan_due_ = false;  // planned on the terrain as it is now
   Eigen::Vector2d start_xy(request.start_position[0], request.start_position[1]);
   double start_yaw = request.start_yaw;
@@ -192,10 +204,7 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     const auto& state = *robot_state_.Latest();
     start_xy = {state.base_position[0], state.base_position[1]};
     start_yaw = YawOf(state.base_orientation);
-    if (!start_xy.allFinite() || !std::isfinite(start_yaw)) {
-      status_.Failed(Now(), request.utime, 0.0, "robot state: base pose is not finite");
-      return;
-    }
+    if (!start_xy.allFinite() || !std::isfinite(start_yaw)) return failed(0.0, "robot state: base pose is not finite");
   }
   if (!request.use_start) {
     // The measured base is where the robot is: one inside the terrain is not lifted onto its top.
@@ -207,38 +216,25 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     } else if (auto bad = planner_.CheckMeasuredBase(*world_.terrain(), base)) {
       problem = bad->Describe();
     }
-    if (problem) {
-      last_result_.reset();
-      published_.reset();
-      status_.Failed(Now(), request.utime, 0.0, "start_invalid: " + *problem);
-      return;
-    }
+    if (problem) return failed(0.0, "start_invalid: " + *problem);
   }
+  RootPlanResult result;
   try {
     const auto start = planner_.StandingPosition(*world_.terrain(), start_xy);
     const auto goal = planner_.StandingPosition(*world_.terrain(), {request.goal_position[0], request.goal_position[1]});
-    if (!start || !goal) {
-      status_.Failed(Now(), request.utime, 0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
-      return;
-    }
+    if (!start || !goal) return failed(0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
     const double budget = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
-    last_result_ = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw,
-                                 GuideSeed(static_cast<unsigned>(request.seed), guide_), budget);
+    result = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw,
+                           GuideSeed(static_cast<unsigned>(request.seed), guide_), budget);
   } catch (const std::exception& e) {
     // A request the planner refuses is answered with a status (below). What it throws is a
     // terrain or surfaces its reachability checker cannot be built on (InputError), or a bug
     // (InvariantError): either fails this request, not the process.
-    last_result_.reset();
-    published_.reset();
-    status_.Failed(Now(), request.utime, 0.0, std::string("cannot plan: ") + e.what());
-    return;
+    return failed(0.0, std::string("cannot plan: ") + e.what());
   }
-  const double ms = 1000.0 * last_result_->planning_time_s;
-  if (!last_result_->ok()) {
-    published_.reset();
-    status_.Failed(Now(), request.utime, ms, ToString(last_result_->status) + ": " + last_result_->reason);
-    return;
-  }
+  const double ms = 1000.0 * result.planning_time_s;
+  if (!result.ok()) return failed(ms, ToString(result.status) + ": " + result.reason);
+  last_result_ = std::move(result);
   published_ = ToRootPathMsg(*last_result_, Now(), request.request_id, world_.terrain_id());
   lcm_.publish(options_.root_path_channel, &*published_);
   active_ = request;

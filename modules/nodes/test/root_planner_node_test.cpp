@@ -222,6 +222,56 @@ TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges)
   EXPECT_NE(status_.Latest()->reason.find("the terrain changed"), std::string::npos) << status_.Latest()->reason;
 }
 
+TEST_F(RootPlannerNodeTest, AReplanThatFailsLeavesTheRobotThePathItFollows) {
+  PublishWorld("flat_ground");
+  const auto request = Request(0.0, 1.5, 12);
+  lcm_.publish(channels::kPlanRequest, &request);
+  const auto first = PathNow();
+  ASSERT_TRUE(first.has_value());
+
+  // The robot waits 0.4 m beside the path with its base measured inside the floor: no new path
+  // from there, and the path it follows stays the request's.
+  Robot robot;
+  robot.state.utime = robot.controller.utime = robot.controller.awaiting_since = 1000000;
+  robot.state.base_position[0] = 0.5;
+  robot.state.base_position[1] = 0.4;
+  robot.state.base_position[2] = -0.2;
+  robot.state.base_orientation[0] = 1.0;
+  robot.controller.awaiting_plan = true;
+  Publish(robot);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_FALSE(path_.Take().has_value());
+  ASSERT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(status_.Latest()->reason.find("start_invalid"), std::string::npos) << status_.Latest()->reason;
+  EXPECT_NE(status_.Latest()->reason.find("the robot goes on along the previous path"), std::string::npos)
+      << status_.Latest()->reason;
+  auto repeat = request;  // the operator's repeat is answered with that path
+  repeat.utime = 900;
+  lcm_.publish(channels::kPlanRequest, &repeat);
+  const auto kept = PathNow();
+  ASSERT_TRUE(kept.has_value());
+  EXPECT_EQ(kept->utime, first->utime);
+  EXPECT_EQ(kept->num_points, first->num_points);
+
+  // At its next wait, standing 0.4 m beside the path, the robot gets a new one from there.
+  robot.state.utime = robot.controller.utime = robot.controller.awaiting_since = 2000000;
+  robot.state.base_position[2] = 0.45;
+  const auto path = PathAfter(robot);
+  ASSERT_TRUE(path.has_value());
+  EXPECT_NEAR(path->points.front().position[1], 0.4, 1e-9);
+
+  // A new request that fails leaves no path: its repeat gets the failure again.
+  const auto off_terrain = Request(0.0, 40.0, 13);
+  lcm_.publish(channels::kPlanRequest, &off_terrain);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_EQ(status_.Latest()->reason.find("previous path"), std::string::npos) << status_.Latest()->reason;
+}
+
 TEST_F(RootPlannerNodeTest, PlansTheNextGuideWhenNoContactPlanFollowsThePath) {
   PublishWorld("flat_ground");
   const auto request = Request(0.0, 1.5, 4);

@@ -76,13 +76,15 @@ class RootPlannerNode {
  private:
   /// Takes new terrain / surfaces / request; returns a reason if an input was rejected.
   std::optional<RejectedInput> TakeInputs();
-  void Plan(const rbcp_msgs::plan_request_t& request, const std::string& why = "");
+  /// Plans `request` (`why`: the reason of a new path, if any); `replan`: a new path for the
+  /// request the robot already follows a path of (ReplanReason).
+  void Plan(const rbcp_msgs::plan_request_t& request, const std::string& why, bool replan);
   /// Publishes ALIVE with `what` the pending request waits for, once per change; true if it did.
   bool ReportWaiting(const std::string& what);
   /// The answer to the request last taken, again: its path, or its failure.
   void AnswerAgain();
   /// Plan() for the request last taken, keeping its failure for AnswerAgain().
-  void PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why);
+  void PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why, bool replan = false);
   /// Why the current request needs a new path; nullopt when it does not.
   std::optional<std::string> ReplanReason(bool world_changed);
   int64_t Now() const;
