@@ -9,7 +9,6 @@
 #include "rbcp/core/error.h"
 #include "rbcp/core/pose.h"
 #include "rbcp/equilibrium/support_polygon.h"
-#include "rbcp/stance/swing_trajectory.h"
 
 namespace rbcp {
 namespace {
@@ -56,22 +55,6 @@ Eigen::Vector2d Centre(const std::vector<Eigen::Vector3d>& feet) {
 Eigen::Vector2d NearestWithMargin(const std::array<Eigen::Vector2d, 3>& tri, double margin, const Eigen::Vector2d& p) {
   const std::optional<std::array<Eigen::Vector2d, 3>> shrunk = ErodeTriangle(tri, margin);
   return shrunk ? ClosestPointInTriangle(*shrunk, p) : TriangleIncentre(tri);
-}
-
-std::vector<double> PlannedSwingDurations(const ContactPlan& plan, const SwingPathConfig& config) {
-  std::vector<double> durations;
-  for (std::size_t i = 1; i < plan.states.size(); ++i) {
-    const WholeBodyState& to = plan.states[i];
-    if (!to.HasSwing() || to.moving_leg < 0 || to.moving_leg >= kNumLegs) {
-      durations.push_back(std::numeric_limits<double>::quiet_NaN());
-      continue;
-    }
-    const std::size_t leg = static_cast<std::size_t>(to.moving_leg);
-    durations.push_back(SwingTrajectory::Given(plan.states[i - 1].feet[leg].position, to.feet[leg].position,
-                                               to.swing_apex_z, to.swing_bow, config)
-                            .Duration());
-  }
-  return durations;
 }
 
 const SupportPhase& WalkingPattern::PhaseAt(double t) const {

@@ -29,7 +29,6 @@
 #include "rbcp/stance/gait_config.h"
 #include "rbcp/stance/zmp_preview.h"
 #include "rbcp/core/contact_plan.h"
-#include "rbcp/stance/stance_config.h"
 
 namespace rbcp {
 
@@ -37,7 +36,7 @@ namespace rbcp {
 struct GaitTiming : GaitPhases {
   double swing_s = 0.0;
   /// Per step (plan states 1..n, in order): the swing's own duration [s], e.g. the time the foot
-  /// takes along the swing path the plan carries (PlannedSwingDurations); empty, or NaN for a step:
+  /// takes along the swing path the plan carries (DynamicSwing); empty, or NaN for a step:
   /// swing_s.
   std::vector<double> step_swing_s;
   /// Per step likewise: the four-foot phase before its swing [s], e.g. a timed plan's (from its
@@ -123,10 +122,6 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
 /// The same with the CoM at rest at `com_start_xy`.
 WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& timing, const ZmpPreviewModel& model,
                                   const Eigen::Vector2d& com_start_xy);
-
-/// For each step of `plan` (states 1..n), the duration of the swing path it carries as the
-/// controller walks it (SwingTrajectory::Given with `config`); NaN for a step without a swing path.
-std::vector<double> PlannedSwingDurations(const ContactPlan& plan, const SwingPathConfig& config);
 
 /// The point nearest `p` of the triangle shrunk inward by `margin` (ErodeTriangle); the incentre
 /// when the triangle's inscribed circle is not larger than `margin`.
