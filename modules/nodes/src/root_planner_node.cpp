@@ -93,7 +93,9 @@ bool RootPlannerNode::Step() {
     const std::optional<std::string> why = ReplanReason(world_changed);
     if (!why) return false;
     rbcp_msgs::plan_request_t again = *active_;
-    again.use_start = false;
+    // Before its first step the robot stands at the request's start (within
+    // replan_path_offset_m): the next guide starts there too, as a whole plan's next guide does.
+    again.use_start = active_->use_start && StandsAtStart(*active_);
     PlanHandled(again, *why, /*replan=*/true);
     return true;
   }
@@ -142,6 +144,14 @@ void RootPlannerNode::PlanHandled(const rbcp_msgs::plan_request_t& request, cons
   // A replan that failed leaves the request its previous path: that is its answer.
   if (answer.state == rbcp_msgs::process_status_t::FAILED && !published_) handled_failure_ = answer.reason;
   else handled_failure_.reset();
+}
+
+bool RootPlannerNode::StandsAtStart(const rbcp_msgs::plan_request_t& request) const {
+  if (!robot_state_.Latest() || !controller_.Latest() || controller_.Latest()->steps_done > 0) return false;
+  const auto& state = *robot_state_.Latest();
+  const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
+  const Eigen::Vector2d start(request.start_position[0], request.start_position[1]);
+  return base.allFinite() && (base - start).norm() <= options_.replan_path_offset_m;
 }
 
 std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {

@@ -49,6 +49,18 @@ class RootPlannerNodeTest : public ::testing::Test {
     lcm_.publish(channels::kRobotState, &robot.state);
   }
 
+  /// The contact planner's first FAILED answer (no foothold) to the wait at `input_utime`.
+  static rbcp_msgs::process_status_t ContactPlannerFailed(int64_t input_utime) {
+    rbcp_msgs::process_status_t failed{};
+    failed.process = "contact_planner";
+    failed.pid = 77;
+    failed.state = rbcp_msgs::process_status_t::FAILED;
+    failed.reason = "no_foothold: no valid step for LF at path time 3.10 s";
+    failed.input_utime = input_utime;
+    failed.handled = 1;
+    return failed;
+  }
+
   /// Publishes `state` (or `robot`), steps the node (expecting it to plan) and returns the
   /// ROOT_PATH, if any.
   std::optional<rbcp_msgs::root_path_t> PathAfter(const rbcp_msgs::robot_state_t& state) {
@@ -289,17 +301,12 @@ TEST_F(RootPlannerNodeTest, PlansTheNextGuideWhenNoContactPlanFollowsThePath) {
   robot.controller.utime = robot.state.utime;
   robot.controller.awaiting_plan = true;
   robot.controller.awaiting_since = robot.state.utime;
+  robot.controller.steps_done = 1;  // it has walked
   Publish(robot);
   Pump();
   EXPECT_FALSE(node_.Step()) << "the robot waits on the path";
 
-  rbcp_msgs::process_status_t failed{};
-  failed.process = "contact_planner";
-  failed.pid = 77;
-  failed.state = rbcp_msgs::process_status_t::FAILED;
-  failed.reason = "no_foothold: no valid step for LF at path time 3.10 s";
-  failed.input_utime = robot.state.utime;
-  failed.handled = 1;
+  rbcp_msgs::process_status_t failed = ContactPlannerFailed(robot.state.utime);
   const auto contact_planner_says = [&](int64_t handled, const std::string& reason) {
     failed.handled = handled;
     failed.reason = reason;
@@ -338,13 +345,34 @@ TEST_F(RootPlannerNodeTest, PlansTheNextGuideWhenNoContactPlanFollowsThePath) {
   Pump();
   EXPECT_FALSE(node_.Step());
   robot.state.utime = robot.controller.utime = robot.controller.awaiting_since = 2000000;
-  robot.controller.steps_done = 1;
+  robot.controller.steps_done = 2;
   Publish(robot);
   failed.input_utime = robot.state.utime;
   contact_planner_says(6, "no_foothold: no valid step for RH at path time 0.40 s");
   path = PathNow();
   ASSERT_TRUE(path.has_value());
   EXPECT_NE(status_.Latest()->reason.find("guide 4"), std::string::npos) << status_.Latest()->reason;
+}
+
+TEST_F(RootPlannerNodeTest, BeforeTheFirstStepTheNextGuideStartsAtTheRequestsStart) {
+  PublishWorld("flat_ground");
+  const auto request = Request(0.0, 1.5, 5);
+  lcm_.publish(channels::kPlanRequest, &request);
+  ASSERT_TRUE(PathNow().has_value());
+  // The robot stands 4 cm beside the start, no step taken, and no contact plan follows the path.
+  Robot robot;
+  robot.state.utime = robot.controller.utime = robot.controller.awaiting_since = 1000000;
+  robot.state.base_position[1] = 0.04;
+  robot.state.base_position[2] = 0.45;
+  robot.state.base_orientation[0] = 1.0;
+  robot.controller.awaiting_plan = true;
+  Publish(robot);
+  const rbcp_msgs::process_status_t failed = ContactPlannerFailed(robot.state.utime);
+  lcm_.publish(channels::kStatus, &failed);
+  const auto path = PathNow();
+  ASSERT_TRUE(path.has_value());
+  EXPECT_NE(status_.Latest()->reason.find("guide 2"), std::string::npos) << status_.Latest()->reason;
+  EXPECT_NEAR(path->points.front().position[1], 0.0, 1e-9) << "from the request's start, as offline";
 }
 
 TEST_F(RootPlannerNodeTest, BadRequestsFailWithAReason) {

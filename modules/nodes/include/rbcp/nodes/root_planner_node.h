@@ -85,6 +85,9 @@ class RootPlannerNode {
   void AnswerAgain();
   /// Plan() for the request last taken, keeping its failure for AnswerAgain().
   void PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why, bool replan = false);
+  /// Whether the robot has not stepped yet and stands within replan_path_offset_m of the
+  /// request's start.
+  bool StandsAtStart(const rbcp_msgs::plan_request_t& request) const;
   /// Why the current request needs a new path; nullopt when it does not.
   std::optional<std::string> ReplanReason(bool world_changed);
   int64_t Now() const;
