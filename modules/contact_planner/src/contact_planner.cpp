@@ -70,6 +70,11 @@ int FailingSteps(const std::vector<DynamicStepCheck>& checks) {
   return static_cast<int>(std::count_if(checks.begin(), checks.end(), [](const auto& c) { return !c.verdict.ok(); }));
 }
 
+/// Steps of `checks` that TimeDynamicWalk slowed.
+int SlowedSteps(const std::vector<DynamicStepCheck>& checks) {
+  return static_cast<int>(std::count_if(checks.begin(), checks.end(), [](const auto& c) { return c.slowdowns > 0; }));
+}
+
 /// A failure of a foot out of reach or of the robot on the terrain, which no pace cures.
 bool IsGeometric(StanceCheck check) {
   return check == StanceCheck::kReach || check == StanceCheck::kCollision || check == StanceCheck::kSwingTerrain;
@@ -102,9 +107,7 @@ std::vector<DynamicStepCheck> TimeWalkOf(const StanceChecker& stance, ContactPla
   if (plan->states.size() < 2) return {};
   std::vector<DynamicStepCheck> checks = TimeDynamicWalk(stance, plan, keep_steps);
   if (stats != nullptr) {
-    for (const DynamicStepCheck& c : checks) {
-      if (c.slowdowns > 0) ++stats->walk_steps_slowed;
-    }
+    stats->walk_steps_slowed += SlowedSteps(checks);
     stats->walk_steps_failing += FailingSteps(checks);
   }
   return checks;
@@ -220,8 +223,7 @@ struct ContactPlanner::Impl {
     const int merged = result.stats.steps_merged;  // the answer's, not every search's
     result.stats = stats;
     result.stats.steps_merged = merged;
-    result.stats.walk_steps_slowed = static_cast<int>(
-        std::count_if(checks.begin(), checks.end(), [](const auto& c) { return c.slowdowns > 0; }));
+    result.stats.walk_steps_slowed = SlowedSteps(checks);
     result.stats.walk_steps_failing = FailingSteps(checks);
     return result;
   }

@@ -92,13 +92,7 @@ struct AvoidedStep {
   }
   /// Whether the step from `before` to `after` is this one.
   bool Is(const WholeBodyState& before, const WholeBodyState& after) const {
-    if (after.moving_leg != leg || (after.feet[static_cast<std::size_t>(leg)].position - foothold).norm() > kSameM) {
-      return false;
-    }
-    if (!feet_before) return true;
-    std::array<Eigen::Vector3d, kNumLegs> feet;
-    for (std::size_t i = 0; i < kNumLegs; ++i) feet[i] = before.feet[i].position;
-    return SameFeet(*feet_before, feet);
+    return after.moving_leg == leg && *this == Of(before, after, feet_before.has_value());
   }
 
  private:

@@ -108,15 +108,13 @@ bool RootPlannerNode::Step() {
   handled_ = request;
   guide_ = 0;
   std::string why;
-  if (request.use_start && robot_state_.Latest()) {
+  if (request.use_start) {
     // A request to start where the robot no longer stands (the robot walked on while this
     // process was restarted) is planned from where it stands.
-    const auto& state = *robot_state_.Latest();
-    const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
-    const double off = (base - Eigen::Vector2d(request.start_position[0], request.start_position[1])).norm();
-    if (base.allFinite() && off > options_.replan_path_offset_m) {
+    const std::optional<double> off = DistanceFromStart(request);
+    if (off && *off > options_.replan_path_offset_m) {
       request.use_start = false;
-      why = "the robot stands " + FixedNumber(off, 2) + " m from the requested start";
+      why = "the robot stands " + FixedNumber(*off, 2) + " m from the requested start";
     }
   }
   PlanHandled(request, why);
@@ -146,12 +144,18 @@ void RootPlannerNode::PlanHandled(const rbcp_msgs::plan_request_t& request, cons
   else handled_failure_.reset();
 }
 
-bool RootPlannerNode::StandsAtStart(const rbcp_msgs::plan_request_t& request) const {
-  if (!robot_state_.Latest() || !controller_.Latest() || controller_.Latest()->steps_done > 0) return false;
+std::optional<double> RootPlannerNode::DistanceFromStart(const rbcp_msgs::plan_request_t& request) const {
+  if (!robot_state_.Latest()) return std::nullopt;
   const auto& state = *robot_state_.Latest();
   const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
-  const Eigen::Vector2d start(request.start_position[0], request.start_position[1]);
-  return base.allFinite() && (base - start).norm() <= options_.replan_path_offset_m;
+  if (!base.allFinite()) return std::nullopt;
+  return (base - Eigen::Vector2d(request.start_position[0], request.start_position[1])).norm();
+}
+
+bool RootPlannerNode::StandsAtStart(const rbcp_msgs::plan_request_t& request) const {
+  if (!controller_.Latest() || controller_.Latest()->steps_done > 0) return false;
+  const std::optional<double> off = DistanceFromStart(request);
+  return off && *off <= options_.replan_path_offset_m;
 }
 
 std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {

@@ -85,6 +85,9 @@ class RootPlannerNode {
   void AnswerAgain();
   /// Plan() for the request last taken, keeping its failure for AnswerAgain().
   void PlanHandled(const rbcp_msgs::plan_request_t& request, const std::string& why, bool replan = false);
+  /// The horizontal distance of the measured base from the request's start; nullopt without a
+  /// finite measured base.
+  std::optional<double> DistanceFromStart(const rbcp_msgs::plan_request_t& request) const;
   /// Whether the robot has not stepped yet and stands within replan_path_offset_m of the
   /// request's start.
   bool StandsAtStart(const rbcp_msgs::plan_request_t& request) const;
