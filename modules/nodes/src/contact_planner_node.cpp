@@ -261,7 +261,7 @@ std::string StanceDeviation::Describe() const {
   os.precision(3);
   switch (kind) {
     case Kind::kFoothold: os << LegName(leg) << " stands " << amount << " m from its planned foothold"; break;
-    case Kind::kBasePosition: os << "the base is " << amount << " m from its planned position"; break;
+    case Kind::kBasePosition: os << "the base is " << amount << " m off the controller's reference"; break;
     case Kind::kBaseOrientation: os << "the base is " << amount << " rad from its planned orientation"; break;
   }
   return os.str();
@@ -278,13 +278,15 @@ std::string PlanAheadMissed::Describe() const {
 }
 
 std::optional<StanceDeviation> ContactPlannerNode::Deviation(const WholeBodyState& measured,
-                                                             const WholeBodyState& expected) const {
+                                                             const WholeBodyState& expected,
+                                                             double base_error_m) const {
   for (std::size_t i = 0; i < measured.feet.size(); ++i) {
     const double d = (measured.feet[i].position - expected.feet[i].position).norm();
     if (d > 0.0) return StanceDeviation{StanceDeviation::Kind::kFoothold, kAllLegs[i], d};
   }
-  const double dp = (measured.base_position - expected.base_position).norm();
-  if (dp > options_.base_match_m) return StanceDeviation{StanceDeviation::Kind::kBasePosition, Leg::kLF, dp};
+  if (base_error_m > options_.base_match_m) {
+    return StanceDeviation{StanceDeviation::Kind::kBasePosition, Leg::kLF, base_error_m};
+  }
   const double drpy = OrientationDifference(measured, expected);
   if (drpy > options_.base_match_rad) return StanceDeviation{StanceDeviation::Kind::kBaseOrientation, Leg::kLF, drpy};
   return std::nullopt;
@@ -326,23 +328,23 @@ void ContactPlannerNode::SnapToLastPlan(const rbcp_msgs::controller_status_t& co
   if (!reached) return;
   // The crawl goes on from the last step the robot walked of that plan.
   stance->moving_leg = reached->moving_leg;
-  // On the planned footholds, the base stands where the plan put it: the controller walks the
-  // plan's base poses, and what it measures off them is its tracking error.
-  if (on_plan == static_cast<int>(stance->feet.size()) &&
-      (stance->base_position - reached->base_position).norm() <= options_.base_match_m &&
+  // On the planned footholds, with the base on the reference the controller tracks, the base
+  // stands where the plan put it: the controller walks the plan (in the dynamic walk its CoM
+  // sways around the plan's base poses along the trajectory the planner checked).
+  if (on_plan == static_cast<int>(stance->feet.size()) && controller.base_error <= options_.base_match_m &&
       OrientationDifference(*stance, *reached) <= options_.base_match_rad) {
     stance->base_position = reached->base_position;
     stance->base_rpy = reached->base_rpy;
   }
 }
 
-std::optional<PlanAheadMissed> ContactPlannerNode::WhyNotPlannedAhead(const std::optional<PlanMadeAhead>& ahead,
-                                                                      const WholeBodyState& stance,
-                                                                      int64_t walked_plan_seq) const {
+std::optional<PlanAheadMissed> ContactPlannerNode::WhyNotPlannedAhead(
+    const std::optional<PlanMadeAhead>& ahead, const WholeBodyState& stance,
+    const rbcp_msgs::controller_status_t& controller) const {
   using Kind = PlanAheadMissed::Kind;
   if (!ahead) return PlanAheadMissed{Kind::kNone, std::nullopt};
-  if (ahead->after_plan_seq != walked_plan_seq) return PlanAheadMissed{Kind::kOtherPlan, std::nullopt};
-  if (std::optional<StanceDeviation> deviation = Deviation(stance, ahead->expected)) {
+  if (ahead->after_plan_seq != controller.plan_seq) return PlanAheadMissed{Kind::kOtherPlan, std::nullopt};
+  if (std::optional<StanceDeviation> deviation = Deviation(stance, ahead->expected, controller.base_error)) {
     return PlanAheadMissed{Kind::kStanceDeviates, deviation};
   }
   if (!ahead->result.ok) return PlanAheadMissed{Kind::kFailed, std::nullopt};
@@ -380,10 +382,11 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
     return fail(os.str());
   }
   // The plan made ahead, while the robot walked its step, from the stance that step leads to:
-  // taken when the robot stands there (the same footholds, the base within base_match_m and
-  // base_match_rad); otherwise a new plan from the measured stance.
+  // taken when the robot stands there (the same footholds, the base within base_match_m of the
+  // controller's reference and base_match_rad of the planned orientation); otherwise a new plan
+  // from the measured stance.
   std::optional<PlanMadeAhead> ahead = std::exchange(plan_made_ahead_, std::nullopt);
-  const std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, stance, controller.plan_seq);
+  const std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, stance, controller);
   if (!missed) {
     path_progress_ = ahead->progress;
     last_result_ = std::move(ahead->result);
@@ -396,9 +399,9 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
     const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(nearest), path_.end());
     const int k = options_.horizon_steps;
     if (verbose_) {
-      std::fprintf(stderr, "[%s] planning %d steps from the measured stance at utime %lld (%s), base (%.3f, %.3f), %zu path points left\n",
+      std::fprintf(stderr, "[%s] planning %d steps from the measured stance at utime %lld (%s), base (%.3f, %.3f) %.3f m off the controller's reference, %zu path points left\n",
                    kProcessName, k, static_cast<long long>(msg.utime), missed->Describe().c_str(),
-                   measured.base_position_W.x(), measured.base_position_W.y(), remaining.size());
+                   measured.base_position_W.x(), measured.base_position_W.y(), controller.base_error, remaining.size());
     }
     try {
       last_result_ = planner_.PlanHorizon(stance, remaining, k + options_.lookahead_steps);

@@ -142,7 +142,7 @@ TEST(StanceDeviationTest, SaysWhatDiffersFromThePlannedStanceAndByHowMuch) {
   EXPECT_EQ((PlanAheadMissed{PlanAheadMissed::Kind::kStanceDeviates,
                              StanceDeviation{StanceDeviation::Kind::kBasePosition, Leg::kLF, 0.05}}
                  .Describe()),
-            "the base is 0.05 m from its planned position");
+            "the base is 0.05 m off the controller's reference");
   EXPECT_EQ((PlanAheadMissed{PlanAheadMissed::Kind::kNone, std::nullopt}.Describe()), "no plan made ahead");
 }
 
@@ -414,7 +414,10 @@ TEST_F(ContactPlannerNodeTest, AnOlderPathOfTheSameGoalComingLateIsIgnored) {
 
 /// The state of a robot waiting after it walked `walked` steps of `plan` (plan_seq `seq`), on
 /// that plan's footholds with its base `offset_W` off the planned pose.
-RobotMsgs WaitingOnPlan(int64_t utime, const ContactPlan& plan, int walked, int64_t seq, const Eigen::Vector3d& offset_W) {
+/// A robot waiting after `walked` steps of `plan` (plan_seq `seq`), its base `offset_W` off the
+/// plan's pose and `base_error_m` off the reference its controller tracks.
+RobotMsgs WaitingOnPlan(int64_t utime, const ContactPlan& plan, int walked, int64_t seq, const Eigen::Vector3d& offset_W,
+                        double base_error_m) {
   const WholeBodyState& s = plan.states[static_cast<std::size_t>(walked)];
   RobotMsgs robot = WaitingState(utime, 0.0, 0.0);
   rbcp_msgs::robot_state_t& state = robot.state;
@@ -433,15 +436,23 @@ RobotMsgs WaitingOnPlan(int64_t utime, const ContactPlan& plan, int walked, int6
   }
   robot.controller.plan_seq = seq;
   robot.controller.steps_done = walked;
+  robot.controller.base_error = base_error_m;
   return robot;
 }
 
 TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPutIt) {
-  // The controller tracks the plan's base pose to within its tracking error: with every foot on
-  // the plan's footholds, the next plan starts from the planned base pose. Farther off (a push),
-  // it starts from the measured one.
-  for (const double offset : {0.02, 0.10}) {
-    SCOPED_TRACE("base offset " + std::to_string(offset));
+  // With every foot on the plan's footholds and the base on the reference its controller tracks,
+  // the next plan starts from the planned base pose: the base is off that pose by the controller's
+  // tracking error, or by a dynamic walk's sway (which its reference has too). Off the reference
+  // (a push), it starts from the measured pose.
+  struct Case {
+    double offset;      ///< the measured base off the plan's pose [m]
+    double base_error;  ///< the measured base off the controller's reference [m]
+    bool planned_pose;  ///< the next plan starts from the plan's pose
+  };
+  for (const Case c : {Case{0.02, 0.02, true}, Case{0.12, 0.01, true}, Case{0.10, 0.10, false}}) {
+    const double offset = c.offset;
+    SCOPED_TRACE("base offset " + std::to_string(offset) + ", off the reference " + std::to_string(c.base_error));
     node_ = MakeNode(3);
     PublishWorld();
     lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
@@ -453,7 +464,7 @@ TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPut
     ASSERT_GE(plan.states.size(), 2u);
 
     const Eigen::Vector3d offset_W(0.0, offset, 0.0);
-    WaitingOnPlan(900, plan, 1, first->plan_seq, offset_W).Publish(lcm_);
+    WaitingOnPlan(900, plan, 1, first->plan_seq, offset_W, c.base_error).Publish(lcm_);
     Pump();
     ASSERT_TRUE(node_->Step());
     Pump();
@@ -461,7 +472,7 @@ TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPut
     ASSERT_TRUE(next.has_value()) << status_.Latest()->reason;
     EXPECT_EQ(next->start_utime, 900);
     const WholeBodyState start = transport::FromContactPlanMsg(*next).states.front();
-    const Eigen::Vector3d expected = plan.states[1].base_position + (offset < 0.03 ? Eigen::Vector3d::Zero() : offset_W);
+    const Eigen::Vector3d expected = plan.states[1].base_position + (c.planned_pose ? Eigen::Vector3d::Zero() : offset_W);
     EXPECT_LT((start.base_position - expected).norm(), 1e-9) << start.base_position.transpose();
     for (std::size_t i = 0; i < start.feet.size(); ++i) {
       EXPECT_LT((start.feet[i].position - plan.states[1].feet[i].position).norm(), 1e-9) << "the planned footholds";
@@ -484,7 +495,7 @@ TEST_F(ContactPlannerNodeTest, ThePieceMadeAheadKeepsTheStepsTheControllerCommit
   const ContactPlan plan = transport::FromContactPlanMsg(*first);
   ASSERT_EQ(plan.states.size(), 5u);
 
-  const auto next = Answer(WaitingOnPlan(900, plan, 1, first->plan_seq, Eigen::Vector3d::Zero()));
+  const auto next = Answer(WaitingOnPlan(900, plan, 1, first->plan_seq, Eigen::Vector3d::Zero(), 0.0));
   ASSERT_TRUE(next.has_value()) << status_.Latest()->reason;
   const ContactPlan piece = transport::FromContactPlanMsg(*next);
   ASSERT_EQ(piece.states.size(), 5u);

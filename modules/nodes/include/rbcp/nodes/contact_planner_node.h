@@ -78,11 +78,13 @@ struct ContactPlannerNodeOptions {
   /// the trunk less far, while it holds horizon_steps + reuse_margin_steps steps after the next
   /// one (or reaches the goal).
   int reuse_margin_steps = 4;
-  /// Horizon mode: the controller walks the plan's base poses; a measured base within
-  /// base_match_m and base_match_rad (roll, pitch, yaw) of the pose the plan put it in, with every
-  /// foot on the plan's footholds, is that pose (the controller's tracking error, or in a dynamic
-  /// walk the sway of the CoM around the plan's, up to about 6 cm: not a new stance): the next plan
-  /// starts from the planned pose.
+  /// Horizon mode: the controller walks the plan; with every foot on the plan's footholds, a base
+  /// within base_match_m of the reference the controller tracks (CONTROLLER_STATUS base_error)
+  /// and within base_match_rad (roll, pitch, yaw) of the orientation the plan put it in stands in
+  /// the plan's pose: what it measures off that pose is the controller's tracking error, or in the
+  /// dynamic walk the sway of the CoM around the plan's base poses (often 8 to 15 cm at a step
+  /// boundary), along the trajectory the planner checked. The next plan starts from the planned
+  /// pose.
   double base_match_m = 0.08;    ///< [m]
   double base_match_rad = 0.05;  ///< [rad] roll, pitch and yaw
   /// Horizon mode: while the robot still waits at the stance the last plan answered, that plan
@@ -107,7 +109,7 @@ bool KeepEarlierSearch(const ContactPlan& continuation, const ContactPlanResult&
 struct StanceDeviation {
   enum class Kind {
     kFoothold,         ///< `leg` stands `amount` m from its planned foothold
-    kBasePosition,     ///< the base is `amount` m from its planned position (beyond base_match_m)
+    kBasePosition,     ///< the base is `amount` m off the controller's reference (beyond base_match_m)
     kBaseOrientation,  ///< the base's roll, pitch or yaw is `amount` rad off (beyond base_match_rad)
   };
   Kind kind = Kind::kFoothold;
@@ -181,13 +183,15 @@ class ContactPlannerNode {
   const WholeBodyState* ReachedPlanState(const rbcp_msgs::controller_status_t& controller) const;
   /// Horizon mode: a measured foot within foothold_match_m of a foothold of the last plan stands
   /// there (the one of the state the robot should have reached, else the nearest); on the
-  /// reached state's footholds, a base within base_match_m / base_match_rad of its pose stands
-  /// there too, and the crawl goes on from its moving leg.
+  /// reached state's footholds, a base on the controller's reference (base_match_m) and within
+  /// base_match_rad of the reached state's orientation stands in its pose too, and the crawl goes
+  /// on from its moving leg.
   void SnapToLastPlan(const rbcp_msgs::controller_status_t& controller, WholeBodyState* stance) const;
   /// Horizon mode: why the plan made ahead, `ahead`, does not answer the wait of a robot in
-  /// `stance` walking plan `walked_plan_seq`; nullopt when it does.
+  /// `stance` whose controller reports `controller`; nullopt when it does.
   std::optional<PlanAheadMissed> WhyNotPlannedAhead(const std::optional<PlanMadeAhead>& ahead,
-                                                    const WholeBodyState& stance, int64_t walked_plan_seq) const;
+                                                    const WholeBodyState& stance,
+                                                    const rbcp_msgs::controller_status_t& controller) const;
   /// Horizon mode: publishes the first horizon_steps steps of *last_result_ (FAILED when it
   /// failed) as the answer to the robot's wait, then plans ahead.
   void PublishHorizon(const rbcp_msgs::robot_state_t& state, const rbcp_msgs::controller_status_t& controller);
@@ -208,8 +212,10 @@ class ContactPlannerNode {
   /// *offset_xy.
   std::size_t PathProgress(const Eigen::Vector3d& base_W, double yaw, double* offset_xy) const;
   /// How a measured stance differs from the expected one (another foothold, the base beyond
-  /// base_match_m / base_match_rad), or nullopt when it is that stance.
-  std::optional<StanceDeviation> Deviation(const WholeBodyState& measured, const WholeBodyState& expected) const;
+  /// base_match_m of the controller's reference, base_error_m, or beyond base_match_rad of the
+  /// expected orientation), or nullopt when it is that stance.
+  std::optional<StanceDeviation> Deviation(const WholeBodyState& measured, const WholeBodyState& expected,
+                                           double base_error_m) const;
   /// The path of a message into *samples, or why it is rejected.
   std::optional<RejectedInput> ToSamples(const rbcp_msgs::root_path_t& msg, std::vector<RootPathSample>* samples) const;
   void LogWaiting();
