@@ -27,6 +27,10 @@ void AddOptions(CLI::App& app, Options& o) {
   app.add_option("--lookahead-steps", o.node.lookahead_steps,
                  "with --horizon-steps K: steps searched beyond the K published, so they lead on (the default reaches the goal)")
       ->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_flag_callback(
+      "--realtime", [&o] { o.node.wait_for_search_ahead = false; },
+      "with --horizon-steps K: the robot walks on the wall clock (anymal_sim --realtime-factor 1): a step boundary "
+      "does not wait for a search made ahead that has not ended; the earlier search goes on");
 }
 
 int Run(const Options& o) {

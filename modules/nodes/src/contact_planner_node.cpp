@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <future>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -68,6 +69,7 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
       robot_(robot),
       options_(std::move(options)),
       planner_(robot, database, equilibrium, config, stance),
+      ahead_planner_(robot, database, equilibrium, config, stance),
       root_path_(lcm, options_.root_path_channel),
       robot_state_(lcm, options_.robot_state_channel),
       controller_(lcm, options_.controller_status_channel),
@@ -104,6 +106,8 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
   }
 }
 
+ContactPlannerNode::~ContactPlannerNode() { WaitForSearchWorker(); }
+
 int64_t ContactPlannerNode::Now() const { return clock_.Now(); }
 
 void ContactPlannerNode::set_verbose(bool verbose) {
@@ -123,7 +127,7 @@ std::optional<RejectedInput> ContactPlannerNode::TakeInputs() {
   if (auto e = world_.Take(&clock_)) return e;
   if (world_.TakeChanged()) {
     world_set_ = false;
-    plan_made_ahead_.reset();
+    DropPlanAhead();
     if (world_.Ready()) {
       const TriangleMesh& mesh = *world_.terrain();
       terrain_min_xy_ = terrain_max_xy_ = mesh.vertices.front().head<2>();
@@ -134,6 +138,8 @@ std::optional<RejectedInput> ContactPlannerNode::TakeInputs() {
       if (world_.surfaces()->empty()) return RejectedInput::Content("affordances: the terrain has no contact surface");
       try {
         planner_.SetTerrain(mesh, *world_.surfaces());
+        WaitForSearchWorker();  // its planner's world changes too
+        ahead_planner_.SetTerrain(mesh, *world_.surfaces());
         world_set_ = true;
       } catch (const std::exception& e) {
         return RejectedInput::Content(std::string("terrain: ") + e.what());
@@ -232,7 +238,7 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   answered_since_.reset();  // a wait already answered on the old path gets a plan on the new one
   last_plan_.reset();
   answer_.reset();
-  plan_made_ahead_.reset();
+  DropPlanAhead();
   if (verbose_) {
     std::fprintf(stderr, "[%s] following the root path of request %lld: %zu points, %.2f s\n", kProcessName,
                  static_cast<long long>(msg.request_id), path_.size(), path_.back().t - path_.front().t);
@@ -355,7 +361,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   status_.Busy(Now(), msg.utime);
   const auto fail = [&](const std::string& why) {
     last_result_.reset();
-    plan_made_ahead_.reset();
+    DropPlanAhead();
     status_.Failed(Now(), msg.utime, 0.0, why);
   };
   RobotState measured;
@@ -385,6 +391,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   // taken when the robot stands there (the same footholds, the base within base_match_m of the
   // controller's reference and base_match_rad of the planned orientation); otherwise a new plan
   // from the measured stance.
+  FinishPlanAhead();
   std::optional<PlanMadeAhead> ahead = std::exchange(plan_made_ahead_, std::nullopt);
   const std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, stance, controller);
   if (!missed) {
@@ -461,26 +468,27 @@ bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status
   return true;
 }
 
-std::optional<ContactPlanResult> ContactPlannerNode::SearchAheadFrom(const WholeBodyState& from) {
-  double offset = 0.0;
-  const std::size_t at = PathProgress(from.base_position, from.base_rpy.z(), &offset);
-  const std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
-  try {
-    return planner_.PlanHorizon(from, remaining, options_.horizon_steps + options_.lookahead_steps);
-  } catch (const std::exception& e) {
-    if (verbose_) std::fprintf(stderr, "[%s] planning ahead failed: %s\n", kProcessName, e.what());
-    return std::nullopt;
-  }
+void ContactPlannerNode::DropPlanAhead() {
+  plan_made_ahead_.reset();
+  search_ahead_.reset();  // a search still running goes on; its answer is dropped
+}
+
+void ContactPlannerNode::WaitForSearchWorker() {
+  if (search_worker_.valid()) search_worker_.get();
+}
+
+bool ContactPlannerNode::SearchWorkerBusy() const {
+  return search_worker_.valid() && search_worker_.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
 }
 
 void ContactPlannerNode::PlanAhead(int steps_committed) {
   if (!options_.plan_ahead || !last_plan_ || last_plan_->states.size() < 2) return;
   if (last_plan_->reaches_goal && last_plan_->states.size() == 2) return;  // the last step: nothing after it
-  PlanMadeAhead next;
-  next.after_plan_seq = plan_seq_;
-  next.expected = last_plan_->states[1];
+  SearchAhead search;
+  search.next.after_plan_seq = plan_seq_;
+  search.next.expected = last_plan_->states[1];
   double offset_xy = 0.0;
-  next.progress = PathProgress(next.expected.base_position, next.expected.base_rpy.z(), &offset_xy);
+  search.next.progress = PathProgress(search.next.expected.base_position, search.next.expected.base_rpy.z(), &offset_xy);
   // The search the plan came from goes on beyond the next step: its continuation. The steps after
   // the next one that the controller's motion already prepares for (a dynamic walk's preview) stay
   // as they are; a new search starts after them (K steps and the look-ahead deep). When it fails,
@@ -492,53 +500,106 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
   continuation.states.front().MarkAsStart();
   continuation.reaches_goal = searched_.reaches_goal;
   const int after_next = static_cast<int>(continuation.states.size()) - 1;
-  const int kept = std::clamp(steps_committed, 0, after_next);
-  const auto take = [&](ContactPlan plan, const std::string& how) {
-    // The earlier search's steps, on the clock the walk prepared for: their durations stay.
-    planner_.TimeWalk(&plan, nullptr, plan.Timed() ? static_cast<int>(plan.states.size()) - 1 : 0);
-    next.result = ContactPlanResult{};
-    next.result.ok = true;
-    next.result.status = ContactPlanStatus::kOk;
-    next.result.reached_goal = plan.reaches_goal;
-    next.result.steps = static_cast<int>(plan.states.size()) - 1;
-    next.result.plan = std::move(plan);
-    if (verbose_) {
-      std::fprintf(stderr, "[%s] planned ahead: %s (%d steps after the next one)\n", kProcessName, how.c_str(),
-                   next.result.steps);
-    }
-    plan_made_ahead_ = std::move(next);
-  };
-  if (kept == after_next && continuation.reaches_goal) {
-    return take(std::move(continuation), "the search before reaches the goal within the committed steps");
+  search.kept = std::clamp(steps_committed, 0, after_next);
+  const bool timed = continuation.Timed();
+  // The new search's plan begins with the committed steps, as the earlier search made them.
+  std::vector<WholeBodyState> committed(continuation.states.begin(), continuation.states.begin() + search.kept + 1);
+  // The earlier search's steps, on the clock the walk prepared for: their durations stay.
+  planner_.TimeWalk(&continuation, nullptr, timed ? after_next : 0);
+  search.continuation = std::move(continuation);
+  if (search.kept == after_next && continuation.reaches_goal) {
+    return TakeEarlierSearch(std::move(search), "the search before reaches the goal within the committed steps");
   }
-  // The stance the new search starts from, with the leg that stepped into it (the crawl's order
-  // goes on from there).
+  // The new search runs on its own planner while the robot walks; it starts from the stance the
+  // kept steps lead to, with the leg that stepped into it (the crawl's order goes on from there).
+  if (SearchWorkerBusy() && !options_.wait_for_search_ahead) {
+    if (verbose_) std::fprintf(stderr, "[%s] planning ahead: the search before is still running\n", kProcessName);
+    search_ahead_ = std::move(search);  // answered by the earlier search at the boundary
+    return;
+  }
+  WaitForSearchWorker();
+  const int kept = search.kept;
+  // The stance the new search starts from, with the leg that stepped into it.
   const WholeBodyState& from = searched_.states[static_cast<std::size_t>(kept) + 1];
-  std::optional<ContactPlanResult> fresh = SearchAheadFrom(from);
-  if (!fresh) return;
+  double offset = 0.0;
+  const std::size_t at = PathProgress(from.base_position, from.base_rpy.z(), &offset);
+  std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
+  const int max_steps = options_.horizon_steps + options_.lookahead_steps;
+  search_worker_ = std::async(std::launch::async, [planner = &ahead_planner_, kept, timed, from,
+                                                   committed = std::move(committed), remaining = std::move(remaining),
+                                                   max_steps] {
+    SearchAheadAnswer answer;
+    try {
+      answer.result = planner->PlanHorizon(from, remaining, max_steps);
+      ContactPlanResult& fresh = *answer.result;
+      if (fresh.ok && kept > 0) {
+        // The committed steps, then the new search's, timed again with the committed steps'
+        // durations kept.
+        std::vector<WholeBodyState> states = committed;
+        states.insert(states.end(), fresh.plan.states.begin() + 1, fresh.plan.states.end());
+        fresh.plan.states = std::move(states);
+        fresh.steps = static_cast<int>(fresh.plan.states.size()) - 1;
+        planner->TimeWalk(&fresh.plan, &fresh.stats, timed ? kept : 0);
+      }
+    } catch (const std::exception& e) {
+      answer.result.reset();
+      answer.error = e.what();
+    }
+    return answer;
+  });
+  search.running = true;
+  search_ahead_ = std::move(search);
+}
+
+void ContactPlannerNode::TakeEarlierSearch(SearchAhead search, const std::string& how) {
+  PlanMadeAhead next = std::move(search.next);
+  next.result = ContactPlanResult{};
+  next.result.ok = true;
+  next.result.status = ContactPlanStatus::kOk;
+  next.result.reached_goal = search.continuation.reaches_goal;
+  next.result.steps = static_cast<int>(search.continuation.states.size()) - 1;
+  next.result.plan = std::move(search.continuation);
+  if (verbose_) {
+    std::fprintf(stderr, "[%s] planned ahead: %s (%d steps after the next one)\n", kProcessName, how.c_str(),
+                 next.result.steps);
+  }
+  plan_made_ahead_ = std::move(next);
+}
+
+void ContactPlannerNode::FinishPlanAhead() {
+  if (!search_ahead_) return;
+  SearchAhead search = std::move(*search_ahead_);
+  search_ahead_.reset();
+  const int after_next = static_cast<int>(search.continuation.states.size()) - 1;
+  if (!search.running || (SearchWorkerBusy() && !options_.wait_for_search_ahead)) {
+    // The robot is at the boundary and the new search has not ended (or could not start): the
+    // earlier search goes on, with no wait.
+    if (after_next < 1) return;
+    return TakeEarlierSearch(std::move(search), search.running ? "the new search has not ended; the search before goes on"
+                                                               : "no new search; the search before goes on");
+  }
+  SearchAheadAnswer answer = search_worker_.get();
+  if (!answer.result) {
+    if (verbose_) std::fprintf(stderr, "[%s] planning ahead failed: %s\n", kProcessName, answer.error.c_str());
+    return;
+  }
+  ContactPlanResult& fresh = *answer.result;
   if (verbose_) {
     std::fprintf(stderr, "[%s] planned ahead from the stance %d step(s) after the next: %s in %.3f s\n", kProcessName,
-                 kept, fresh->ok ? "ok" : fresh->reason.c_str(), fresh->planning_time_s);
-  }
-  if (fresh->ok && kept > 0) {
-    // The committed steps, then the new search's.
-    std::vector<WholeBodyState> states(continuation.states.begin(), continuation.states.begin() + kept + 1);
-    states.insert(states.end(), fresh->plan.states.begin() + 1, fresh->plan.states.end());
-    fresh->plan.states = std::move(states);
-    fresh->steps = static_cast<int>(fresh->plan.states.size()) - 1;
-    planner_.TimeWalk(&fresh->plan, &fresh->stats, continuation.Timed() ? kept : 0);  // the committed steps' durations stay
+                 search.kept, fresh.ok ? "ok" : fresh.reason.c_str(), fresh.planning_time_s);
   }
   const auto progress = [&](const WholeBodyState& s) {
     double offset = 0.0;
     return PathProgress(s.base_position, s.base_rpy.z(), &offset);
   };
-  if (KeepEarlierSearch(continuation, *fresh, options_.horizon_steps, options_.reuse_margin_steps, progress)) {
-    return take(std::move(continuation), fresh->ok ? "the new plan gets less far; the search before goes on"
+  if (KeepEarlierSearch(search.continuation, fresh, options_.horizon_steps, options_.reuse_margin_steps, progress)) {
+    const bool ok = fresh.ok;
+    return TakeEarlierSearch(std::move(search), ok ? "the new plan gets less far; the search before goes on"
                                                    : "no new plan; the search before goes on");
   }
-  if (!fresh->ok) return;
-  next.result = std::move(*fresh);
-  plan_made_ahead_ = std::move(next);
+  if (!fresh.ok) return;
+  search.next.result = std::move(fresh);
+  plan_made_ahead_ = std::move(search.next);
 }
 
 std::optional<RejectedInput> ContactPlannerNode::ToSamples(const rbcp_msgs::root_path_t& msg,

@@ -27,6 +27,7 @@
 
 #include <chrono>
 #include <functional>
+#include <future>
 #include <optional>
 #include <string>
 #include <vector>
@@ -74,6 +75,12 @@ struct ContactPlannerNodeOptions {
   /// from the stance that step leads to; at the next boundary it is taken at once if the robot
   /// stands there (same footholds, base within base_match_m and base_match_rad).
   bool plan_ahead = true;
+  /// Horizon mode, plan_ahead: at a step boundary, wait for the new search made ahead to end.
+  /// Then the plan depends only on the state the robot waits in (the loop with the world standing
+  /// still while the robot waits). false, for a robot on the wall clock (`--realtime`): a search
+  /// made ahead that has not ended by the boundary is not waited for; the earlier search goes on
+  /// (when the robot stands where its continuation starts) and the new search's answer is dropped.
+  bool wait_for_search_ahead = true;
   /// Horizon mode, plan_ahead: the earlier search goes on instead of a new plan whose K steps get
   /// the trunk less far, while it holds horizon_steps + reuse_margin_steps steps after the next
   /// one (or reaches the goal).
@@ -143,6 +150,10 @@ class ContactPlannerNode {
   ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, const LimbDatabase& database,
                      const EquilibriumConfig& equilibrium, const ContactPlannerConfig& config,
                      const StanceConfig& stance, ContactPlannerNodeOptions options = {});
+  /// Waits for a search made ahead that still runs.
+  ~ContactPlannerNode();
+  ContactPlannerNode(const ContactPlannerNode&) = delete;
+  ContactPlannerNode& operator=(const ContactPlannerNode&) = delete;
 
   /// Takes the newest inputs; when a root path is pending and the terrain and its surfaces are
   /// known, plans and publishes CONTACT_PLAN (or FAILED with the reason on STATUS). Returns true
@@ -164,6 +175,20 @@ class ContactPlannerNode {
     WholeBodyState expected;
     std::size_t progress = 0;    ///< path progress at `expected`
     ContactPlanResult result;
+  };
+  /// The plan made ahead while it is being made: the earlier search's continuation after the
+  /// published plan's first step, its first `kept` steps committed, and the new search from the
+  /// stance they lead to (on ahead_planner_, in search_worker_) when `running`.
+  struct SearchAhead {
+    PlanMadeAhead next;  ///< everything but the result
+    ContactPlan continuation;
+    int kept = 0;
+    bool running = false;
+  };
+  /// What the search made ahead returns: its result, or the error it threw.
+  struct SearchAheadAnswer {
+    std::optional<ContactPlanResult> result;
+    std::string error;
   };
 
   /// Takes new terrain / surfaces / path; returns why an input was rejected, if one was.
@@ -201,13 +226,23 @@ class ContactPlannerNode {
   /// Horizon mode: sends the last plan again when the robot still waits for it after
   /// resend_period_s; true if it did.
   bool ResendIfStillAwaited(const rbcp_msgs::controller_status_t& state);
-  /// Horizon mode: plans the piece that follows the published plan's first step: its next
+  /// Horizon mode: starts the piece that follows the published plan's first step: its next
   /// `steps_committed` steps kept (CONTROLLER_STATUS: the controller's motion prepares for them),
-  /// then a new search from the stance they lead to, or the earlier search's continuation.
+  /// then a new search (K steps and the look-ahead deep) from the stance they lead to, on
+  /// ahead_planner_ in the background, or the earlier search's continuation.
   void PlanAhead(int steps_committed);
-  /// Horizon mode: a search (K steps and the look-ahead deep) from `from` along the rest of the
-  /// path from its nearest point; none when the planner threw (logged).
-  std::optional<ContactPlanResult> SearchAheadFrom(const WholeBodyState& from);
+  /// Horizon mode, at a step boundary: makes plan_made_ahead_ of the search started by PlanAhead
+  /// (waiting for it to end, unless !wait_for_search_ahead): the new search's plan after the kept
+  /// steps, or the earlier search's continuation (KeepEarlierSearch).
+  void FinishPlanAhead();
+  /// plan_made_ahead_ = the earlier search's continuation; `how` is logged.
+  void TakeEarlierSearch(SearchAhead search, const std::string& how);
+  /// Forgets the plan made ahead (a search still running goes on; its answer is dropped).
+  void DropPlanAhead();
+  /// Waits for the search made ahead, if one runs (its answer is dropped unless FinishPlanAhead
+  /// takes it).
+  void WaitForSearchWorker();
+  bool SearchWorkerBusy() const;
   /// Path sample nearest to a base pose, not behind path_progress_; its horizontal distance in
   /// *offset_xy.
   std::size_t PathProgress(const Eigen::Vector3d& base_W, double yaw, double* offset_xy) const;
@@ -225,6 +260,9 @@ class ContactPlannerNode {
   const RobotModel& robot_;
   ContactPlannerNodeOptions options_;
   ContactPlanner planner_;
+  /// The searches made ahead run on their own planner (a planner serves one thread), in
+  /// search_worker_, while the node answers the robot.
+  ContactPlanner ahead_planner_;
   transport::LatestMessage<rbcp_msgs::root_path_t> root_path_;
   transport::LatestMessage<rbcp_msgs::robot_state_t> robot_state_;
   transport::LatestMessage<rbcp_msgs::controller_status_t> controller_;
@@ -250,6 +288,8 @@ class ContactPlannerNode {
   std::chrono::steady_clock::time_point answer_wall_;
   std::optional<ContactPlan> last_plan_;
   std::optional<PlanMadeAhead> plan_made_ahead_;
+  std::optional<SearchAhead> search_ahead_;
+  std::future<SearchAheadAnswer> search_worker_;  ///< declared after ahead_planner_, which it uses
   ContactPlan searched_;  ///< the whole last plan searched or continued (K steps and the look-ahead)
   int64_t plan_seq_ = 0;
   int32_t plan_start_steps_ = 0;  ///< ROBOT_STATE.steps_done when the last plan went out
