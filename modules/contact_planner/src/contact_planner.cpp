@@ -489,6 +489,42 @@ ContactPlanResult ContactPlanner::MergeSteps(const ContactPlan& plan) {
   return result;
 }
 
+ContactPlanResult ContactPlanner::FromStart(const ContactPlan& plan, const WholeBodyState& start) {
+  ContactPlanResult result;
+  if (!impl_->context || plan.states.empty()) {
+    result.status = ContactPlanStatus::kInvalidInput;
+    result.reason = !impl_->context ? "ContactPlanner::FromStart: no terrain set" : "ContactPlanner::FromStart: no state";
+    return result;
+  }
+  impl_->budget.Start(impl_->config.time_budget_s);
+  const PlannerContext& ctx = impl_->ctx();
+  std::optional<std::vector<WholeBodyState>> states = contact_planner_detail::FromStart(ctx, plan.states, start);
+  result.planning_time_s = impl_->budget.Elapsed();
+  result.status = ContactPlanStatus::kNoFoothold;
+  if (!states) {
+    result.reason = "from this stance a state of the plan is not valid (checked as step merging checks a state it changes), or the stance differs in more than one foot";
+    return result;
+  }
+  const int steps = static_cast<int>(plan.states.size()) - 1;
+  ContactPlan before = plan;
+  result.plan = plan;
+  result.plan.states = std::move(*states);
+  contact_planner_detail::AttachSwings(ctx, result.plan.states);
+  const int keep = plan.Timed() ? steps : 0;
+  const std::vector<DynamicStepCheck> checks_before = TimeWalkOf(ctx.stance, &before, nullptr, keep);
+  const std::vector<DynamicStepCheck> checks = TimeWalkOf(ctx.stance, &result.plan, &result.stats, keep);
+  result.planning_time_s = impl_->budget.Elapsed();
+  if (WalkFailures(checks) > WalkFailures(checks_before)) {
+    result.reason = "from this stance the plan's dynamic walk fails its check at more steps";
+    return result;
+  }
+  result.ok = true;
+  result.status = ContactPlanStatus::kOk;
+  result.steps = steps;
+  result.reached_goal = plan.reaches_goal;
+  return result;
+}
+
 const ContactPlannerConfig& ContactPlanner::Config() const { return impl_->config; }
 const EquilibriumConfig& ContactPlanner::EquilibriumParameters() const { return impl_->eq_config; }
 

@@ -146,4 +146,38 @@ std::vector<WholeBodyState> MergeSteps(const PlannerContext& ctx, std::vector<Wh
   return states;
 }
 
+std::optional<std::vector<WholeBodyState>> FromStart(const PlannerContext& ctx,
+                                                     const std::vector<WholeBodyState>& states,
+                                                     const WholeBodyState& start) {
+  if (states.empty() || start.base_position != states[0].base_position || start.base_rpy != states[0].base_rpy) {
+    return std::nullopt;
+  }
+  int changed = -1;
+  for (int l = 0; l < kNumLegs; ++l) {
+    const std::size_t i = static_cast<std::size_t>(l);
+    if (start.feet[i].position == states[0].feet[i].position) continue;
+    if (changed >= 0) return std::nullopt;
+    changed = l;
+  }
+  std::vector<WholeBodyState> out = states;
+  out[0].feet = start.feet;
+  const std::optional<JointVector> q = SolveStance(ctx, BasePose(out[0]), out[0].feet, -1);
+  if (!q) return std::nullopt;
+  out[0].joints = *q;
+  if (changed < 0) return out;
+  const FootContact held = start.feet[static_cast<std::size_t>(changed)];
+  for (std::size_t i = 1; i < out.size(); ++i) {
+    if (out[i].moving_leg == changed) {
+      if (!LiftOffValid(ctx, out[i - 1], out[i])) return std::nullopt;
+      return out;
+    }
+    WholeBodyState cur = out[i];
+    cur.feet[static_cast<std::size_t>(changed)] = held;
+    std::optional<WholeBodyState> valid = Revalidated(ctx, out[i - 1], cur, changed);
+    if (!valid) return std::nullopt;
+    out[i] = std::move(*valid);
+  }
+  return std::nullopt;  // the leg never steps again
+}
+
 }  // namespace rbcp::contact_planner_detail

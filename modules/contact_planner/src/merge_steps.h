@@ -5,6 +5,7 @@
 /// other legs then leave room it did not know of. Every state the removal changes is checked as
 /// the search checks a step (see MergeSteps), so the shorter plan is as valid as the longer one.
 
+#include <optional>
 #include <vector>
 
 #include "planner_context.h"
@@ -27,5 +28,17 @@ namespace rbcp::contact_planner_detail {
 /// receives the number of steps removed.
 std::vector<WholeBodyState> MergeSteps(const PlannerContext& ctx, std::vector<WholeBodyState> states,
                                        int* removed = nullptr);
+
+/// `states` walked from `start` instead of states[0]: start has states[0]'s base pose and
+/// footholds but for one foot (one that touched down a few cm beside its foothold). That foot
+/// stands where start has it until its leg steps again; each state this changes is checked and
+/// made valid as MergeSteps does (its base pose kept when valid, else its swing's body shift
+/// searched again), and the leg's next step must lift off from the last of them. The first
+/// state's joints are solved again. nullopt when a state is not valid so, when start differs in
+/// more than one foot or in its base pose, or when the leg never steps again (its last foothold
+/// never changes).
+std::optional<std::vector<WholeBodyState>> FromStart(const PlannerContext& ctx,
+                                                     const std::vector<WholeBodyState>& states,
+                                                     const WholeBodyState& start);
 
 }  // namespace rbcp::contact_planner_detail

@@ -647,6 +647,49 @@ TEST(ContactPlannerTest, MergingRemovesAStepTakenInTwo) {
   EXPECT_EQ(w.planner.MergeSteps(not_finite).reason, "ContactPlanner::MergeSteps: state 2 is not finite");
 }
 
+TEST(ContactPlannerTest, APlanHoldsFromAStanceWithOneFootBesideItsFoothold) {
+  // A foot that touched down 2 cm beside its foothold: the plan, walked from there, keeps that
+  // foot where it stands until its leg steps again and stays valid. Two feet off, or a foot far
+  // off its surface's reach, and it does not hold.
+  FlatWholePlan w = PlanFlatPath();
+  ASSERT_TRUE(w.full.ok) << w.full.reason;
+  const World& world = ScenarioWorld("flat_ground");
+  const ContactPlan& plan = w.full.plan;
+  ASSERT_TRUE(plan.Timed());
+  ContactPlan ahead;  // the plan from its third state on, as a plan made ahead starts
+  ahead.states.assign(plan.states.begin() + 2, plan.states.end());
+  ahead.states.front().MarkAsStart();
+  ahead.reaches_goal = plan.reaches_goal;
+  const std::size_t off = static_cast<std::size_t>(ahead.states[1].moving_leg == 0 ? 1 : 0);
+  std::size_t next_step = 1;
+  while (ahead.states[next_step].moving_leg != static_cast<int>(off)) ++next_step;
+
+  WholeBodyState start = ahead.states.front();
+  start.feet[off].position += Eigen::Vector3d(0.015, -0.013, 0.0);
+  const ContactPlanResult from_there = w.planner.FromStart(ahead, start);
+  ASSERT_TRUE(from_there.ok) << from_there.reason;
+  ASSERT_EQ(from_there.plan.states.size(), ahead.states.size());
+  for (std::size_t i = 0; i < next_step; ++i) {
+    EXPECT_EQ(from_there.plan.states[i].feet[off].position, start.feet[off].position) << "state " << i;
+  }
+  for (std::size_t i = next_step; i < ahead.states.size(); ++i) {
+    EXPECT_EQ(from_there.plan.states[i].feet[off].position, ahead.states[i].feet[off].position) << "state " << i;
+  }
+  EXPECT_TRUE(from_there.plan.Timed());
+  std::vector<RootPathSample> rest = w.samples;  // the path, from where the plan made ahead starts
+  rest.front().p = ahead.states.front().base_position;
+  ExpectValidPlan(from_there.plan, world, rest);
+
+  WholeBodyState two_off = start;
+  two_off.feet[3 - off].position.x() += 0.01;
+  EXPECT_EQ(w.planner.FromStart(ahead, two_off).status, ContactPlanStatus::kNoFoothold);
+  WholeBodyState far = ahead.states.front();
+  far.feet[off].position.y() += (off == 0 || off == 2 ? 1.0 : -1.0) * 0.25;  // under the trunk's other side
+  const ContactPlanResult refused = w.planner.FromStart(ahead, far);
+  EXPECT_EQ(refused.status, ContactPlanStatus::kNoFoothold);
+  EXPECT_FALSE(refused.reason.empty());
+}
+
 TEST(ContactPlannerTest, MergingShortensARubblePlanAndKeepsItValid) {
   // darpa_rubble seed 2 planned with and without merging: the merged plan has fewer steps, passes
   // every check and ends on the same footholds; merging the unmerged plan afterwards gives it.

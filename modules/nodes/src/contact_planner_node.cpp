@@ -357,6 +357,32 @@ std::optional<PlanAheadMissed> ContactPlannerNode::WhyNotPlannedAhead(
   return std::nullopt;
 }
 
+bool ContactPlannerNode::HoldsWithOneFootOff(PlanMadeAhead& ahead, const PlanAheadMissed& missed,
+                                             const WholeBodyState& stance,
+                                             const rbcp_msgs::controller_status_t& controller) {
+  if (missed.kind != PlanAheadMissed::Kind::kStanceDeviates || !ahead.result.ok ||
+      missed.deviation->kind != StanceDeviation::Kind::kFoothold) {
+    return false;
+  }
+  // Only that foot is off: the base on the controller's reference, the orientation as planned.
+  const std::size_t off = static_cast<std::size_t>(Index(missed.deviation->leg));
+  WholeBodyState others = stance;
+  others.feet[off] = ahead.expected.feet[off];
+  if (Deviation(others, ahead.expected, controller.base_error)) return false;
+  WholeBodyState start = ahead.expected;
+  start.feet[off] = stance.feet[off];
+  ContactPlanResult from_there = planner_.FromStart(ahead.result.plan, start);
+  if (verbose_) {
+    std::fprintf(stderr, "[%s] %s: the plan made ahead %s (%.3f s)\n", kProcessName,
+                 missed.deviation->Describe().c_str(),
+                 from_there.ok ? "holds from there" : ("does not hold: " + from_there.reason).c_str(),
+                 from_there.planning_time_s);
+  }
+  if (!from_there.ok) return false;
+  ahead.result = std::move(from_there);
+  return true;
+}
+
 void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_msgs::controller_status_t& controller) {
   status_.Busy(Now(), msg.utime);
   const auto fail = [&](const std::string& why) {
@@ -393,7 +419,8 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   // from the measured stance.
   FinishPlanAhead();
   std::optional<PlanMadeAhead> ahead = std::exchange(plan_made_ahead_, std::nullopt);
-  const std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, stance, controller);
+  std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, stance, controller);
+  if (missed && HoldsWithOneFootOff(*ahead, *missed, stance, controller)) missed.reset();
   if (!missed) {
     path_progress_ = ahead->progress;
     last_result_ = std::move(ahead->result);

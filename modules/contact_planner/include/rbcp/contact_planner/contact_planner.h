@@ -237,6 +237,16 @@ class ContactPlanner {
   /// are not one step apart (see check_plan's "one_leg").
   ContactPlanResult MergeSteps(const ContactPlan& plan);
 
+  /// `plan` walked from `start` instead of its first state: start has that state's base pose
+  /// and footholds but for one foot (e.g. one that touched down a few cm beside its foothold).
+  /// That foot stands where start has it until its leg steps again; the states this changes are
+  /// checked and made valid as step merging checks them (base poses kept where valid, else the
+  /// swing's body shift searched again), swings are attached again and the walk is timed with
+  /// every step's duration kept. kInvalidInput without SetTerrain() or for an empty plan;
+  /// kNoFoothold with the reason when start differs otherwise, when a changed state is not
+  /// valid, or when the dynamic walk fails its check at more steps than plan's does.
+  ContactPlanResult FromStart(const ContactPlan& plan, const WholeBodyState& start);
+
   const ContactPlannerConfig& Config() const;
   const EquilibriumConfig& EquilibriumParameters() const;
 

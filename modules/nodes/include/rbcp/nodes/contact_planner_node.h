@@ -217,6 +217,12 @@ class ContactPlannerNode {
   std::optional<PlanAheadMissed> WhyNotPlannedAhead(const std::optional<PlanMadeAhead>& ahead,
                                                     const WholeBodyState& stance,
                                                     const rbcp_msgs::controller_status_t& controller) const;
+  /// Horizon mode: whether the plan made ahead answers a robot whose stance differs from the
+  /// one it starts from in one foot only (`missed`: a foot that touched down beside its foothold)
+  /// once that foot stands where it is (ContactPlanner::FromStart); then ahead.result is that
+  /// plan.
+  bool HoldsWithOneFootOff(PlanMadeAhead& ahead, const PlanAheadMissed& missed, const WholeBodyState& stance,
+                           const rbcp_msgs::controller_status_t& controller);
   /// Horizon mode: publishes the first horizon_steps steps of *last_result_ (FAILED when it
   /// failed) as the answer to the robot's wait, then plans ahead.
   void PublishHorizon(const rbcp_msgs::robot_state_t& state, const rbcp_msgs::controller_status_t& controller);
