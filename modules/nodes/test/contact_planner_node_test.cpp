@@ -480,6 +480,36 @@ TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPut
   }
 }
 
+TEST_F(ContactPlannerNodeTest, APlanMadeAheadHoldsFromAStanceWithOneFootBesideItsFoothold) {
+  // One foot touched down 2.5 cm beside its foothold, the base 5 cm off the plan's pose but on
+  // the controller's reference: the plan made ahead goes on from there (its base pose, that foot
+  // where it stands). With the base off the reference too (a push), the next plan starts from the
+  // measured base.
+  for (const double base_error : {0.01, 0.10}) {
+    SCOPED_TRACE("off the reference " + std::to_string(base_error));
+    node_ = MakeNode(3);
+    PublishWorld();
+    lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+    Pump();
+    ASSERT_TRUE(node_->Step());
+    const auto first = Answer(WaitingState(300, 0.02, 0.01));
+    ASSERT_TRUE(first.has_value()) << status_.Latest()->reason;
+    const ContactPlan plan = transport::FromContactPlanMsg(*first);
+    ASSERT_GE(plan.states.size(), 3u);
+
+    ContactPlan walked = plan;  // the robot's stance after the first step, one foot off
+    const std::size_t off = static_cast<std::size_t>(plan.states[2].moving_leg == 0 ? 1 : 0);
+    walked.states[1].feet[off].position += Eigen::Vector3d(0.02, 0.015, 0.0);
+    const Eigen::Vector3d offset_W(0.0, 0.05, 0.0);
+    const auto next = Answer(WaitingOnPlan(900, walked, 1, first->plan_seq, offset_W, base_error));
+    ASSERT_TRUE(next.has_value()) << status_.Latest()->reason;
+    const WholeBodyState start = transport::FromContactPlanMsg(*next).states.front();
+    const Eigen::Vector3d base = plan.states[1].base_position + (base_error < 0.08 ? Eigen::Vector3d::Zero() : offset_W);
+    EXPECT_LT((start.base_position - base).norm(), 1e-9) << start.base_position.transpose();
+    EXPECT_LT((start.feet[off].position - walked.states[1].feet[off].position).norm(), 1e-6);
+  }
+}
+
 TEST_F(ContactPlannerNodeTest, ThePieceMadeAheadKeepsTheStepsTheControllerCommittedTo) {
   // A dynamic walk's CoM already moves toward the support of the steps in its preview: the next
   // piece of plan keeps them as they were, and the new search begins after them.
