@@ -534,7 +534,7 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
   // The earlier search's steps, on the clock the walk prepared for: their durations stay.
   planner_.TimeWalk(&continuation, nullptr, timed ? after_next : 0);
   search.continuation = std::move(continuation);
-  if (search.kept == after_next && continuation.reaches_goal) {
+  if (search.kept == after_next && search.continuation.reaches_goal) {
     return TakeEarlierSearch(std::move(search), "the search before reaches the goal within the committed steps");
   }
   // The new search runs on its own planner while the robot walks; it starts from the stance the
