@@ -24,7 +24,10 @@ cleanup() { [ -z "$bridge" ] || kill "$bridge" 2>/dev/null || true; wait 2>/dev/
 trap cleanup EXIT
 fail() { echo "live_bridge_bounds_test: FAILED: $*" >&2; [ ! -f "$out/bridge.log" ] || tail -5 "$out/bridge.log" >&2; exit 1; }
 
-# The bridge, limited to 48 file descriptors, on any free port.
+# The bridge, limited to 48 file descriptors, on any free port. Its log exists before it starts:
+# the background shell may open it after the first look for the port (set -e ends the test on a
+# sed of a missing file).
+: >"$out/bridge.log"
 bash -c "ulimit -n 48; exec '$bin/live_bridge' --port 0 --lcm-url memq://" 2>"$out/bridge.log" &
 bridge=$!
 port=""
