@@ -93,6 +93,15 @@ class ContactPlannerNodeTest : public ::testing::Test {
     }
   }
   void PublishWorld() { test::PublishWorld(lcm_, FlatGround(), kConfig); }
+  /// A new node answering waits with at most `horizon_steps` steps, on the flat ground's world
+  /// and root path.
+  void FollowFlatGroundPath(int horizon_steps) {
+    node_ = MakeNode(horizon_steps);
+    PublishWorld();
+    lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
+    Pump();
+    ASSERT_TRUE(node_->Step());
+  }
   /// Publishes `robot`, steps the node once and returns the CONTACT_PLAN it answered with, if any.
   std::optional<rbcp_msgs::contact_plan_t> Answer(const RobotMsgs& robot) {
     robot.Publish(lcm_);
@@ -394,11 +403,7 @@ TEST_F(ContactPlannerNodeTest, APlanIsSentAgainWhileTheRobotStillWaitsForIt) {
 }
 
 TEST_F(ContactPlannerNodeTest, AnOlderPathOfTheSameGoalComingLateIsIgnored) {
-  node_ = MakeNode(3);
-  PublishWorld();
-  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
-  Pump();
-  ASSERT_TRUE(node_->Step());
+  ASSERT_NO_FATAL_FAILURE(FollowFlatGroundPath(3));
   // The same goal's path from before (the network reordered it), one metre to the side: were it
   // followed, the robot would stand too far from it to plan.
   rbcp_msgs::root_path_t older = FlatGroundRootPath();
@@ -453,11 +458,7 @@ TEST_F(ContactPlannerNodeTest, OnThePlannedFootholdsTheBaseStandsWhereThePlanPut
   for (const Case c : {Case{0.02, 0.02, true}, Case{0.12, 0.01, true}, Case{0.10, 0.10, false}}) {
     const double offset = c.offset;
     SCOPED_TRACE("base offset " + std::to_string(offset) + ", off the reference " + std::to_string(c.base_error));
-    node_ = MakeNode(3);
-    PublishWorld();
-    lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
-    Pump();
-    ASSERT_TRUE(node_->Step());
+    ASSERT_NO_FATAL_FAILURE(FollowFlatGroundPath(3));
     const auto first = Answer(WaitingState(300, 0.02, 0.01));
     ASSERT_TRUE(first.has_value()) << status_.Latest()->reason;
     const ContactPlan plan = transport::FromContactPlanMsg(*first);
@@ -487,11 +488,7 @@ TEST_F(ContactPlannerNodeTest, APlanMadeAheadHoldsFromAStanceWithOneFootBesideIt
   // measured base.
   for (const double base_error : {0.01, 0.10}) {
     SCOPED_TRACE("off the reference " + std::to_string(base_error));
-    node_ = MakeNode(3);
-    PublishWorld();
-    lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
-    Pump();
-    ASSERT_TRUE(node_->Step());
+    ASSERT_NO_FATAL_FAILURE(FollowFlatGroundPath(3));
     const auto first = Answer(WaitingState(300, 0.02, 0.01));
     ASSERT_TRUE(first.has_value()) << status_.Latest()->reason;
     const ContactPlan plan = transport::FromContactPlanMsg(*first);
@@ -513,11 +510,7 @@ TEST_F(ContactPlannerNodeTest, APlanMadeAheadHoldsFromAStanceWithOneFootBesideIt
 TEST_F(ContactPlannerNodeTest, ThePieceMadeAheadKeepsTheStepsTheControllerCommittedTo) {
   // A dynamic walk's CoM already moves toward the support of the steps in its preview: the next
   // piece of plan keeps them as they were, and the new search begins after them.
-  node_ = MakeNode(4);
-  PublishWorld();
-  lcm_.publish(channels::kRootPath, &FlatGroundRootPath());
-  Pump();
-  ASSERT_TRUE(node_->Step());
+  ASSERT_NO_FATAL_FAILURE(FollowFlatGroundPath(4));
   RobotMsgs waiting = WaitingState(300, 0.02, 0.01);
   waiting.controller.steps_committed = 2;
   const auto first = Answer(waiting);
