@@ -528,54 +528,56 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
   continuation.reaches_goal = searched_.reaches_goal;
   const int after_next = static_cast<int>(continuation.states.size()) - 1;
   search.kept = std::clamp(steps_committed, 0, after_next);
+  const int kept = search.kept;
   const bool timed = continuation.Timed();
-  // The new search's plan begins with the committed steps, as the earlier search made them.
-  std::vector<WholeBodyState> committed(continuation.states.begin(), continuation.states.begin() + search.kept + 1);
-  // The earlier search's steps, on the clock the walk prepared for: their durations stay.
-  planner_.TimeWalk(&continuation, nullptr, timed ? after_next : 0);
-  search.continuation = std::move(continuation);
-  if (search.kept == after_next && search.continuation.reaches_goal) {
-    return TakeEarlierSearch(std::move(search), "the search before reaches the goal within the committed steps");
-  }
+  const bool goal_committed = kept == after_next && continuation.reaches_goal;
   // The new search runs on its own planner while the robot walks; it starts from the stance the
   // kept steps lead to, with the leg that stepped into it (the crawl's order goes on from there).
-  if (SearchWorkerBusy() && !options_.wait_for_search_ahead) {
-    if (verbose_) std::fprintf(stderr, "[%s] planning ahead: the search before is still running\n", kProcessName);
-    search_ahead_ = std::move(search);  // answered by the earlier search at the boundary
-    return;
-  }
-  WaitForSearchWorker();
-  const int kept = search.kept;
-  // The stance the new search starts from, with the leg that stepped into it.
-  const WholeBodyState& from = searched_.states[static_cast<std::size_t>(kept) + 1];
-  double offset = 0.0;
-  const std::size_t at = PathProgress(from.base_position, from.base_rpy.z(), &offset);
-  std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
-  const int max_steps = options_.horizon_steps + options_.lookahead_steps;
-  search_worker_ = std::async(std::launch::async, [planner = &ahead_planner_, kept, timed, from,
-                                                   committed = std::move(committed), remaining = std::move(remaining),
-                                                   max_steps] {
-    SearchAheadAnswer answer;
-    try {
-      answer.result = planner->PlanHorizon(from, remaining, max_steps);
-      ContactPlanResult& fresh = *answer.result;
-      if (fresh.ok && kept > 0) {
-        // The committed steps, then the new search's, timed again with the committed steps'
-        // durations kept.
-        std::vector<WholeBodyState> states = committed;
-        states.insert(states.end(), fresh.plan.states.begin() + 1, fresh.plan.states.end());
-        fresh.plan.states = std::move(states);
-        fresh.steps = static_cast<int>(fresh.plan.states.size()) - 1;
-        planner->TimeWalk(&fresh.plan, &fresh.stats, timed ? kept : 0);
+  const bool worker_busy = SearchWorkerBusy() && !options_.wait_for_search_ahead;
+  if (!goal_committed && !worker_busy) {
+    WaitForSearchWorker();
+    const WholeBodyState& from = searched_.states[static_cast<std::size_t>(kept) + 1];
+    double offset = 0.0;
+    const std::size_t at = PathProgress(from.base_position, from.base_rpy.z(), &offset);
+    std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
+    // The new search's plan begins with the committed steps, as the earlier search made them.
+    std::vector<WholeBodyState> committed(continuation.states.begin(), continuation.states.begin() + kept + 1);
+    const int max_steps = options_.horizon_steps + options_.lookahead_steps;
+    search_worker_ = std::async(std::launch::async, [planner = &ahead_planner_, kept, timed, from,
+                                                     committed = std::move(committed), remaining = std::move(remaining),
+                                                     max_steps] {
+      SearchAheadAnswer answer;
+      try {
+        answer.result = planner->PlanHorizon(from, remaining, max_steps);
+        ContactPlanResult& fresh = *answer.result;
+        if (fresh.ok && kept > 0) {
+          // The committed steps, then the new search's, timed again with the committed steps'
+          // durations kept.
+          std::vector<WholeBodyState> states = committed;
+          states.insert(states.end(), fresh.plan.states.begin() + 1, fresh.plan.states.end());
+          fresh.plan.states = std::move(states);
+          fresh.steps = static_cast<int>(fresh.plan.states.size()) - 1;
+          planner->TimeWalk(&fresh.plan, &fresh.stats, timed ? kept : 0);
+        }
+      } catch (const std::exception& e) {
+        answer.result.reset();
+        answer.error = e.what();
       }
-    } catch (const std::exception& e) {
-      answer.result.reset();
-      answer.error = e.what();
-    }
-    return answer;
-  });
-  search.running = true;
-  search_ahead_ = std::move(search);
+      return answer;
+    });
+    search.running = true;
+  }
+  // The earlier search's steps, on the clock the walk prepared for: their durations stay. Timed
+  // here while the new search runs.
+  planner_.TimeWalk(&continuation, nullptr, timed ? after_next : 0);
+  search.continuation = std::move(continuation);
+  if (goal_committed) {
+    return TakeEarlierSearch(std::move(search), "the search before reaches the goal within the committed steps");
+  }
+  if (worker_busy && verbose_) {
+    std::fprintf(stderr, "[%s] planning ahead: the search before is still running\n", kProcessName);
+  }
+  search_ahead_ = std::move(search);  // without a new search, answered by the earlier one at the boundary
 }
 
 void ContactPlannerNode::TakeEarlierSearch(SearchAhead search, const std::string& how) {
