@@ -105,6 +105,19 @@ const WireLayout kMessagePart{"message_part_t",
                                 Bytes("checksum", kInt64), Bytes("total_size", kInt32), Bytes("part_count", kInt32),
                                 Bytes("index", kInt32), Count("num_bytes"), Array("bytes", "num_bytes", kInt8)}};
 
+constexpr int64_t kFloat = 4;
+const WireLayout kPointCloud{"point_cloud_t",
+                             {Bytes("utime", kInt64), String("sensor"), Bytes("seq", kInt64),
+                              Bytes("mount_position", 3 * kDouble), Bytes("mount_orientation", 4 * kDouble),
+                              Bytes("min_range", kFloat), Bytes("max_range", kFloat), Bytes("range_noise_std", kFloat),
+                              Bytes("num_rays", kInt32), Count("num_points"), Array("points", "num_points", 3 * kFloat)}};
+
+const WireLayout kElevationMap{"elevation_map_t",
+                               {Bytes("utime", kInt64), Bytes("terrain_id", kInt64), Bytes("clouds_fused", kInt64),
+                                Bytes("origin", 2 * kDouble), Bytes("resolution", kDouble), Bytes("num_x", kInt32),
+                                Bytes("num_y", kInt32), Count("num_cells"), Array("height", "num_cells", kFloat),
+                                Array("variance", "num_cells", kFloat)}};
+
 int32_t ReadInt32(const uint8_t* p) {
   const uint32_t v = (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
   int32_t out;
@@ -207,6 +220,8 @@ const WireLayout& LayoutOf(const rbcp_msgs::root_path_t*) { return kRootPath; }
 const WireLayout& LayoutOf(const rbcp_msgs::contact_plan_t*) { return kContactPlan; }
 const WireLayout& LayoutOf(const rbcp_msgs::process_status_t*) { return kProcessStatus; }
 const WireLayout& LayoutOf(const rbcp_msgs::message_part_t*) { return kMessagePart; }
+const WireLayout& LayoutOf(const rbcp_msgs::point_cloud_t*) { return kPointCloud; }
+const WireLayout& LayoutOf(const rbcp_msgs::elevation_map_t*) { return kElevationMap; }
 
 std::optional<std::string> CheckEncoded(const void* data, std::size_t size, const WireLayout& layout, int64_t hash) {
   if (size > static_cast<std::size_t>(INT_MAX)) {

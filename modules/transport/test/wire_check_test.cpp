@@ -80,6 +80,20 @@ TEST(WireCheck, EveryLayoutMatchesTheGeneratedEncoding) {
   part.num_bytes = 3;
   part.bytes = {1, 2, 3};
   ExpectLayoutMatches(part);
+
+  rbcp_msgs::point_cloud_t cloud{};
+  cloud.sensor = "front_camera";
+  cloud.num_points = 2;
+  cloud.points = {{1.0f, 0.0f, 0.5f}, {2.0f, 0.1f, -0.2f}};
+  ExpectLayoutMatches(cloud);
+
+  rbcp_msgs::elevation_map_t map{};
+  map.num_x = 2;
+  map.num_y = 1;
+  map.num_cells = 2;
+  map.height = {0.1f, 0.2f};
+  map.variance = {1e-4f, 2e-4f};
+  ExpectLayoutMatches(map);
 }
 
 /// A terrain of a few bytes whose vertex count claims 2^31 - 1 vertices (48 GB as lcm-gen decodes it).

@@ -14,8 +14,10 @@
 #include "rbcp_msgs/affordance_set_t.hpp"
 #include "rbcp_msgs/contact_plan_t.hpp"
 #include "rbcp_msgs/controller_status_t.hpp"
+#include "rbcp_msgs/elevation_map_t.hpp"
 #include "rbcp_msgs/message_part_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
+#include "rbcp_msgs/point_cloud_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/root_path_t.hpp"
@@ -35,6 +37,8 @@ const WireLayout& LayoutOf(const rbcp_msgs::root_path_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::contact_plan_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::process_status_t*);
 const WireLayout& LayoutOf(const rbcp_msgs::message_part_t*);
+const WireLayout& LayoutOf(const rbcp_msgs::point_cloud_t*);
+const WireLayout& LayoutOf(const rbcp_msgs::elevation_map_t*);
 
 /// nullopt when the `size` bytes at `data` are an encoding of `layout` with the fingerprint `hash` that
 /// holds every element its counts and string lengths claim; otherwise why not, naming the field.
