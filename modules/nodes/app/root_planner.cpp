@@ -22,6 +22,9 @@ void AddOptions(CLI::App& app, Options& o) {
   app.add_option("--config", o.config_path, "root planner parameters (default: CONFIG_DIR/root_planner.yaml)");
   app.add_option("--time-budget", o.node.default_time_budget_s, "planning budget when a request gives none [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_flag("--partial-map", o.node.partial_map,
+               "the terrain is a map that grows as the robot walks (terrain_mapper): plan towards a goal the map does "
+               "not show yet, and again on every new map while the robot waits at a step boundary");
 }
 
 int Run(const Options& o) {

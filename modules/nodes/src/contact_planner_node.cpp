@@ -233,6 +233,7 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   path_ = std::move(samples);
   path_request_id_ = msg.request_id;
   path_terrain_id_ = msg.terrain_id;
+  path_reaches_goal_ = msg.reaches_goal;
   path_utime_ = msg.utime;
   path_progress_ = 0;
   answered_since_.reset();  // a wait already answered on the old path gets a plan on the new one
@@ -471,6 +472,8 @@ void ContactPlannerNode::PublishHorizon(const rbcp_msgs::robot_state_t& msg,
   // After a restart the sequence goes on from the plan the robot walks.
   plan_seq_ = std::max(plan_seq_, controller.plan_seq) + 1;
   answer_ = transport::ToContactPlanMsg(r.plan, Now(), path_request_id_, path_terrain_id_, plan_seq_, msg.utime);
+  // Along a path that ends short of the goal (the map does not show it yet) no plan reaches it.
+  answer_->reaches_goal = answer_->reaches_goal && path_reaches_goal_;
   answer_wall_ = std::chrono::steady_clock::now();
   lcm_.publish(options_.contact_plan_channel, &*answer_);
   status_.Ok(Now(), msg.utime, ms, "plan " + std::to_string(plan_seq_) + ": " + Summary(r, k));
@@ -699,6 +702,7 @@ void ContactPlannerNode::Plan(const rbcp_msgs::root_path_t& msg) {
   }
   plan_seq_ += 1;
   answer_ = transport::ToContactPlanMsg(r.plan, Now(), msg.request_id, msg.terrain_id, plan_seq_, 0);
+  answer_->reaches_goal = answer_->reaches_goal && msg.reaches_goal;
   answer_wall_ = std::chrono::steady_clock::now();
   lcm_.publish(options_.contact_plan_channel, &*answer_);
   status_.Ok(Now(), msg.utime, ms, Summary(r, 0));

@@ -159,7 +159,9 @@ bool RootPlannerNode::StandsAtStart(const rbcp_msgs::plan_request_t& request) co
 }
 
 std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {
-  if (!active_ || !last_result_ || !last_result_->ok()) return std::nullopt;
+  if (!active_) return std::nullopt;
+  // On a growing map a request without a path is planned again on the next map.
+  if (!options_.partial_map && (!last_result_ || !last_result_->ok())) return std::nullopt;
   if (world_changed) terrain_replan_due_ = true;  // a path planned on another terrain
   if (!robot_state_.Latest() || !controller_.Latest()) return std::nullopt;
   const auto& state = *robot_state_.Latest();
@@ -188,7 +190,7 @@ std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {
     checked_wait_ = controller.awaiting_since;
     return "the terrain changed";
   }
-  if (checked_wait_ == controller.awaiting_since) return std::nullopt;
+  if (checked_wait_ == controller.awaiting_since || !last_result_ || !last_result_->ok()) return std::nullopt;
   checked_wait_ = controller.awaiting_since;
   const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
   if (!base.allFinite()) return std::nullopt;
@@ -209,6 +211,8 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
       last_result_.reset();
       published_.reset();
     }
+    // On a growing map the request stays active: the next map may show the way.
+    if (options_.partial_map) active_ = request;
     status_.Failed(Now(), request.utime, ms, reason + (keep ? " (the robot goes on along the previous path)" : ""));
   };
   terrain_replan_due_ = false;  // planned on the terrain as it is now
@@ -234,12 +238,32 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
   }
   RootPlanResult result;
   try {
+    const Eigen::Vector2d goal_xy(request.goal_position[0], request.goal_position[1]);
     const auto start = planner_.StandingPosition(*world_.terrain(), start_xy);
-    const auto goal = planner_.StandingPosition(*world_.terrain(), {request.goal_position[0], request.goal_position[1]});
-    if (!start || !goal) return failed(0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
     const double budget = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
-    result = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw,
-                           GuideSeed(static_cast<unsigned>(request.seed), guide_), budget);
+    const unsigned seed = GuideSeed(static_cast<unsigned>(request.seed), guide_);
+    if (options_.partial_map) {
+      if (!start) return failed(0.0, "no terrain under the start on the map");
+      // The goal, or the standing positions nearest it on the known terrain, until one has a path.
+      const std::vector<Eigen::Vector3d> goals =
+          planner_.GoalsToward(*world_.terrain(), *world_.surfaces(), start_xy, goal_xy, request.goal_yaw,
+                               options_.partial_goal_spacing_m, options_.partial_min_progress_m,
+                               options_.partial_goal_ahead_m);
+      if (goals.empty()) return failed(0.0, "the map shows no standing position nearer the goal yet");
+      for (std::size_t i = 0; i < goals.size() && static_cast<int>(i) < options_.partial_goal_tries; ++i) {
+        last_reaches_goal_ = (goals[i].head<2>() - goal_xy).norm() < 1e-9;
+        const Eigen::Vector2d way = goal_xy - start_xy;
+        const double yaw = last_reaches_goal_ ? request.goal_yaw : std::atan2(way.y(), way.x());
+        result = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, goals[i], yaw, seed, budget);
+        if (result.status != RootPlanStatus::kGoalUnreachable && result.status != RootPlanStatus::kGoalInvalid) break;
+      }
+    } else {
+      const auto goal = planner_.StandingPosition(*world_.terrain(), goal_xy);
+      if (!start || !goal) return failed(0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
+      last_reaches_goal_ = true;
+      result = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw, seed,
+                             budget);
+    }
   } catch (const std::exception& e) {
     // A request the planner refuses is answered with a status (below). What it throws is a
     // terrain or surfaces its reachability checker cannot be built on (InputError), or a bug
@@ -249,10 +273,16 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
   const double ms = 1000.0 * result.planning_time_s;
   if (!result.ok()) return failed(ms, ToString(result.status) + ": " + result.reason);
   last_result_ = std::move(result);
-  published_ = ToRootPathMsg(*last_result_, Now(), request.request_id, world_.terrain_id());
+  published_ = ToRootPathMsg(*last_result_, Now(), request.request_id, world_.terrain_id(), last_reaches_goal_);
   lcm_.publish(options_.root_path_channel, &*published_);
   active_ = request;
-  status_.Ok(Now(), request.utime, ms, why.empty() ? "" : "replanned from the measured base: " + why);
+  std::string summary = why.empty() ? "" : "replanned from the measured base: " + why;
+  if (!last_reaches_goal_) {
+    const Eigen::Vector3d end = last_result_->samples.back().p;
+    summary += std::string(summary.empty() ? "" : "; ") + "towards the goal, to (" + FixedNumber(end.x(), 2) + ", " +
+               FixedNumber(end.y(), 2) + "), the known terrain's nearest standing position";
+  }
+  status_.Ok(Now(), request.utime, ms, summary);
 }
 
 void RootPlannerNode::Heartbeat() {
@@ -262,11 +292,12 @@ void RootPlannerNode::Heartbeat() {
 }
 
 rbcp_msgs::root_path_t ToRootPathMsg(const RootPlanResult& result, int64_t utime, int64_t request_id,
-                                     int64_t terrain_id) {
+                                     int64_t terrain_id, bool reaches_goal) {
   rbcp_msgs::root_path_t msg;
   msg.utime = utime;
   msg.request_id = request_id;
   msg.terrain_id = terrain_id;
+  msg.reaches_goal = reaches_goal;
   msg.num_points = static_cast<int32_t>(result.samples.size());
   for (const auto& s : result.samples) {
     rbcp_msgs::root_path_point_t p;

@@ -585,3 +585,126 @@ TEST_F(RootPlannerNodeTest, AMessageWithAWrongTimeIsRejectedAndDoesNotStopTheClo
 
 }  // namespace
 }  // namespace rbcp::nodes
+
+namespace rbcp::nodes {
+namespace {
+
+/// A floor from x = -1 to `end_x` (1 m wide): the terrain a map knows after seeing that far.
+Scenario FloorTo(double end_x) {
+  Scenario s;
+  s.name = "floor";
+  TerrainBox box;
+  box.size = Eigen::Vector3d(end_x + 1.0, 1.0, 0.5);
+  box.position = Eigen::Vector3d(0.5 * (end_x - 1.0), 0.0, -0.25);
+  s.terrain = {box};
+  s.terrain_mesh = BuildTerrainMesh(s.terrain);
+  return s;
+}
+
+TEST(RootPlannerNodePartialMap, PlansTowardsAGoalTheMapDoesNotShowThenToItOnceItDoes) {
+  lcm::LCM lcm("memq://");
+  const RobotModel robot = RobotModel::LoadDefault(kConfig);
+  RootPlannerNodeOptions options;
+  options.partial_map = true;
+  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
+  node.status().set_verbose(false);
+  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
+  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
+  const auto pump = [&] {
+    while (lcm.handleTimeout(0) > 0) {
+    }
+  };
+
+  // The map knows the floor to x = 1.5; the goal is at x = 3.
+  test::PublishWorld(lcm, FloorTo(1.5), kConfig, 100);
+  rbcp_msgs::plan_request_t request{};
+  request.utime = 200;
+  request.request_id = 5;
+  request.use_start = true;
+  request.goal_position[0] = 3.0;
+  request.time_budget = 5.0;
+  request.seed = 3;
+  lcm.publish(channels::kPlanRequest, &request);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  auto path = paths.Take();
+  ASSERT_TRUE(path.has_value()) << status.Latest()->reason;
+  EXPECT_FALSE(path->reaches_goal);
+  const double end_x = path->points.back().position[0];
+  EXPECT_GT(end_x, 0.5) << "towards the goal";
+  EXPECT_LE(end_x, 1.0 + 1e-9) << "on the known terrain, with room for the front feet";
+  EXPECT_NE(status.Latest()->reason.find("towards the goal"), std::string::npos) << status.Latest()->reason;
+
+  // The robot waits at a step boundary on the way; the map now shows the goal: a path to it.
+  rbcp_msgs::controller_status_t controller{};
+  rbcp_msgs::robot_state_t state{};
+  controller.utime = state.utime = controller.awaiting_since = 2000000;
+  controller.awaiting_plan = true;
+  state.base_position[0] = 0.6;
+  state.base_position[2] = 0.45;
+  state.base_orientation[0] = 1.0;
+  lcm.publish(channels::kControllerStatus, &controller);
+  lcm.publish(channels::kRobotState, &state);
+  test::PublishWorld(lcm, FloorTo(4.0), kConfig, 2000000);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  path = paths.Take();
+  ASSERT_TRUE(path.has_value()) << status.Latest()->reason;
+  EXPECT_TRUE(path->reaches_goal);
+  EXPECT_NEAR(path->points.front().position[0], 0.6, 1e-9);
+  EXPECT_NEAR(path->points.back().position[0], 3.0, 1e-9);
+}
+
+TEST(RootPlannerNodePartialMap, ARequestTheMapShowsNoWayForIsPlannedAgainOnTheNextMap) {
+  lcm::LCM lcm("memq://");
+  const RobotModel robot = RobotModel::LoadDefault(kConfig);
+  RootPlannerNodeOptions options;
+  options.partial_map = true;
+  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
+  node.status().set_verbose(false);
+  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
+  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
+  const auto pump = [&] {
+    while (lcm.handleTimeout(0) > 0) {
+    }
+  };
+  // The map knows only the floor under the robot: no standing position nearer the goal.
+  test::PublishWorld(lcm, FloorTo(0.3), kConfig, 100);
+  rbcp_msgs::plan_request_t request{};
+  request.utime = 200;
+  request.request_id = 6;
+  request.use_start = true;
+  request.goal_position[0] = 3.0;
+  request.time_budget = 5.0;
+  request.seed = 3;
+  lcm.publish(channels::kPlanRequest, &request);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  EXPECT_FALSE(paths.Take().has_value());
+  ASSERT_EQ(status.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(status.Latest()->reason.find("no standing position nearer the goal"), std::string::npos)
+      << status.Latest()->reason;
+
+  // The robot waits where it stands; the next map shows more: a path towards the goal.
+  rbcp_msgs::controller_status_t controller{};
+  rbcp_msgs::robot_state_t state{};
+  controller.utime = state.utime = controller.awaiting_since = 1000000;
+  controller.awaiting_plan = true;
+  state.base_position[2] = 0.45;
+  state.base_orientation[0] = 1.0;
+  lcm.publish(channels::kControllerStatus, &controller);
+  lcm.publish(channels::kRobotState, &state);
+  test::PublishWorld(lcm, FloorTo(2.0), kConfig, 1000000);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  const auto path = paths.Take();
+  ASSERT_TRUE(path.has_value()) << status.Latest()->reason;
+  EXPECT_FALSE(path->reaches_goal);
+}
+
+}  // namespace
+}  // namespace rbcp::nodes

@@ -510,6 +510,37 @@ std::optional<MeasuredBaseProblem> RootPlanner::CheckMeasuredBase(const Triangle
   return MeasuredBaseProblem{MeasuredBaseProblem::Kind::kInsideTerrain, base_W, *height};
 }
 
+std::vector<Eigen::Vector3d> RootPlanner::GoalsToward(const TriangleMesh& terrain,
+                                                     const std::vector<AffordanceSurface>& surfaces,
+                                                     const Eigen::Vector2d& start_xy, const Eigen::Vector2d& goal_xy,
+                                                     double goal_yaw, double spacing_m, double min_progress_m,
+                                                     double ahead_m) const {
+  if (!(spacing_m > 0.0) || !start_xy.allFinite() || !goal_xy.allFinite()) {
+    throw InputError("GoalsToward: expected finite ends and a positive spacing");
+  }
+  std::vector<Eigen::Vector3d> goals;
+  const Eigen::Vector2d to_goal = goal_xy - start_xy;
+  const double length = to_goal.norm();
+  if (surfaces.empty() || terrain.Empty()) return goals;
+  ReachabilityChecker checker = MakeChecker(terrain, surfaces);
+  // At the goal the robot stands at the goal's yaw; on the way it faces the way on.
+  const double heading = length > 1e-9 ? std::atan2(to_goal.y(), to_goal.x()) : goal_yaw;
+  const int n = static_cast<int>(std::floor(length / spacing_m));
+  for (int k = 0; k <= n; ++k) {
+    const double back = k * spacing_m;  // from the goal towards the start
+    if (length - back < min_progress_m) break;
+    const Eigen::Vector2d xy = length > 1e-9 ? Eigen::Vector2d(goal_xy - to_goal * (back / length)) : goal_xy;
+    const std::optional<Eigen::Vector3d> p = StandingPosition(terrain, xy);
+    if (!p) continue;
+    if (k > 0) {
+      const Eigen::Vector2d further = xy + ahead_m * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+      if (!TerrainHeightAt(terrain, further)) continue;
+    }
+    if (checker.IsValid(*p, k == 0 ? goal_yaw : heading)) goals.push_back(*p);
+  }
+  return goals;
+}
+
 ReachabilityChecker RootPlanner::MakeChecker(const TriangleMesh& terrain,
                                              const std::vector<AffordanceSurface>& surfaces) const {
   return ReachabilityChecker(terrain, surfaces, config_.roms, trunk_, config_.surface_depth);

@@ -84,7 +84,7 @@ const WireLayout kControllerStatus{
 constexpr int64_t kRootPathPointBytes = kDouble + 3 * kDouble + 3 * kDouble + 4 * kDouble;
 const WireLayout kRootPath{"root_path_t",
                            {Bytes("utime", kInt64), Bytes("request_id", kInt64), Bytes("terrain_id", kInt64),
-                            Count("num_points"),
+                            Bytes("reaches_goal", kBoolean), Count("num_points"),
                             Array("points", "num_points", kRootPathPointBytes)}};
 
 constexpr int64_t kWholeBodyStateBytes =

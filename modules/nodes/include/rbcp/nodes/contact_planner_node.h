@@ -286,6 +286,7 @@ class ContactPlannerNode {
   /// The terrain the path followed was planned on: while the world's is another, the path is stale
   /// and no answer goes out until a path on the world's terrain comes.
   int64_t path_terrain_id_ = 0;
+  bool path_reaches_goal_ = true;  ///< the path ends at the goal (root_path_t.reaches_goal)
   std::size_t path_progress_ = 0;
   bool logged_stale_ = false;
   std::optional<int64_t> answered_since_;

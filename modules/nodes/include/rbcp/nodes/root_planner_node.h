@@ -40,6 +40,16 @@ struct RootPlannerNodeOptions {
   /// boundary, stands farther than this from the path (horizontally) [m]; the body's own shifts
   /// for its swings stay within the contact planner's 0.16 m.
   double replan_path_offset_m = 0.3;
+  /// The terrain is a map that grows as the robot walks (terrain_mapper; `--terrain perceived`):
+  /// a goal the map does not show yet is planned toward, to the standing position nearest it on
+  /// the known terrain (RootPlanner::GoalsToward; the path says it does not reach the goal), and
+  /// every new map is planned on again while the robot waits at a step boundary, also after a
+  /// request found no path on the map before.
+  bool partial_map = false;
+  double partial_goal_spacing_m = 0.1;  ///< partial_map: candidate goals along the way this far apart [m]
+  double partial_min_progress_m = 0.3;  ///< partial_map: a candidate goal at least this much nearer the goal [m]
+  double partial_goal_ahead_m = 0.5;    ///< partial_map: a candidate goal has known terrain this far beyond it [m]
+  int partial_goal_tries = 4;           ///< partial_map: candidate goals planned to before the request fails
 };
 
 class RootPlannerNode {
@@ -117,6 +127,7 @@ class RootPlannerNode {
   std::optional<int64_t> checked_wait_;              ///< awaiting_since of the last wait checked
   bool terrain_replan_due_ = false;                  ///< the terrain changed: replan at the next wait
   std::optional<RootPlanResult> last_result_;
+  bool last_reaches_goal_ = true;  ///< partial_map: the current path ends at the request's goal
   transport::SimClock clock_;  ///< the simulated time heard of (message utimes)
   int guide_ = 0;  ///< the active request's guide: its paths use GuideSeed(seed, guide_)
   int guides_this_stance_ = 0;  ///< guides planned since the robot last stepped
@@ -128,6 +139,6 @@ class RootPlannerNode {
 /// The LCM message of a path planned on the terrain `terrain_id`: samples every time step,
 /// orientation from the yaw.
 rbcp_msgs::root_path_t ToRootPathMsg(const RootPlanResult& result, int64_t utime, int64_t request_id,
-                                     int64_t terrain_id);
+                                     int64_t terrain_id, bool reaches_goal = true);
 
 }  // namespace rbcp::nodes

@@ -235,6 +235,18 @@ class RootPlanner {
                       const Eigen::Vector3d& start_W, double start_yaw, const Eigen::Vector3d& goal_W, double goal_yaw,
                       unsigned seed, double time_budget_s) const;
 
+  /// Where to plan toward on a terrain known only in part (a map that grows as the robot walks):
+  /// standing positions on the segment from `start_xy` to `goal_xy`, the nearest to the goal
+  /// first, every `spacing_m`, that satisfy the reachability condition at the segment's heading,
+  /// are at least `min_progress_m` nearer the goal than the start and have terrain `ahead_m`
+  /// further on (the front feet stand ahead of the base). The goal itself comes first when it
+  /// satisfies the condition at the goal's yaw. Empty when nothing along the segment qualifies:
+  /// the map shows no way on yet.
+  std::vector<Eigen::Vector3d> GoalsToward(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
+                                           const Eigen::Vector2d& start_xy, const Eigen::Vector2d& goal_xy,
+                                           double goal_yaw, double spacing_m, double min_progress_m,
+                                           double ahead_m) const;
+
   /// A reachability checker for a terrain with this planner's ROMs and trunk shape.
   ReachabilityChecker MakeChecker(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces) const;
 
