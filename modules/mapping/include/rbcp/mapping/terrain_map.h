@@ -159,10 +159,14 @@ class TerrainMap {
   void Recenter(const Eigen::Vector2d& robot_xy);
   /// Integrates one cloud: every finite return within max_range_m into the octree (free along
   /// its ray, occupied at its end) and into the elevation map with the variance of its height,
-  /// (range_noise_std times the ray's vertical direction cosine)^2 + min_variance_m2; then a known
-  /// cell whose height's voxel the rays showed free (occupancy <= clear_probability) is
-  /// forgotten. Throws InputError when the origin is not finite or the cloud has more than
-  /// max_points_per_cloud points (the map is unchanged).
+  /// sigma^2 (d_z^2 + 0.25 (1 - d_z^2)) + min_variance_m2 for range noise sigma and unit ray
+  /// direction d (the vertical part of the range error, and a quarter of the horizontal part's
+  /// variance: a point moved sideways reports a neighbouring place's height, so a horizontal ray on
+  /// a block's side never fuses as an exact height); then a known cell where this cloud saw a
+  /// surface below its height, and whose height the rays showed free (the voxels half a voxel above
+  /// and below it at most clear_probability occupied), is forgotten. Places the window around the
+  /// sensor when Recenter never did. Throws InputError when the origin is not finite, the range
+  /// noise is negative or the cloud has more than max_points_per_cloud points (the map is unchanged).
   IntegrateReport Integrate(const WorldCloud& cloud);
   /// A stance foot measures the terrain under it: the cells within foot_patch_radius_m of
   /// `contact` (the lowest point of the foot's sphere) take its height with `variance`.
