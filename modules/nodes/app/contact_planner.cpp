@@ -31,6 +31,9 @@ void AddOptions(CLI::App& app, Options& o) {
       "--realtime", [&o] { o.node.wait_for_search_ahead = false; },
       "with --horizon-steps K: the robot walks on the wall clock (anymal_sim --realtime-factor 1): a step boundary "
       "does not wait for a search made ahead that has not ended; the earlier search goes on");
+  app.add_flag("--partial-map", o.node.partial_map,
+               "with --horizon-steps K: the terrain is a map that grows as the robot walks (terrain_mapper): a wait is "
+               "answered on the map of its time, never on an older one");
 }
 
 int Run(const Options& o) {

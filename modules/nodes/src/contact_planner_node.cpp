@@ -188,6 +188,9 @@ bool ContactPlannerNode::Step() {
         !world_set_ || path_.empty()) {
       return worked;
     }
+    if (options_.partial_map && world_.terrain_utime() < controller->awaiting_since) {
+      return worked;  // the map of this wait is on its way
+    }
     if (path_terrain_id_ != world_.terrain_id()) {
       if (verbose_ && !logged_stale_) std::fprintf(stderr, "[%s] the terrain changed: waiting for a root path on it\n", kProcessName);
       logged_stale_ = true;

@@ -169,6 +169,8 @@ std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {
   // Replans start where the robot stands at a step boundary: the world stands still there (the
   // robot waits for a plan), so the new path does not depend on when this process heard of it.
   if (!controller.awaiting_plan || state.utime < controller.awaiting_since) return std::nullopt;
+  // A growing map is planned on as it stood at the wait (terrain_mapper sends that one).
+  if (options_.partial_map && world_.terrain_utime() < controller.awaiting_since) return std::nullopt;
   if (guide_stance_ != controller.steps_done) {  // the robot walked on since the last guide
     guide_stance_ = controller.steps_done;
     guides_this_stance_ = 0;

@@ -23,8 +23,11 @@ std::optional<RejectedInput> WorldInput::Take(transport::SimClock* clock) {
       if (!terrain_ || msg->terrain_id != terrain_id_) {
         terrain_ = std::move(mesh);
         terrain_id_ = msg->terrain_id;
+        terrain_utime_ = msg->utime;
         changed_ = true;
         surfaces_.reset();
+      } else {
+        terrain_utime_ = std::max(terrain_utime_, msg->utime);
       }
     } catch (const InputError& e) {
       terrain_.reset();

@@ -81,6 +81,11 @@ struct ContactPlannerNodeOptions {
   /// made ahead that has not ended by the boundary is not waited for; the earlier search goes on
   /// (when the robot stands where its continuation starts) and the new search's answer is dropped.
   bool wait_for_search_ahead = true;
+  /// Horizon mode: the terrain is a map that grows as the robot walks (terrain_mapper, which
+  /// sends a map for every wait at the wait's time): a wait is answered only on a TERRAIN of its
+  /// time or later (utime >= awaiting_since), never on an older map, so that the plan depends on
+  /// the clouds up to the wait and not on when the map arrived.
+  bool partial_map = false;
   /// Horizon mode, plan_ahead: the earlier search goes on instead of a new plan whose K steps get
   /// the trunk less far, while it holds horizon_steps + reuse_margin_steps steps after the next
   /// one (or reaches the goal).

@@ -37,6 +37,9 @@ class WorldInput {
   const std::optional<TriangleMesh>& terrain() const { return terrain_; }
   /// The current terrain's transport::TerrainId; 0 while there is none.
   int64_t terrain_id() const { return terrain_ ? terrain_id_ : 0; }
+  /// The utime of the newest TERRAIN message with the current terrain's content (a map sent
+  /// again, unchanged, for a later time moves it on); -1 while there is none.
+  int64_t terrain_utime() const { return terrain_ ? terrain_utime_ : -1; }
   const std::optional<std::vector<AffordanceSurface>>& surfaces() const { return surfaces_; }
   bool Ready() const { return terrain_.has_value() && surfaces_.has_value(); }
   /// True once after the terrain or the surfaces changed (the call clears it): a message that
@@ -52,6 +55,7 @@ class WorldInput {
   std::optional<TriangleMesh> terrain_;
   std::optional<std::vector<AffordanceSurface>> surfaces_;
   int64_t terrain_id_ = 0;
+  int64_t terrain_utime_ = -1;
   bool changed_ = false;
 };
 

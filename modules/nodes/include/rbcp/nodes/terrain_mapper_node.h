@@ -1,0 +1,118 @@
+#pragma once
+/// The terrain mapper as a process (terrain_mapper): POINT_CLOUD and ROBOT_STATE in; the terrain
+/// it knows out, as TERRAIN (a mesh of the known cells of its elevation map; unknown cells are no
+/// terrain) beside ELEVATION_MAP (the grid, with each cell's variance), and STATUS.
+///
+/// Each cloud is placed in the world with the base pose of the ROBOT_STATE of its utime (between
+/// two states, interpolated) and the sensor's mount on the base, as the robot places its clouds
+/// with its state estimate. A cloud newer than every state heard waits for its state; one more
+/// than max_cloud_lead_s ahead of the newest state, or older than every state kept, is rejected
+/// with the reason on STATUS, as is a malformed one (counts that disagree, a mount that is not a
+/// rigid pose, more points than the map takes). The stance feet of that state (forward kinematics
+/// of the measured joints) mark the terrain under them too: the sensors do not see under the trunk.
+///
+/// The map goes out when its clouds' time reaches the next multiple of publish_period_s, and when
+/// the robot starts waiting at a step boundary (CONTROLLER_STATUS awaiting_since) once every cloud
+/// up to the wait is in: that map's utime is the wait's, so a planner answering the wait knows
+/// which map it is to plan on. A map with no known cell is not sent. When the world's time goes
+/// back (a new run), the map starts afresh.
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "rbcp/mapping/terrain_map.h"
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/robot/robot_state.h"
+#include "rbcp/transport/channels.h"
+#include "rbcp/transport/latest_message.h"
+#include "rbcp/transport/message_parts.h"
+#include "rbcp/transport/status_reporter.h"
+#include "rbcp_msgs/controller_status_t.hpp"
+#include "rbcp_msgs/elevation_map_t.hpp"
+#include "rbcp_msgs/point_cloud_t.hpp"
+#include "rbcp_msgs/robot_state_t.hpp"
+
+namespace rbcp::nodes {
+
+struct TerrainMapperNodeChannels {
+  std::string point_cloud = channels::kPointCloud;
+  std::string robot_state = channels::kRobotState;
+  std::string controller_status = channels::kControllerStatus;
+  std::string terrain = channels::kTerrain;
+  std::string elevation_map = channels::kElevationMap;
+  std::string status = channels::kStatus;
+};
+
+/// The process's limits on its inputs (not map parameters: those are mapping::MapperConfig's).
+struct TerrainMapperNodeOptions {
+  double max_cloud_lead_s = 0.5;   ///< [s, simulated] a cloud this far ahead of the newest state is rejected
+  double state_history_s = 2.0;    ///< [s, simulated] states kept to place clouds
+  double contact_variance_m2 = 1e-4;  ///< a stance foot's height measurement [m^2]
+  std::size_t max_pending_clouds = 16;  ///< clouds waiting for their state; the oldest goes beyond
+};
+
+/// Why a cloud was not integrated (for STATUS and tests).
+std::optional<std::string> CheckCloud(const rbcp_msgs::point_cloud_t& msg, int max_points);
+
+class TerrainMapperNode {
+ public:
+  static constexpr const char* kProcessName = "terrain_mapper";
+
+  /// `robot` must outlive the node.
+  TerrainMapperNode(lcm::LCM& lcm, const mapping::MapperConfig& config, const RobotModel& robot,
+                    TerrainMapperNodeOptions options = {}, TerrainMapperNodeChannels channels = {});
+
+  /// Integrates every cloud whose state is known, rejects what cannot be placed and publishes
+  /// the map when due. Returns true if a message was handled.
+  bool Step();
+  void Heartbeat();
+
+  const mapping::TerrainMap& map() const { return map_; }
+  int64_t clouds_fused() const { return clouds_fused_; }
+  int64_t clouds_rejected() const { return clouds_rejected_; }
+  int64_t maps_published() const { return maps_published_; }
+  transport::StatusReporter& status() { return status_; }
+
+ private:
+  void TakeState(const rbcp_msgs::robot_state_t& msg);
+  void TakeCloud(const rbcp_msgs::point_cloud_t& msg);
+  void Reject(const rbcp_msgs::point_cloud_t& msg, const std::string& why);
+  /// The state at `utime`, interpolated between the two around it; nullopt outside the history.
+  std::optional<RobotState> StateAt(int64_t utime) const;
+  /// Integrates the pending clouds whose state is known (in capture order).
+  bool IntegratePending();
+  void Integrate(const rbcp_msgs::point_cloud_t& msg, const RobotState& state);
+  void Publish(int64_t utime, double compute_ms);
+  void Restart();
+
+  mapping::MapperConfig config_;
+  const RobotModel& robot_;
+  TerrainMapperNodeOptions options_;
+  TerrainMapperNodeChannels channels_;
+  lcm::LCM& lcm_;
+  transport::MessagePublisher publisher_;
+  transport::StatusReporter status_;
+  mapping::TerrainMap map_;
+  std::map<int64_t, RobotState> states_;            ///< by utime, the last state_history_s
+  std::deque<rbcp_msgs::point_cloud_t> pending_;    ///< clouds waiting for their state, capture order
+  std::optional<int64_t> wait_to_publish_;          ///< a step boundary's wait whose map is owed
+  int64_t last_wait_published_ = -1;
+  int64_t newest_cloud_utime_ = -1;  ///< of the clouds integrated
+  int64_t published_utime_ = -1;     ///< of the last map sent
+  int64_t next_publish_utime_ = 0;
+  int64_t clouds_fused_ = 0;
+  int64_t clouds_rejected_ = 0;
+  int64_t maps_published_ = 0;
+  double integrate_ms_ = 0.0;  ///< wall time integrating since the last map
+  bool dirty_ = false;         ///< clouds integrated since the last map
+  transport::EveryMessage<rbcp_msgs::robot_state_t> state_in_;
+  transport::EveryMessage<rbcp_msgs::point_cloud_t> cloud_in_;
+  transport::LatestMessage<rbcp_msgs::controller_status_t> controller_in_;
+};
+
+}  // namespace rbcp::nodes

@@ -1,0 +1,283 @@
+#include "rbcp/nodes/terrain_mapper_node.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "rbcp/core/error.h"
+#include "rbcp/core/format.h"
+#include "rbcp/transport/convert.h"
+
+namespace rbcp::nodes {
+namespace {
+
+double Seconds(int64_t utime) { return static_cast<double>(utime) * 1e-6; }
+
+bool Finite(const double* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::optional<std::string> CheckCloud(const rbcp_msgs::point_cloud_t& msg, int max_points) {
+  const std::string what = "POINT_CLOUD '" + msg.sensor + "' " + std::to_string(msg.seq) + ": ";
+  if (msg.num_points < 0 || static_cast<std::size_t>(msg.num_points) != msg.points.size()) {
+    return what + "num_points " + std::to_string(msg.num_points) + " but " + std::to_string(msg.points.size()) + " points";
+  }
+  if (msg.num_points > max_points) {
+    return what + std::to_string(msg.num_points) + " points, more than the map takes in one cloud (" +
+           std::to_string(max_points) + ", mapper.yaml max_points_per_cloud)";
+  }
+  if (!Finite(msg.mount_position, 3) || !Finite(msg.mount_orientation, 4)) return what + "the sensor's mount is not finite";
+  if (std::abs(msg.mount_position[0]) > 10.0 || std::abs(msg.mount_position[1]) > 10.0 ||
+      std::abs(msg.mount_position[2]) > 10.0) {
+    return what + "the sensor's mount is more than 10 m from the base";
+  }
+  const Eigen::Quaterniond q(msg.mount_orientation[0], msg.mount_orientation[1], msg.mount_orientation[2],
+                             msg.mount_orientation[3]);
+  if (std::abs(q.norm() - 1.0) > transport::kUnitTolerance) {
+    return what + "the sensor's mount orientation is not a unit quaternion (norm " + FixedNumber(q.norm(), 4) + ")";
+  }
+  if (!std::isfinite(msg.range_noise_std) || msg.range_noise_std < 0.0f || msg.range_noise_std > 1.0f) {
+    return what + "range_noise_std expected in [0, 1] m, got " + FixedNumber(msg.range_noise_std, 4);
+  }
+  if (msg.utime < 0) return what + "negative utime " + std::to_string(msg.utime);
+  return std::nullopt;
+}
+
+TerrainMapperNode::TerrainMapperNode(lcm::LCM& lcm, const mapping::MapperConfig& config, const RobotModel& robot,
+                                     TerrainMapperNodeOptions options, TerrainMapperNodeChannels channels)
+    : config_(config),
+      robot_(robot),
+      options_(options),
+      channels_(std::move(channels)),
+      lcm_(lcm),
+      publisher_(lcm),
+      status_(lcm, kProcessName, channels_.status),
+      map_(config),
+      state_in_(
+          lcm, channels_.robot_state, [this](const rbcp_msgs::robot_state_t& m) { TakeState(m); },
+          [this](const std::string& why) { status_.Failed(newest_cloud_utime_, 0, 0.0, why); }),
+      cloud_in_(
+          lcm, channels_.point_cloud, [this](const rbcp_msgs::point_cloud_t& m) { TakeCloud(m); },
+          [this](const std::string& why) {
+            clouds_rejected_ += 1;
+            status_.Failed(newest_cloud_utime_, 0, 0.0, why);
+          }),
+      controller_in_(lcm, channels_.controller_status) {
+  config_.Validate();
+}
+
+void TerrainMapperNode::Restart() {
+  map_ = mapping::TerrainMap(config_);
+  states_.clear();
+  pending_.clear();
+  wait_to_publish_.reset();
+  last_wait_published_ = -1;
+  newest_cloud_utime_ = published_utime_ = -1;
+  next_publish_utime_ = 0;
+  dirty_ = false;
+}
+
+void TerrainMapperNode::TakeState(const rbcp_msgs::robot_state_t& msg) {
+  RobotState state;
+  try {
+    state = transport::FromRobotStateMsg(msg);
+  } catch (const InputError& e) {
+    status_.Failed(newest_cloud_utime_, msg.utime, 0.0, std::string("ROBOT_STATE: ") + e.what());
+    return;
+  }
+  if (!states_.empty() && msg.utime + 1'000'000 < states_.rbegin()->first) {
+    // The world's time went back by more than a second: a new run, a new map.
+    if (status_.verbose()) {
+      std::fprintf(stderr, "[%s] the world's time went back to %.3f s: a new map\n", kProcessName, Seconds(msg.utime));
+    }
+    Restart();
+  }
+  states_[msg.utime] = state;
+  const int64_t keep_from = states_.rbegin()->first - static_cast<int64_t>(options_.state_history_s * 1e6);
+  while (states_.size() > 1 && states_.begin()->first < keep_from) states_.erase(states_.begin());
+}
+
+void TerrainMapperNode::TakeCloud(const rbcp_msgs::point_cloud_t& msg) {
+  if (auto why = CheckCloud(msg, config_.max_points_per_cloud)) {
+    Reject(msg, *why);
+    return;
+  }
+  pending_.push_back(msg);
+  if (pending_.size() > options_.max_pending_clouds) {
+    Reject(pending_.front(), "no ROBOT_STATE for its time came while " + std::to_string(options_.max_pending_clouds) +
+                                 " newer clouds arrived");
+    pending_.pop_front();
+  }
+}
+
+void TerrainMapperNode::Reject(const rbcp_msgs::point_cloud_t& msg, const std::string& why) {
+  clouds_rejected_ += 1;
+  status_.Failed(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime, 0.0, why);
+}
+
+std::optional<RobotState> TerrainMapperNode::StateAt(int64_t utime) const {
+  const auto after = states_.lower_bound(utime);
+  if (after == states_.end()) return std::nullopt;
+  if (after->first == utime) return after->second;
+  if (after == states_.begin()) return std::nullopt;
+  const auto before = std::prev(after);
+  // Between two states: the base pose interpolated (the joints and contacts of the nearer one).
+  const double s = static_cast<double>(utime - before->first) / static_cast<double>(after->first - before->first);
+  RobotState state = s < 0.5 ? before->second : after->second;
+  state.base_position_W = (1.0 - s) * before->second.base_position_W + s * after->second.base_position_W;
+  state.base_orientation_W = before->second.base_orientation_W.slerp(s, after->second.base_orientation_W);
+  state.t = Seconds(utime);
+  return state;
+}
+
+bool TerrainMapperNode::IntegratePending() {
+  bool worked = false;
+  while (!pending_.empty()) {
+    const rbcp_msgs::point_cloud_t& msg = pending_.front();
+    const int64_t newest_state = states_.empty() ? -1 : states_.rbegin()->first;
+    if (msg.utime > newest_state) {
+      if (newest_state >= 0 && msg.utime - newest_state > static_cast<int64_t>(options_.max_cloud_lead_s * 1e6)) {
+        Reject(msg, "POINT_CLOUD '" + msg.sensor + "' " + std::to_string(msg.seq) + " is from " +
+                        FixedNumber(Seconds(msg.utime), 3) + " s, more than " + FixedNumber(options_.max_cloud_lead_s, 2) +
+                        " s after the newest ROBOT_STATE (" + FixedNumber(Seconds(newest_state), 3) + " s)");
+        pending_.pop_front();
+        worked = true;
+        continue;
+      }
+      return worked;  // its state is still on its way
+    }
+    const std::optional<RobotState> state = StateAt(msg.utime);
+    if (!state) {
+      Reject(msg, "POINT_CLOUD '" + msg.sensor + "' " + std::to_string(msg.seq) + " is from " +
+                      FixedNumber(Seconds(msg.utime), 3) + " s, older than every ROBOT_STATE kept");
+    } else {
+      Integrate(msg, *state);
+    }
+    pending_.pop_front();
+    worked = true;
+  }
+  return worked;
+}
+
+void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg, const RobotState& state) {
+  const auto start = std::chrono::steady_clock::now();
+  status_.Busy(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime);
+  Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
+  base_W.linear() = state.base_orientation_W.normalized().toRotationMatrix();
+  base_W.translation() = state.base_position_W;
+  Eigen::Isometry3d sensor_B = Eigen::Isometry3d::Identity();
+  sensor_B.linear() = Eigen::Quaterniond(msg.mount_orientation[0], msg.mount_orientation[1], msg.mount_orientation[2],
+                                         msg.mount_orientation[3])
+                          .normalized()
+                          .toRotationMatrix();
+  sensor_B.translation() = Eigen::Vector3d(msg.mount_position[0], msg.mount_position[1], msg.mount_position[2]);
+  const Eigen::Isometry3d sensor_W = base_W * sensor_B;
+
+  mapping::WorldCloud cloud;
+  cloud.origin = sensor_W.translation();
+  cloud.range_noise_std = msg.range_noise_std;
+  cloud.points.reserve(msg.points.size());
+  for (const auto& p : msg.points) {
+    cloud.points.push_back(sensor_W * Eigen::Vector3d(p[0], p[1], p[2]));  // NaN stays NaN: the map skips it
+  }
+  map_.Recenter(state.base_position_W.head<2>());
+  const mapping::IntegrateReport report = map_.Integrate(cloud);
+  // The stance feet measure the terrain under the trunk, where no sensor looks.
+  const auto feet_B = robot_.FootPositions(state.q);
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    if (state.foot_contact[static_cast<std::size_t>(leg)]) {
+      map_.IntegrateContact(base_W * feet_B[static_cast<std::size_t>(leg)], options_.contact_variance_m2);
+    }
+  }
+  clouds_fused_ += 1;
+  newest_cloud_utime_ = std::max(newest_cloud_utime_, msg.utime);
+  dirty_ = true;
+  integrate_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (report.points_invalid > 0 && status_.verbose()) {
+    std::fprintf(stderr, "[%s] POINT_CLOUD '%s' %lld: %zu points not finite, skipped\n", kProcessName,
+                 msg.sensor.c_str(), static_cast<long long>(msg.seq), report.points_invalid);
+  }
+  // The map goes out when its clouds' time reaches the next period.
+  if (msg.utime >= next_publish_utime_) {
+    const int64_t period = static_cast<int64_t>(std::llround(config_.publish_period_s * 1e6));
+    next_publish_utime_ = (msg.utime / period + 1) * period;
+    Publish(msg.utime, integrate_ms_);
+  }
+}
+
+void TerrainMapperNode::Publish(int64_t utime, double compute_ms) {
+  const auto start = std::chrono::steady_clock::now();
+  const mapping::ElevationMap& grid = map_.elevation();
+  if (grid.KnownCells() == 0) return;
+  const TriangleMesh mesh = map_.ToMesh();
+  if (mesh.Empty()) return;
+  const auto terrain = transport::ToTerrainMsg(mesh, utime, "");
+  rbcp_msgs::elevation_map_t em;
+  em.utime = utime;
+  em.terrain_id = terrain.terrain_id;
+  em.clouds_fused = clouds_fused_;
+  em.origin[0] = grid.origin().x();
+  em.origin[1] = grid.origin().y();
+  em.resolution = grid.resolution();
+  em.num_x = grid.num_x();
+  em.num_y = grid.num_y();
+  em.num_cells = em.num_x * em.num_y;
+  em.height.assign(static_cast<std::size_t>(em.num_cells), std::numeric_limits<float>::quiet_NaN());
+  em.variance = em.height;
+  for (int iy = 0; iy < em.num_y; ++iy) {
+    for (int ix = 0; ix < em.num_x; ++ix) {
+      if (const auto cell = grid.At(ix, iy)) {
+        const auto i = static_cast<std::size_t>(iy * em.num_x + ix);
+        em.height[i] = static_cast<float>(cell->height);
+        em.variance[i] = static_cast<float>(cell->variance);
+      }
+    }
+  }
+  std::string problem = publisher_.Publish(channels_.terrain, terrain);
+  if (problem.empty()) problem = publisher_.Publish(channels_.elevation_map, em);
+  const double ms =
+      compute_ms + std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  integrate_ms_ = 0.0;
+  dirty_ = false;
+  published_utime_ = utime;
+  if (!problem.empty()) {
+    status_.Failed(utime, utime, ms, problem);
+    return;
+  }
+  maps_published_ += 1;
+  status_.Ok(utime, utime, ms,
+             std::to_string(grid.KnownCells()) + " cells known, " + std::to_string(mesh.NumTriangles()) +
+                 " triangles, " + std::to_string(clouds_fused_) + " clouds, " +
+                 FixedNumber(static_cast<double>(map_.MemoryBytes()) / (1024.0 * 1024.0), 1) + " MB");
+}
+
+bool TerrainMapperNode::Step() {
+  bool worked = IntegratePending();
+  if (auto e = controller_in_.TakeDecodeError()) status_.Failed(std::max<int64_t>(newest_cloud_utime_, 0), 0, 0.0, *e);
+  if (const auto c = controller_in_.Take(); c && c->awaiting_plan && c->awaiting_since != last_wait_published_) {
+    wait_to_publish_ = c->awaiting_since;
+  }
+  // The robot waits at a step boundary: once every cloud up to the wait is in, the map of the
+  // wait goes out (its utime the wait's), for the planners to answer the wait on.
+  if (wait_to_publish_ && !states_.empty() && states_.rbegin()->first >= *wait_to_publish_ &&
+      (pending_.empty() || pending_.front().utime > *wait_to_publish_)) {
+    const int64_t wait = *wait_to_publish_;
+    wait_to_publish_.reset();
+    last_wait_published_ = wait;
+    if (published_utime_ != wait) {
+      Publish(wait, integrate_ms_);
+      worked = true;
+    }
+  }
+  return worked;
+}
+
+void TerrainMapperNode::Heartbeat() { status_.Heartbeat(std::max<int64_t>(newest_cloud_utime_, 0)); }
+
+}  // namespace rbcp::nodes

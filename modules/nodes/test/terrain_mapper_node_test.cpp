@@ -1,0 +1,274 @@
+#include "rbcp/nodes/terrain_mapper_node.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "rbcp/robot/robot_model.h"
+#include "rbcp/transport/convert.h"
+#include "rbcp_msgs/process_status_t.hpp"
+#include "rbcp_msgs/terrain_mesh_t.hpp"
+
+namespace rbcp::nodes {
+namespace {
+
+const std::string kConfig = std::string(RBCP_SOURCE_DIR) + "/config";
+constexpr double kBaseHeight = 0.45;
+
+/// A sensor on the trunk's front, 0.5 rad down: the one the tests' clouds come from.
+Eigen::Isometry3d Mount() {
+  Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
+  m.translation() = Eigen::Vector3d(0.35, 0.0, 0.05);
+  m.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return m;
+}
+
+/// The capture of flat ground at z = `ground` by the sensor of Mount() on a base standing at
+/// (x, 0, ground + kBaseHeight), level: a grid of rays, each return exact.
+rbcp_msgs::point_cloud_t FlatGroundCloud(int64_t utime, double x, double ground = 0.0) {
+  rbcp_msgs::point_cloud_t c{};
+  c.utime = utime;
+  c.sensor = "front_camera";
+  c.seq = utime / 1000 + 1;
+  const Eigen::Isometry3d mount = Mount();
+  const Eigen::Quaterniond q(mount.linear());
+  for (int k = 0; k < 3; ++k) c.mount_position[k] = mount.translation()[k];
+  c.mount_orientation[0] = q.w();
+  c.mount_orientation[1] = q.x();
+  c.mount_orientation[2] = q.y();
+  c.mount_orientation[3] = q.z();
+  c.min_range = 0.1f;
+  c.max_range = 4.0f;
+  c.range_noise_std = 0.0f;
+  const Eigen::Vector3d origin_W = Eigen::Vector3d(x, 0.0, ground + kBaseHeight) + mount.translation();
+  for (int i = 0; i < 64; ++i) {
+    for (int j = 0; j < 48; ++j) {
+      const Eigen::Vector3d d_S = Eigen::Vector3d(1.0, -0.6 + 1.2 * i / 63.0, -0.4 + 0.8 * j / 47.0).normalized();
+      const Eigen::Vector3d d_W = mount.linear() * d_S;  // the base is level
+      c.num_rays += 1;
+      if (d_W.z() > -1e-3) continue;
+      const double range = (origin_W.z() - ground) / -d_W.z();
+      if (range > c.max_range) continue;
+      const Eigen::Vector3f p = (range * d_S).cast<float>();
+      c.points.push_back({p.x(), p.y(), p.z()});
+    }
+  }
+  c.num_points = static_cast<int32_t>(c.points.size());
+  return c;
+}
+
+class TerrainMapperNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override { node_.status().set_verbose(false); }
+
+  void Pump() {
+    while (lcm_.handleTimeout(0) > 0) {
+    }
+  }
+  /// Delivers what was published and steps the node until it has nothing left to do.
+  void Run() {
+    for (int i = 0; i < 10; ++i) {
+      Pump();
+      if (!node_.Step()) break;
+    }
+    Pump();
+  }
+  /// The standing robot's measured state at `utime`, its base at (x, 0, kBaseHeight), four feet down.
+  rbcp_msgs::robot_state_t State(int64_t utime, double x = 0.0) const {
+    RobotState s;
+    s.t = static_cast<double>(utime) * 1e-6;
+    s.base_position_W = Eigen::Vector3d(x, 0.0, kBaseHeight);
+    s.q = robot_.ReferenceConfiguration();
+    s.foot_contact = {true, true, true, true};
+    return transport::ToRobotStateMsg(s);
+  }
+  std::string LastReason() const { return status_.Latest() ? status_.Latest()->reason : ""; }
+
+  lcm::LCM lcm_{"memq://"};
+  RobotModel robot_ = RobotModel::LoadDefault(kConfig);
+  mapping::MapperConfig config_ = mapping::MapperConfig::LoadFile(kConfig + "/mapper.yaml");
+  TerrainMapperNode node_{lcm_, config_, robot_};
+  transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_{lcm_, channels::kTerrain};
+  transport::LatestMessage<rbcp_msgs::elevation_map_t> map_{lcm_, channels::kElevationMap};
+  transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
+};
+
+TEST_F(TerrainMapperNodeTest, ACloudOfFlatGroundBecomesTerrainAtTheGroundsHeight) {
+  const auto state = State(0);
+  lcm_.publish(channels::kRobotState, &state);
+  const auto cloud = FlatGroundCloud(0, 0.0);
+  ASSERT_GT(cloud.num_points, 2000);
+  lcm_.publish(channels::kPointCloud, &cloud);
+  Run();
+  const auto terrain = terrain_.Take();
+  ASSERT_TRUE(terrain.has_value()) << LastReason();
+  EXPECT_EQ(terrain->utime, 0);
+  const TriangleMesh mesh = transport::FromTerrainMsg(*terrain);
+  ASSERT_GT(mesh.NumTriangles(), 100u);
+  double max_x = -1e9;
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    EXPECT_NEAR(v.z(), 0.0, 0.01);
+    max_x = std::max(max_x, v.x());
+  }
+  EXPECT_GT(max_x, 1.0) << "the ground ahead is known";
+  const auto grid = map_.Take();
+  ASSERT_TRUE(grid.has_value());
+  EXPECT_EQ(grid->terrain_id, terrain->terrain_id);
+  EXPECT_EQ(grid->num_cells, grid->num_x * grid->num_y);
+  EXPECT_EQ(node_.clouds_fused(), 1);
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK) << LastReason();
+}
+
+TEST_F(TerrainMapperNodeTest, TheStanceFeetMarkTheTerrainUnderTheTrunk) {
+  const auto state = State(0);
+  lcm_.publish(channels::kRobotState, &state);
+  const auto cloud = FlatGroundCloud(0, 0.0);
+  lcm_.publish(channels::kPointCloud, &cloud);
+  Run();
+  const auto feet = robot_.FootPositions(robot_.ReferenceConfiguration());
+  for (const Eigen::Vector3d& foot_B : feet) {
+    const Eigen::Vector3d foot_W = foot_B + Eigen::Vector3d(0.0, 0.0, kBaseHeight);
+    const auto cell = node_.map().elevation().At(foot_W.head<2>());
+    ASSERT_TRUE(cell.has_value()) << "under the foot at " << foot_W.transpose();
+    EXPECT_NEAR(cell->height, foot_W.z(), 0.01);
+  }
+}
+
+TEST_F(TerrainMapperNodeTest, ACloudWaitsForTheStateOfItsTime) {
+  const auto early = State(0);
+  lcm_.publish(channels::kRobotState, &early);
+  const auto cloud = FlatGroundCloud(100000, 0.0);
+  lcm_.publish(channels::kPointCloud, &cloud);
+  Run();
+  EXPECT_EQ(node_.clouds_fused(), 0) << "its state has not come yet";
+  EXPECT_FALSE(terrain_.Take().has_value());
+  const auto state = State(100000);
+  lcm_.publish(channels::kRobotState, &state);
+  Run();
+  EXPECT_EQ(node_.clouds_fused(), 1);
+  const auto terrain = terrain_.Take();
+  ASSERT_TRUE(terrain.has_value()) << LastReason();
+  EXPECT_EQ(terrain->utime, 100000);
+}
+
+TEST_F(TerrainMapperNodeTest, ACloudBetweenTwoStatesIsPlacedWithTheInterpolatedPose) {
+  // The base walks from x = 0 to x = 0.2 between two states; the cloud is captured half way.
+  const auto a = State(0, 0.0);
+  const auto b = State(10000, 0.2);
+  lcm_.publish(channels::kRobotState, &a);
+  lcm_.publish(channels::kRobotState, &b);
+  const auto cloud = FlatGroundCloud(5000, 0.1, 0.0);
+  lcm_.publish(channels::kPointCloud, &cloud);
+  Run();
+  ASSERT_EQ(node_.clouds_fused(), 1);
+  const auto terrain = terrain_.Take();
+  ASSERT_TRUE(terrain.has_value());
+  for (const Eigen::Vector3d& v : transport::FromTerrainMsg(*terrain).vertices) EXPECT_NEAR(v.z(), 0.0, 0.01);
+}
+
+TEST_F(TerrainMapperNodeTest, HostileCloudsAreRejectedWithTheReasonAndTheMapperGoesOn) {
+  const auto state = State(0);
+  lcm_.publish(channels::kRobotState, &state);
+
+  // Points that are not numbers: skipped, the rest is mapped.
+  auto nan_points = FlatGroundCloud(0, 0.0);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = 0; i < nan_points.points.size(); i += 3) nan_points.points[i] = {nan, 0.0f, 0.0f};
+  nan_points.points[1] = {std::numeric_limits<float>::infinity(), 1.0f, 1.0f};
+  lcm_.publish(channels::kPointCloud, &nan_points);
+  Run();
+  EXPECT_EQ(node_.clouds_fused(), 1);
+  ASSERT_TRUE(terrain_.Take().has_value()) << LastReason();
+
+  // A mount that is not a pose.
+  auto bad_mount = FlatGroundCloud(0, 0.0);
+  bad_mount.mount_orientation[0] = nan;
+  lcm_.publish(channels::kPointCloud, &bad_mount);
+  Run();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(LastReason().find("mount is not finite"), std::string::npos) << LastReason();
+
+  // A count that disagrees with the points.
+  auto bad_count = FlatGroundCloud(0, 0.0);
+  bad_count.num_points += 5;
+  EXPECT_TRUE(CheckCloud(bad_count, config_.max_points_per_cloud).has_value());
+
+  // More points than the map takes in one cloud (sent in parts, as a large message goes).
+  auto huge = FlatGroundCloud(0, 0.0);
+  huge.points.assign(static_cast<std::size_t>(config_.max_points_per_cloud) + 1, {1.0f, 0.0f, -0.5f});
+  huge.num_points = static_cast<int32_t>(huge.points.size());
+  transport::MessagePublisher publisher(lcm_);
+  ASSERT_EQ(publisher.Publish(channels::kPointCloud, huge), "");
+  Run();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(LastReason().find("more than the map takes"), std::string::npos) << LastReason();
+
+  // A cloud from the future: far ahead of every state heard.
+  const auto future = FlatGroundCloud(5000000, 0.0);
+  lcm_.publish(channels::kPointCloud, &future);
+  Run();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(LastReason().find("after the newest ROBOT_STATE"), std::string::npos) << LastReason();
+
+  // Bytes that are no cloud.
+  const std::vector<uint8_t> junk(40, 0xff);
+  lcm_.publish(channels::kPointCloud, junk.data(), static_cast<unsigned>(junk.size()));
+  Run();
+  EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(LastReason().find("cannot decode POINT_CLOUD"), std::string::npos) << LastReason();
+  EXPECT_EQ(node_.clouds_rejected(), 4);
+
+  // And a good cloud after all that is mapped.
+  const auto next_state = State(100000);
+  lcm_.publish(channels::kRobotState, &next_state);
+  const auto good = FlatGroundCloud(100000, 0.0);
+  lcm_.publish(channels::kPointCloud, &good);
+  Run();
+  EXPECT_EQ(node_.clouds_fused(), 2);
+}
+
+TEST_F(TerrainMapperNodeTest, AWaitAtAStepBoundaryGetsTheMapOfItsTime) {
+  // Clouds at 0.1 s and 0.2 s; the map goes out at 0.1 s (its period is 0.5 s) but not at 0.2 s.
+  for (int64_t t : {100000, 200000}) {
+    const auto state = State(t);
+    lcm_.publish(channels::kRobotState, &state);
+    const auto cloud = FlatGroundCloud(t, 0.0);
+    lcm_.publish(channels::kPointCloud, &cloud);
+    Run();
+  }
+  auto terrain = terrain_.Take();
+  ASSERT_TRUE(terrain.has_value());
+  EXPECT_EQ(terrain->utime, 100000);
+  // The robot starts waiting at 0.2 s: the map with every cloud up to then goes out, at that time.
+  rbcp_msgs::controller_status_t controller{};
+  controller.utime = controller.awaiting_since = 200000;
+  controller.awaiting_plan = true;
+  lcm_.publish(channels::kControllerStatus, &controller);
+  Run();
+  terrain = terrain_.Take();
+  ASSERT_TRUE(terrain.has_value());
+  EXPECT_EQ(terrain->utime, 200000);
+  // The same wait again (the controller repeats its status) is no new map.
+  lcm_.publish(channels::kControllerStatus, &controller);
+  Run();
+  EXPECT_FALSE(terrain_.Take().has_value());
+}
+
+TEST_F(TerrainMapperNodeTest, ANewRunStartsANewMap) {
+  const auto state = State(5000000, 2.0);
+  lcm_.publish(channels::kRobotState, &state);
+  const auto cloud = FlatGroundCloud(5000000, 2.0);
+  lcm_.publish(channels::kPointCloud, &cloud);
+  Run();
+  ASSERT_TRUE(node_.map().elevation().At(Eigen::Vector2d(3.0, 0.0)).has_value()) << "ahead of the robot";
+  // The world's time starts again at 0: a new run.
+  const auto restart = State(0, 0.0);
+  lcm_.publish(channels::kRobotState, &restart);
+  Run();
+  EXPECT_EQ(node_.map().elevation().KnownCells(), 0u) << "the old run's map is gone";
+}
+
+}  // namespace
+}  // namespace rbcp::nodes
