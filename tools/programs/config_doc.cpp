@@ -15,6 +15,7 @@
 #include "rbcp/core/config_fields.h"
 #include "rbcp/equilibrium/config.h"
 #include "rbcp/limb_database/limb_database.h"
+#include "rbcp/mapping/terrain_map.h"
 #include "rbcp/root_planner/rom.h"
 #include "rbcp/root_planner/root_planner.h"
 #include "rbcp/sim/sim_config.h"
@@ -68,6 +69,10 @@ std::vector<ConfigFile> ConfigFiles() {
        "The simulator: the physics, the process's rates and how a run is judged (the robot's limits are the "
        "robot's).",
        DescribeConfig(rbcp::sim::SimConfig())},
+      {"mapper.yaml", "rbcp::mapping::MapperConfig", "modules/mapping/include/rbcp/mapping/terrain_map.h",
+       "The terrain mapper: the elevation map and occupancy octree it keeps around the robot from the depth "
+       "sensors' clouds, and how often it sends the terrain it knows.",
+       DescribeConfig(rbcp::mapping::MapperConfig())},
   };
 }
 
