@@ -18,7 +18,9 @@
 #include "rbcp/core/error.h"
 #include "rbcp/core/pose.h"
 #include "rbcp/cli/cli.h"
+#include "rbcp/mapping/terrain_map.h"
 #include "rbcp/nodes/run_record.h"
+#include "rbcp/nodes/terrain_mapper_node.h"
 #include "rbcp/plan_checker/plan_json.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/channels.h"
@@ -33,6 +35,9 @@
 namespace {
 
 using namespace rbcp;
+
+/// The walked path counts as covered where the map knows every cell within this of the base.
+constexpr double kPathCoverageRadius_m = 0.1;
 
 /// One message of the log, whole: as logged, or put back together from its parts.
 struct Event {
@@ -87,6 +92,12 @@ struct RunLog {
   std::set<std::tuple<std::string, int32_t, int64_t>> answered;
   std::map<std::string, Answers> answers = {{"affordance_extractor", {}}, {"root_planner", {}}, {"contact_planner", {}}};
   std::vector<double> plan_steps;  ///< the steps of every contact plan
+  // --terrain perceived: TERRAIN is the mapper's map; TERRAIN_TRUTH the simulator's terrain.
+  std::optional<rbcp_msgs::terrain_mesh_t> true_terrain;  ///< the newest TERRAIN_TRUTH
+  std::optional<rbcp_msgs::elevation_map_t> elevation;    ///< the newest ELEVATION_MAP
+  std::map<int64_t, int64_t> cloud_received;  ///< per capture utime, when its last cloud was received [us]
+  std::vector<double> map_latency_ms;  ///< per map of a capture's time: from its cloud's receipt to the map's
+  long clouds = 0, maps = 0;
 
   void OnMessage(const std::string& channel, const Event& e) {
     if (channel == channels::kRobotState) {
@@ -100,8 +111,21 @@ struct RunLog {
     } else if (channel == channels::kTerrain) {
       Take<rbcp_msgs::terrain_mesh_t>(e, [&](auto& m) {
         if (scenario.empty()) scenario = m.scenario_name;
+        if (true_terrain) OnMap(e.timestamp, m.utime);
         terrain = std::move(m);
       });
+    } else if (channel == channels::kTerrainTruth) {
+      Take<rbcp_msgs::terrain_mesh_t>(e, [&](auto& m) {
+        scenario = m.scenario_name;
+        true_terrain = std::move(m);
+      });
+    } else if (channel == channels::kPointCloud) {
+      Take<rbcp_msgs::point_cloud_t>(e, [&](const auto& m) {
+        cloud_received[m.utime] = e.timestamp;
+        ++clouds;
+      });
+    } else if (channel == channels::kElevationMap) {
+      Take<rbcp_msgs::elevation_map_t>(e, [&](auto& m) { elevation = std::move(m); });
     } else if (channel == channels::kAffordances) {
       Take<rbcp_msgs::affordance_set_t>(e, [&](auto& m) { surfaces = std::move(m); });
     } else if (channel == channels::kRootPath) {
@@ -132,6 +156,13 @@ struct RunLog {
   void Take(const Event& e, Use use) {
     Msg msg;
     if (Decode(e, &msg)) use(msg); else ++malformed;
+  }
+  /// A map of the mapper: its latency when it is the map of a capture's time (the mapper sends one
+  /// when its clouds' time reaches the next period; a wait's map is sent at the wait's time).
+  void OnMap(int64_t timestamp, int64_t utime) {
+    ++maps;
+    const auto cloud = cloud_received.find(utime);
+    if (cloud != cloud_received.end()) map_latency_ms.push_back(1e-3 * static_cast<double>(timestamp - cloud->second));
   }
   void OnContactPlan(int64_t timestamp, const rbcp_msgs::contact_plan_t& msg) {
     try {
@@ -215,6 +246,39 @@ void AddWorld(RunLog& log, nlohmann::json& j) {
                           : nlohmann::json();
 }
 
+/// --terrain perceived: the last map judged against the true terrain (height error over the
+/// known cells, coverage of the walked path), and how late maps came after their clouds.
+void AddPerception(RunLog& log, nlohmann::json& j) {
+  if (!log.true_terrain) {
+    j["perception"] = nullptr;
+    return;
+  }
+  nlohmann::json p = {{"clouds", log.clouds},
+                      {"maps", log.maps},
+                      {"cloud_to_terrain_ms",
+                       {{"count", log.map_latency_ms.size()},
+                        {"median", nodes::Percentile(log.map_latency_ms, 0.5)},
+                        {"p95", nodes::Percentile(log.map_latency_ms, 0.95)}}}};
+  p["true_terrain"] = log.OrNull(log.true_terrain, [](const auto& m) { return view::TerrainJson(m); });
+  try {
+    if (!log.elevation) throw InputError("no ELEVATION_MAP in the log");
+    const mapping::ElevationMap map = nodes::FromElevationMapMsg(*log.elevation);
+    const mapping::HeightError e = mapping::MeasureHeightError(map, transport::FromTerrainMsg(*log.true_terrain));
+    p["height_error_m"] = {{"cells", e.cells}, {"cells_no_truth", e.cells_no_truth}, {"rms", e.rms_m},
+                           {"p95", e.p95_m},   {"max", e.max_m}};
+    std::vector<Eigen::Vector2d> path;
+    for (const auto& s : log.record.Trace()) path.emplace_back(s.state.base_position[0], s.state.base_position[1]);
+    p["path_coverage"] = mapping::PathCoverage(map, path, kPathCoverageRadius_m);
+    p["known_cells"] = map.KnownCells();
+  } catch (const InputError& e) {
+    ++log.malformed;
+    p["height_error_m"] = nullptr;
+    p["path_coverage"] = nullptr;
+    p["problem"] = e.what();
+  }
+  j["perception"] = p;
+}
+
 /// The robot's trace; a state that cannot be shown is counted malformed.
 nlohmann::json TraceJson(RunLog& log, const RobotModel& robot) {
   nlohmann::json trace = nlohmann::json::array();
@@ -265,6 +329,7 @@ int Run(const Options& o) {
   AddWalkedPlan(log, j);
   AddPlanning(log, j);
   AddWorld(log, j);
+  AddPerception(log, j);
   j["sim_trace"] = TraceJson(log, robot);
   j["malformed_messages"] = log.malformed;
   std::cout << j.dump() << std::endl;

@@ -49,6 +49,63 @@ std::optional<std::string> CheckCloud(const rbcp_msgs::point_cloud_t& msg, int m
   return std::nullopt;
 }
 
+rbcp_msgs::elevation_map_t ToElevationMapMsg(const mapping::ElevationMap& grid, int64_t utime, int64_t terrain_id,
+                                             int64_t clouds_fused) {
+  rbcp_msgs::elevation_map_t em;
+  em.utime = utime;
+  em.terrain_id = terrain_id;
+  em.clouds_fused = clouds_fused;
+  em.origin[0] = grid.origin().x();
+  em.origin[1] = grid.origin().y();
+  em.resolution = grid.resolution();
+  em.num_x = grid.num_x();
+  em.num_y = grid.num_y();
+  em.num_cells = em.num_x * em.num_y;
+  em.height.assign(static_cast<std::size_t>(em.num_cells), std::numeric_limits<float>::quiet_NaN());
+  em.variance = em.height;
+  for (int iy = 0; iy < em.num_y; ++iy) {
+    for (int ix = 0; ix < em.num_x; ++ix) {
+      if (const auto cell = grid.At(ix, iy)) {
+        const auto i = static_cast<std::size_t>(iy * em.num_x + ix);
+        em.height[i] = static_cast<float>(cell->height);
+        em.variance[i] = static_cast<float>(cell->variance);
+      }
+    }
+  }
+  return em;
+}
+
+mapping::ElevationMap FromElevationMapMsg(const rbcp_msgs::elevation_map_t& msg) {
+  const double r = msg.resolution;
+  if (!(r > 0.0) || !std::isfinite(r)) throw InputError("ELEVATION_MAP: resolution expected > 0, got " + FixedNumber(r, 4));
+  if (msg.num_x <= 0 || msg.num_x != msg.num_y) throw InputError("ELEVATION_MAP: expected a square grid");
+  if (msg.num_cells != msg.num_x * msg.num_y || msg.height.size() != static_cast<std::size_t>(msg.num_cells) ||
+      msg.variance.size() != msg.height.size()) {
+    throw InputError("ELEVATION_MAP: the cell count disagrees with the grid");
+  }
+  const Eigen::Vector2d origin(msg.origin[0], msg.origin[1]);
+  const Eigen::Vector2d in_cells = origin / r;
+  if (!origin.allFinite() || (in_cells - in_cells.array().round().matrix()).norm() > 1e-6) {
+    throw InputError("ELEVATION_MAP: the origin is not on a multiple of the resolution");
+  }
+  mapping::ElevationMapConfig config;
+  config.resolution_m = r;
+  config.window_m = r * msg.num_x;
+  config.recenter_distance_m = 0.25 * config.window_m;
+  mapping::ElevationMap grid(config);
+  // The window centred where the message's is: the same cells.
+  grid.Recenter(origin + Eigen::Vector2d::Constant((msg.num_x / 2 + 0.5) * r));
+  for (int iy = 0; iy < msg.num_y; ++iy) {
+    for (int ix = 0; ix < msg.num_x; ++ix) {
+      const auto i = static_cast<std::size_t>(iy * msg.num_x + ix);
+      if (std::isfinite(msg.height[i]) && std::isfinite(msg.variance[i]) && msg.variance[i] > 0.0f) {
+        grid.FuseCell(ix, iy, msg.height[i], msg.variance[i], 0.0, /*gate=*/false);
+      }
+    }
+  }
+  return grid;
+}
+
 TerrainMapperNode::TerrainMapperNode(lcm::LCM& lcm, const mapping::MapperConfig& config, const RobotModel& robot,
                                      TerrainMapperNodeOptions options, TerrainMapperNodeChannels channels)
     : config_(config),
@@ -218,27 +275,7 @@ void TerrainMapperNode::Publish(int64_t utime, double compute_ms) {
   const TriangleMesh mesh = map_.ToMesh();
   if (mesh.Empty()) return;
   const auto terrain = transport::ToTerrainMsg(mesh, utime, "");
-  rbcp_msgs::elevation_map_t em;
-  em.utime = utime;
-  em.terrain_id = terrain.terrain_id;
-  em.clouds_fused = clouds_fused_;
-  em.origin[0] = grid.origin().x();
-  em.origin[1] = grid.origin().y();
-  em.resolution = grid.resolution();
-  em.num_x = grid.num_x();
-  em.num_y = grid.num_y();
-  em.num_cells = em.num_x * em.num_y;
-  em.height.assign(static_cast<std::size_t>(em.num_cells), std::numeric_limits<float>::quiet_NaN());
-  em.variance = em.height;
-  for (int iy = 0; iy < em.num_y; ++iy) {
-    for (int ix = 0; ix < em.num_x; ++ix) {
-      if (const auto cell = grid.At(ix, iy)) {
-        const auto i = static_cast<std::size_t>(iy * em.num_x + ix);
-        em.height[i] = static_cast<float>(cell->height);
-        em.variance[i] = static_cast<float>(cell->variance);
-      }
-    }
-  }
+  const rbcp_msgs::elevation_map_t em = ToElevationMapMsg(grid, utime, terrain.terrain_id, clouds_fused_);
   std::string problem = publisher_.Publish(channels_.terrain, terrain);
   if (problem.empty()) problem = publisher_.Publish(channels_.elevation_map, em);
   const double ms =

@@ -117,6 +117,19 @@ TEST_F(TerrainMapperNodeTest, ACloudOfFlatGroundBecomesTerrainAtTheGroundsHeight
   ASSERT_TRUE(grid.has_value());
   EXPECT_EQ(grid->terrain_id, terrain->terrain_id);
   EXPECT_EQ(grid->num_cells, grid->num_x * grid->num_y);
+  // The grid comes back from its message cell for cell.
+  const mapping::ElevationMap back = FromElevationMapMsg(*grid);
+  const mapping::ElevationMap& sent = node_.map().elevation();
+  EXPECT_EQ(back.origin(), sent.origin());
+  EXPECT_EQ(back.KnownCells(), sent.KnownCells());
+  for (int iy = 0; iy < sent.num_y(); iy += 7) {
+    for (int ix = 0; ix < sent.num_x(); ix += 7) {
+      const auto a = sent.At(ix, iy);
+      const auto b = back.At(ix, iy);
+      ASSERT_EQ(a.has_value(), b.has_value());
+      if (a) EXPECT_NEAR(a->height, b->height, 1e-6);
+    }
+  }
   EXPECT_EQ(node_.clouds_fused(), 1);
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK) << LastReason();
 }

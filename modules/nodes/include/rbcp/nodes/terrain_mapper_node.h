@@ -59,6 +59,14 @@ struct TerrainMapperNodeOptions {
 /// Why a cloud was not integrated (for STATUS and tests).
 std::optional<std::string> CheckCloud(const rbcp_msgs::point_cloud_t& msg, int max_points);
 
+/// The ELEVATION_MAP message of `grid` (its known cells; NaN elsewhere).
+rbcp_msgs::elevation_map_t ToElevationMapMsg(const mapping::ElevationMap& grid, int64_t utime, int64_t terrain_id,
+                                             int64_t clouds_fused);
+/// The grid an ELEVATION_MAP message carries, as an ElevationMap (for judging it against the
+/// true terrain). Throws InputError when its counts disagree, its resolution is not positive,
+/// the grid is not square or its origin is not on a multiple of the resolution.
+mapping::ElevationMap FromElevationMapMsg(const rbcp_msgs::elevation_map_t& msg);
+
 class TerrainMapperNode {
  public:
   static constexpr const char* kProcessName = "terrain_mapper";
