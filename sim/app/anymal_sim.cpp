@@ -1,6 +1,7 @@
 // anymal_sim: the simulator. As a process it is the world (TERRAIN, ROBOT_STATE, STATUS out,
 // CONTACT_PLAN in); with --plan it executes one plan offline and prints the outcome.
 #include <chrono>
+#include <cstdint>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -32,6 +33,8 @@ struct Options {
   bool json = false, exit_when_decided = false;
   sim::SimNodeOptions node_options;
   double realtime_factor = 1.0;
+  long long sensor_seed = -1;  ///< overrides sensing.noise_seed when >= 0
+  bool no_sensing = false;
 };
 
 void AddOptions(CLI::App& app, Options& o) {
@@ -59,6 +62,12 @@ void AddOptions(CLI::App& app, Options& o) {
                  "process: scripted changes of the world at simulated times (YAML: add_box, remove_box, push, goal)")
       ->check(CLI::ExistingFile);
   app.add_option("--sim-config", o.sim_config_path, "simulator parameters (default: CONFIG_DIR/sim.yaml)");
+  app.add_option("--sensor-seed", o.sensor_seed,
+                 "seed of the depth sensors' range noise (overrides sensing.noise_seed; the same seed gives the "
+                 "same POINT_CLOUD messages)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--no-sensing", o.no_sensing,
+               "no depth sensors: nothing is captured or published on POINT_CLOUD (overrides sensing.enabled)");
   app.add_option("--controller-config", o.controller_config_path,
                  "controller parameters (default: CONFIG_DIR/controller.yaml)");
   app.add_option("--walk", o.walk, "how the controller walks: static or dynamic (default: the controller file's mode)")
@@ -66,9 +75,11 @@ void AddOptions(CLI::App& app, Options& o) {
 
   app.description(
       "ANYmal B in a Bullet simulation, walked by the onboard plan controller.\n"
-      "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time) and STATUS, and\n"
-      "walks every CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints\n"
-      "the outcome; exit status 0 goal reached, 1 the run failed, 2 bad input.");
+      "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time), POINT_CLOUD (the\n"
+      "depth sensors of sim.yaml's sensing map, unless --no-sensing) and STATUS, and walks every\n"
+      "CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints the outcome\n"
+      "(the sensors capture as in the process, nothing is published); exit status 0 goal reached, 1 the run\n"
+      "failed, 2 bad input.");
 }
 
 /// The controller file (CONFIG_DIR/controller.yaml or --controller-config), its mode set by --walk.
@@ -79,12 +90,21 @@ ControllerConfig LoadControllerConfig(const Options& o) {
   return config;
 }
 
+/// The simulator file (CONFIG_DIR/sim.yaml or --sim-config), its sensing set by --sensor-seed and
+/// --no-sensing.
+sim::SimConfig LoadSimConfig(const Options& o) {
+  sim::SimConfig config =
+      sim::SimConfig::LoadFile(o.sim_config_path.empty() ? o.common.config_dir + "/sim.yaml" : o.sim_config_path);
+  if (o.sensor_seed >= 0) config.sensing.noise_seed = static_cast<std::uint64_t>(o.sensor_seed);
+  if (o.no_sensing) config.sensing.enabled = false;
+  return config;
+}
+
 /// The simulated world: its configuration, the robot, the scenario, the stance rules, and the
 /// execution of plans on them (which keeps references to them: a World is not copied).
 struct World {
   explicit World(const Options& o)
-      : sim_config(sim::SimConfig::LoadFile(o.sim_config_path.empty() ? o.common.config_dir + "/sim.yaml"
-                                                                      : o.sim_config_path)),
+      : sim_config(LoadSimConfig(o)),
         controller_config(LoadControllerConfig(o)),
         robot(RobotModel::LoadDefault(o.common.config_dir)),
         scenario(LoadScenario(o.scenario_path)),
@@ -101,27 +121,44 @@ struct World {
   sim::PlanExecution execution;
 };
 
-/// Runs the started execution to its end, every control tick written to the CSV file at `path`.
-void RunWithTickCsv(sim::PlanExecution& execution, const std::string& path) {
-  std::ofstream csv(path);
-  if (!csv) throw InputError("cannot write " + path);
-  sim::WriteTickCsvHeader(csv);
-  do {
+/// Runs the started execution to its end, `after_tick` called after every control tick and, with
+/// a `csv_path`, every tick written to that CSV file.
+template <typename AfterTick>
+void RunExecution(sim::PlanExecution& execution, const std::string& csv_path, AfterTick&& after_tick) {
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path);
+    if (!csv) throw InputError("cannot write " + csv_path);
+    sim::WriteTickCsvHeader(csv);
+  }
+  bool more = true;
+  while (more) {
+    if (!csv_path.empty()) sim::WriteTickCsvRow(csv, execution);
+    more = execution.Tick();
+    after_tick();
+  }
+  if (!csv_path.empty()) {
     sim::WriteTickCsvRow(csv, execution);
-  } while (execution.Tick());
-  sim::WriteTickCsvRow(csv, execution);
-  if (!csv) throw InputError("cannot write " + path);
+    if (!csv) throw InputError("cannot write " + csv_path);
+  }
 }
 
 /// --plan: executes the plan offline and prints the outcome; returns the exit status.
 int ExecutePlan(const Options& o, World& world) {
   const ContactPlan plan = LoadContactPlanFile(o.plan_path);
   world.execution.Start(plan);
+  // The depth sensors capture as the process's would (the same cost), for no one.
+  sim::SensorRig sensors(world.sim_config.sensing, world.sim_config.control_rate_hz);
+  long clouds = 0;
   const auto start = Clock::now();
-  if (o.log_csv_path.empty()) {
+  if (o.log_csv_path.empty() && sensors.Empty()) {
     world.execution.Run();
   } else {
-    RunWithTickCsv(world.execution, o.log_csv_path);
+    RunExecution(world.execution, o.log_csv_path, [&] {
+      if (!sensors.Empty()) {
+        clouds += static_cast<long>(sensors.CaptureIfDue(world.execution.World(), world.execution.State()).size());
+      }
+    });
   }
   // The plan's verdict is about the plan; the run's is about the scenario: a plan that ends
   // away from the scenario's goal does not reach it, however well it was walked.
@@ -137,7 +174,8 @@ int ExecutePlan(const Options& o, World& world) {
     std::cout << j.dump() << std::endl;
   } else {
     std::cout << "anymal_sim: " << sim::OutcomeSummary(outcome) << " (" << wall_s << " s wall, "
-              << outcome.sim_time_s / std::max(wall_s, 1e-9) << "x real time)" << std::endl;
+              << outcome.sim_time_s / std::max(wall_s, 1e-9) << "x real time, " << clouds << " point clouds)"
+              << std::endl;
   }
   return outcome.ok() ? 0 : 1;
 }

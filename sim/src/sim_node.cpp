@@ -9,6 +9,7 @@
 #include "rbcp/core/format.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp_msgs/point_cloud_t.hpp"
 
 namespace rbcp::sim {
 std::string OutcomeSummary(const ExecutionOutcome& o) {
@@ -30,6 +31,31 @@ std::string OutcomeSummary(const ExecutionOutcome& o) {
   return os.str();
 }
 
+namespace {
+
+rbcp_msgs::point_cloud_t ToPointCloudMsg(const PointCloud& cloud, int64_t utime) {
+  rbcp_msgs::point_cloud_t msg{};
+  msg.utime = utime;
+  msg.sensor = cloud.sensor;
+  msg.seq = cloud.seq;
+  const Eigen::Quaterniond q(cloud.mount.linear());
+  for (int k = 0; k < 3; ++k) msg.mount_position[k] = cloud.mount.translation()[k];
+  msg.mount_orientation[0] = q.w();
+  msg.mount_orientation[1] = q.x();
+  msg.mount_orientation[2] = q.y();
+  msg.mount_orientation[3] = q.z();
+  msg.min_range = static_cast<float>(cloud.min_range_m);
+  msg.max_range = static_cast<float>(cloud.max_range_m);
+  msg.range_noise_std = static_cast<float>(cloud.range_noise_m);
+  msg.num_rays = cloud.num_rays;
+  msg.num_points = static_cast<int32_t>(cloud.points.size());
+  msg.points.reserve(cloud.points.size());
+  for (const Eigen::Vector3f& p : cloud.points) msg.points.push_back({p.x(), p.y(), p.z()});
+  return msg;
+}
+
+}  // namespace
+
 SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenario, const SimConfig& config,
                  SimNodeOptions options)
     : lcm_(lcm),
@@ -38,6 +64,7 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
       config_(config),
       status_(lcm, kProcessName, channels::kStatus),
       publisher_(lcm),
+      sensors_(config.sensing, config.control_rate_hz),
       options_(std::move(options)),
       plans_in_(lcm, channels::kContactPlan),
       planner_failures_(lcm, channels::kStatus, [this](const rbcp_msgs::process_status_t& s) {
@@ -148,9 +175,10 @@ void SimNode::UpdateWait() {
   answered_utime_ = Utime();
 }
 
-void SimNode::PublishState() {
+RobotState SimNode::PublishState() {
   // The controller's status first: a process that hears of a wait then hears the state it waits in.
-  const auto state_msg = transport::ToRobotStateMsg(execution_.State());
+  const RobotState state = execution_.State();
+  const auto state_msg = transport::ToRobotStateMsg(state);
   const ControllerStatus& status = execution_.Controller().Status();
   ControllerProgress progress;
   progress.plan_seq = plan_seq_;
@@ -167,6 +195,23 @@ void SimNode::PublishState() {
   const auto progress_msg = transport::ToControllerStatusMsg(state_msg.utime, progress);
   lcm_.publish(channels::kControllerStatus, &progress_msg);
   lcm_.publish(channels::kRobotState, &state_msg);
+  return state;
+}
+
+void SimNode::PublishClouds(const RobotState& state) {
+  if (sensors_.Empty()) return;
+  const std::vector<PointCloud> clouds = sensors_.CaptureIfDue(execution_.World(), state);
+  if (clouds.empty()) return;
+  // The utime of the ROBOT_STATE that carries this state: a receiver finds the base pose by it.
+  const int64_t utime = transport::ToRobotStateMsg(state).utime;
+  for (const PointCloud& cloud : clouds) {
+    const std::string problem = publisher_.Publish(channels::kPointCloud, ToPointCloudMsg(cloud, utime));
+    if (problem.empty()) {
+      point_clouds_ += 1;
+    } else {
+      status_.Failed(utime, utime, 0.0, problem);
+    }
+  }
 }
 
 void SimNode::ApplyEvents() {
@@ -273,7 +318,7 @@ void SimNode::Tick() {
   ApplyEvents();
   execution_.Tick();
   UpdateWait();
-  PublishState();
+  PublishClouds(PublishState());
 
   if ((plans_ > 0 || options_.replan) && execution_.Decided() && !reported_) {
     reported_ = true;

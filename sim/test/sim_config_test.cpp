@@ -44,5 +44,34 @@ TEST(SimConfig, RejectsOutOfRangeAndUnknownKeysInItsMaps) {
             "sim.yaml: physics: 'joint_velocity_limit_radps': unknown key");
 }
 
+/// The error of the shipped file with sensing's `sensor` map (or sensing itself for "") given
+/// `key: value`.
+std::string SensingErrorWith(const std::string& sensor, const std::string& key, const std::string& value) {
+  YAML::Node node = YAML::LoadFile(kFile);
+  YAML::Node map = sensor.empty() ? node["sensing"] : node["sensing"][sensor];
+  map[key] = YAML::Load(value);
+  return ErrorOf([&] { SimConfig::Load(YamlMap(node, "sim.yaml")); });
+}
+
+TEST(SimConfig, RejectsBadSensorsNamingTheKey) {
+  EXPECT_EQ(SensingErrorWith("front_camera", "columns", "16"), "");
+  EXPECT_EQ(SensingErrorWith("front_camera", "columns", "0"),
+            "sim.yaml: sensing: front_camera: 'columns': expected an integer in [1, 4096], got 0");
+  EXPECT_EQ(SensingErrorWith("rear_camera", "min_range_m", "3.5"),
+            "sim.yaml: sensing: rear_camera: 'max_range_m': expected a range above min_range_m, got 3.5");
+  EXPECT_EQ(SensingErrorWith("front_camera", "horizontal_fov_deg", "180"),
+            "sim.yaml: sensing: front_camera: 'horizontal_fov_deg': expected a number in (0, 170] [deg], got 180");
+  EXPECT_EQ(SensingErrorWith("", "rate_hz", "40"), "");
+  EXPECT_EQ(SensingErrorWith("", "rate_hz", "30"),
+            "sim.yaml: sensing: 'rate_hz': expected a rate that divides control_rate_hz (a whole number of control "
+            "ticks per capture), got 30 (13.3333 ticks of 400 Hz)");
+  EXPECT_EQ(SensingErrorWith("", "rate_hz", "800"),
+            "sim.yaml: sensing: 'rate_hz': expected a rate that divides control_rate_hz (a whole number of control "
+            "ticks per capture), got 800 (0.5 ticks of 400 Hz)");
+  EXPECT_EQ(SensingErrorWith("", "range_noise_m", "-0.01"),
+            "sim.yaml: sensing: 'range_noise_m': expected a number in [0, 1] [m], got -0.01");
+  EXPECT_EQ(SensingErrorWith("", "noise_seed", "-1").find("sim.yaml: sensing: 'noise_seed'"), 0u);
+}
+
 }  // namespace
 }  // namespace rbcp::sim

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "flat_ground_plan.h"
 #include "rbcp/controller/controller_config.h"
@@ -18,6 +19,7 @@
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/controller_status_t.hpp"
+#include "rbcp_msgs/point_cloud_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
@@ -26,6 +28,22 @@ namespace {
 
 using rbcp::test::ConfigDir;
 using rbcp::test::ScenarioPath;
+
+/// Every message of one type heard on a channel.
+template <class Msg>
+class Recorder {
+ public:
+  Recorder(lcm::LCM& lcm, const std::string& channel) : lcm_(lcm) { sub_ = lcm.subscribe(channel, &Recorder::On, this); }
+  ~Recorder() { lcm_.unsubscribe(sub_); }
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+  std::vector<Msg> messages;
+
+ private:
+  void On(const lcm::ReceiveBuffer*, const std::string&, const Msg* msg) { messages.push_back(*msg); }
+  lcm::LCM& lcm_;
+  lcm::Subscription* sub_ = nullptr;
+};
 
 /// The simulated world and the test's LCM subscriptions, without a node.
 class SimWorld : public ::testing::Test {
@@ -45,6 +63,8 @@ class SimWorld : public ::testing::Test {
   transport::LatestMessage<rbcp_msgs::controller_status_t> controllers_{lcm_, channels::kControllerStatus};
   transport::LatestMessage<rbcp_msgs::terrain_mesh_t> terrain_{lcm_, channels::kTerrain};
   transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
+  Recorder<rbcp_msgs::point_cloud_t> clouds_{lcm_, channels::kPointCloud};
+  Recorder<rbcp_msgs::robot_state_t> all_states_{lcm_, channels::kRobotState};
   /// The terrain the simulated world stands on, as a planner's plans name it.
   int64_t WorldTerrainId() const { return transport::TerrainId(execution_.CurrentWorld().terrain_mesh); }
 };
@@ -86,6 +106,54 @@ TEST_F(SimNodeTest, PublishesTheTerrainAndTheStateAtTheControlRate) {
   ASSERT_TRUE(status_.Latest().has_value());
   EXPECT_EQ(status_.Latest()->process, "anymal_sim");
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::ALIVE);
+}
+
+TEST_F(SimNodeTest, PublishesPointCloudsAtTheSensingRateWithTheStatesUtimes) {
+  TickFor(0.55, [] { return false; });
+  ASSERT_EQ(config_.sensing.rate_hz, 10.0);
+  ASSERT_TRUE(config_.sensing.front_camera.enabled && config_.sensing.rear_camera.enabled);
+  ASSERT_EQ(clouds_.messages.size(), 10u) << "5 captures in 0.55 s, front and rear";
+  EXPECT_EQ(node_.PointClouds(), 10);
+  std::map<int64_t, rbcp_msgs::robot_state_t> states;
+  for (const auto& s : all_states_.messages) states[s.utime] = s;
+  for (std::size_t i = 0; i < clouds_.messages.size(); ++i) {
+    const rbcp_msgs::point_cloud_t& c = clouds_.messages[i];
+    SCOPED_TRACE(c.sensor + " " + std::to_string(c.seq));
+    EXPECT_EQ(c.sensor, i % 2 == 0 ? "front_camera" : "rear_camera");
+    EXPECT_EQ(c.seq, static_cast<int64_t>(i / 2 + 1));
+    EXPECT_EQ(c.utime, 100000 * c.seq) << "every 0.1 s of simulated time";
+    ASSERT_EQ(states.count(c.utime), 1u) << "a ROBOT_STATE of the same utime";
+    EXPECT_EQ(c.num_rays, config_.sensing.front_camera.columns * config_.sensing.front_camera.rows);
+    EXPECT_EQ(c.num_points, static_cast<int32_t>(c.points.size()));
+    ASSERT_GT(c.num_points, c.num_rays / 2);
+    // Placed with that state's base pose and the mount, the points lie on the flat ground (z = 0).
+    const RobotState state = transport::FromRobotStateMsg(states[c.utime]);
+    Eigen::Isometry3d sensor_W = Eigen::Isometry3d::Identity();
+    sensor_W.linear() = state.base_orientation_W.toRotationMatrix() *
+                        Eigen::Quaterniond(c.mount_orientation[0], c.mount_orientation[1], c.mount_orientation[2],
+                                           c.mount_orientation[3]).toRotationMatrix();
+    sensor_W.translation() = state.base_position_W + state.base_orientation_W.toRotationMatrix() *
+                                                         Eigen::Vector3d(c.mount_position[0], c.mount_position[1],
+                                                                         c.mount_position[2]);
+    double worst = 0.0;
+    for (const auto& p : c.points) {
+      worst = std::max(worst, std::abs((sensor_W * Eigen::Vector3d(p[0], p[1], p[2])).z()));
+    }
+    EXPECT_LT(worst, 5.0 * c.range_noise_std);
+  }
+}
+
+TEST_F(SimWorld, NoPointCloudsWithSensingOff) {
+  SimConfig config = config_;
+  config.sensing.enabled = false;
+  SimNode node(lcm_, execution_, scenario_, config);
+  node.status().set_verbose(false);
+  for (int k = 0; k < 200; ++k) {
+    node.Tick();
+    Pump();
+  }
+  EXPECT_EQ(all_states_.messages.size(), 200u);
+  EXPECT_TRUE(clouds_.messages.empty());
 }
 
 TEST_F(SimNodeTest, WalksAPlanAndReportsTheVerdict) {
@@ -208,6 +276,28 @@ class ReplanningSimNodeTest : public SimWorld {
   }
   int64_t handled_ = 0;
 };
+
+TEST_F(ReplanningSimNodeTest, NoPointCloudsWhileTheWorldStandsStill) {
+  auto state = Tick();
+  ASSERT_TRUE(replanning_.Paused());
+  for (int k = 0; k < 100; ++k) state = Tick();
+  EXPECT_TRUE(clouds_.messages.empty()) << "the robot waits for its first plan: no physics, no capture";
+
+  ContactPlan piece = rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08);
+  piece.reaches_goal = false;
+  const auto plan = transport::ToContactPlanMsg(piece, state.state.utime, 7, WorldTerrainId(), 1, state.state.utime);
+  lcm_.publish(channels::kContactPlan, &plan);
+  Pump();
+  Tick();
+  TickUntilWaiting(20.0);
+  ASSERT_TRUE(replanning_.Paused()) << "the robot waits after its first step";
+  const int64_t boundary = states_.Latest()->utime;
+  const std::size_t walking = clouds_.messages.size();
+  EXPECT_EQ(walking, 2u * static_cast<std::size_t>(boundary / 100000)) << "two sensors every 0.1 s while walking";
+  for (int k = 0; k < 100; ++k) Tick();
+  EXPECT_EQ(states_.Latest()->utime, boundary);
+  EXPECT_EQ(clouds_.messages.size(), walking) << "nothing new while the world stands still";
+}
 
 TEST_F(ReplanningSimNodeTest, WaitsAtEveryStepBoundaryForAPlanFromThatStance) {
   // Standing with no plan: the world stands still and CONTROLLER_STATUS says the robot waits.

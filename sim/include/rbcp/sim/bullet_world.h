@@ -153,6 +153,13 @@ class BulletWorld {
   /// link names.
   std::vector<std::pair<std::string, std::string>> SelfContacts() const;
 
+  /// Rays against the terrain only (the robot's links are transparent to them): per direction
+  /// (world frame, unit) from origin_W, the distance to the first terrain surface within
+  /// max_range_m, or +infinity for none; 0 from inside a terrain box. The terrain is the current
+  /// one (SetTerrain). A depth sensor's rays (depth_sensor.h).
+  void CastTerrainRays(const Eigen::Vector3d& origin_W, const std::vector<Eigen::Vector3d>& directions_W,
+                       double max_range_m, std::vector<double>* distances) const;
+
   /// Total robot mass as built [kg].
   double RobotMass() const;
 

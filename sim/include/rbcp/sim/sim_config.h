@@ -1,6 +1,6 @@
 #pragma once
-/// The simulator's configuration (config/sim.yaml): the physics, the process's rates, and how a
-/// run is judged. Every key is required and no other key is accepted. The robot's limits (torque,
+/// The simulator's configuration (config/sim.yaml): the physics, the process's rates, how a run
+/// is judged, and the depth sensors. Every key is required and no other key is accepted. The robot's limits (torque,
 /// joint speed) are the robot model's.
 
 #include <cmath>
@@ -9,6 +9,7 @@
 #include "rbcp/core/config_fields.h"
 #include "rbcp/core/yaml_reader.h"
 #include "rbcp/sim/bullet_world.h"
+#include "rbcp/sim/depth_sensor.h"
 
 namespace rbcp::sim {
 
@@ -48,6 +49,7 @@ struct SimConfig {
   double terrain_period_s = 1.0;
   double drop_height_m = 0.002;
   OutcomeConfig outcome;
+  SensingConfig sensing;
 
   template <class Visitor>
   void Serialize(Visitor* v) {
@@ -66,6 +68,15 @@ struct SimConfig {
     v->Visit("drop_height_m", &drop_height_m, "m", bounds::Closed(0, 0.1),
              "the robot is placed this far above the terrain, at rest, to start");
     v->Visit("outcome", &outcome, "how the simulator judges a run (the controller never sees these)");
+    v->Map("sensing", "simulated depth sensors on the trunk, published on POINT_CLOUD (sim/include/rbcp/sim/depth_sensor.h)",
+           [&](auto* m) {
+             sensing.Serialize(m);
+             const double ticks = control_rate_hz / sensing.rate_hz;
+             m->Rule("rate_hz", ticks >= 1.0 - 1e-9 && std::abs(ticks - std::round(ticks)) <= 1e-6,
+                     "a rate that divides control_rate_hz (a whole number of control ticks per capture)",
+                     ConfigNumber(sensing.rate_hz) + " (" + ConfigNumber(ticks) + " ticks of " +
+                         ConfigNumber(control_rate_hz) + " Hz)");
+           });
   }
 
   /// Physics steps per control tick (control_rate_hz must divide the physics rate).

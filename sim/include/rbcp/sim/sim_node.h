@@ -18,6 +18,11 @@
 /// pause_while_awaiting (runs faster than real time) the world stands still during the wait, so a
 /// run does not depend on how fast the planners answer.
 ///
+/// Depth sensors (SimConfig::sensing, depth_sensor.h): when enabled, every 1/rate_hz of simulated
+/// time each enabled sensor captures at that control tick, from the state that tick's ROBOT_STATE
+/// carries, and POINT_CLOUD goes out right after it with the same utime. While the world stands
+/// still (Paused) nothing is captured.
+///
 /// The world changes at the events' simulated times (SimNodeOptions::events): a box added or
 /// removed is in the physics, the judge's and the controller's terrain at once and TERRAIN goes
 /// out at once; a push is a force on the base for its duration; a new goal is a PLAN_REQUEST
@@ -35,6 +40,7 @@
 #include <vector>
 
 #include "rbcp/scenario/scenario.h"
+#include "rbcp/sim/depth_sensor.h"
 #include "rbcp/sim/plan_execution.h"
 #include "rbcp/sim/sim_config.h"
 #include "rbcp/sim/world_events.h"
@@ -72,9 +78,9 @@ class SimNode {
           SimNodeOptions options = {});
 
   /// One control tick of simulated time: takes the newest CONTACT_PLAN, advances the world,
-  /// publishes ROBOT_STATE and, when due, TERRAIN (in parts when large; a terrain too large to
-  /// send is reported FAILED on STATUS with its size and the bound); reports a decided outcome
-  /// once on STATUS.
+  /// publishes ROBOT_STATE, when due POINT_CLOUD and TERRAIN (in parts when large; a message too
+  /// large to send is reported FAILED on STATUS with its size and the bound); reports a decided
+  /// outcome once on STATUS.
   void Tick();
   /// Republishes the current STATUS.
   void Heartbeat();
@@ -86,6 +92,8 @@ class SimNode {
   /// True once a plan was walked to its outcome (and no newer plan is running).
   bool Decided() const { return execution_.Decided() && (plans_ > 0 || options_.replan); }
   int Plans() const { return plans_; }
+  /// POINT_CLOUD messages published so far.
+  long PointClouds() const { return point_clouds_; }
   transport::StatusReporter& status() { return status_; }
 
  private:
@@ -93,7 +101,10 @@ class SimNode {
   void PublishTerrain();
   void TakePlan(const rbcp_msgs::contact_plan_t& msg);
   void UpdateWait();
-  void PublishState();
+  /// Publishes CONTROLLER_STATUS and ROBOT_STATE; returns the state published.
+  RobotState PublishState();
+  /// The depth sensors' captures due at `state` (the tick's published state), on POINT_CLOUD.
+  void PublishClouds(const RobotState& state);
   /// Applies the events due by now; ends a push that is over.
   void ApplyEvents();
   /// The terrain as the events due at one tick change it: applied once, after all of them.
@@ -110,7 +121,9 @@ class SimNode {
   Scenario scenario_;
   SimConfig config_;
   transport::StatusReporter status_;
-  transport::MessagePublisher publisher_;  ///< TERRAIN, in parts when large
+  transport::MessagePublisher publisher_;  ///< TERRAIN and POINT_CLOUD, in parts when large
+  SensorRig sensors_;
+  long point_clouds_ = 0;
   SimNodeOptions options_;
   transport::LatestMessage<rbcp_msgs::contact_plan_t> plans_in_;
   transport::LatestMessage<rbcp_msgs::process_status_t> planner_failures_;
