@@ -1,3 +1,4 @@
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -158,10 +159,158 @@ std::size_t ElevationMap::MemoryBytes() const {
   return sizeof(*this) + (height_.capacity() + variance_.capacity() + support_.capacity()) * sizeof(float);
 }
 
+std::vector<float> ElevationMap::MeshHeights() const {
+  std::vector<float> out(height_.size(), kUnknown);
+  const double step = config_.mesh_smoothing_step_m;
+  for (int iy = 0; iy < n_; ++iy) {
+    for (int ix = 0; ix < n_; ++ix) {
+      const float h = height_[Flat(ix, iy)];
+      if (std::isnan(h)) continue;
+      if (step <= 0.0) {
+        out[Flat(ix, iy)] = h;
+        continue;
+      }
+      // Edge-preserving: only neighbours of the same surface (within step) count, by their weight.
+      double weight = 0.0, sum = 0.0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int jx = ix + dx, jy = iy + dy;
+          if (jx < 0 || jy < 0 || jx >= n_ || jy >= n_) continue;
+          const float hn = height_[Flat(jx, jy)];
+          if (std::isnan(hn) || std::abs(hn - h) > step) continue;
+          const double w = 1.0 / std::max<double>(variance_[Flat(jx, jy)], config_.min_variance_m2);
+          weight += w;
+          sum += w * hn;
+        }
+      }
+      out[Flat(ix, iy)] = static_cast<float>(sum / weight);
+    }
+  }
+  return out;
+}
+
+namespace {
+
+/// Rounds of hole filling: a hole of up to two cells across closes.
+constexpr int kFillPasses = 2;
+
+/// Snaps the regions of `heights` (an n x n grid, NaN unknown) that are planes within the noise
+/// onto their least-squares planes. Regions grow over 8-neighbours (far from the sensor the
+/// returns of one surface may touch only at corners) whose heights differ by at most
+/// plane_step_m, seeded in cell order (deterministic).
+void SnapPlanes(std::vector<float>& heights, int n, const ElevationMapConfig& config) {
+  if (config.plane_step_m <= 0.0) return;
+  struct Plane {
+    double a, b, c, mx, my;  ///< z = a (ix - mx) + b (iy - my) + c
+    double At(int ix, int iy) const { return a * (ix - mx) + b * (iy - my) + c; }
+  };
+  std::vector<Plane> planes;
+  std::vector<int> plane_of;  ///< per region: its plane in `planes`, or -1
+  const auto flat = [n](int ix, int iy) { return static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix); };
+  std::vector<int> region(heights.size(), -1);
+  std::vector<int> cells;
+  std::vector<int> queue;
+  int next = 0;
+  for (std::size_t seed = 0; seed < heights.size(); ++seed) {
+    if (region[seed] >= 0 || std::isnan(heights[seed])) continue;
+    cells.clear();
+    queue.assign(1, static_cast<int>(seed));
+    region[seed] = next;
+    while (!queue.empty()) {
+      const int c = queue.back();
+      queue.pop_back();
+      cells.push_back(c);
+      const int cx = c % n, cy = c / n;
+      const int nx[8] = {cx - 1, cx + 1, cx, cx, cx - 1, cx + 1, cx - 1, cx + 1};
+      const int ny[8] = {cy, cy, cy - 1, cy + 1, cy - 1, cy - 1, cy + 1, cy + 1};
+      for (int k = 0; k < 8; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= n || ny[k] >= n) continue;
+        const std::size_t j = flat(nx[k], ny[k]);
+        if (region[j] >= 0 || std::isnan(heights[j])) continue;
+        if (std::abs(heights[j] - heights[static_cast<std::size_t>(c)]) > config.plane_step_m) continue;
+        region[j] = next;
+        queue.push_back(static_cast<int>(j));
+      }
+    }
+    ++next;
+    plane_of.push_back(-1);
+    if (static_cast<int>(cells.size()) < config.plane_min_cells) continue;
+    // z = a (x - mx) + b (y - my) + c, least squares, in cell units about the region's mean.
+    double mx = 0.0, my = 0.0;
+    for (int c : cells) {
+      mx += c % n;
+      my += c / n;
+    }
+    mx /= static_cast<double>(cells.size());
+    my /= static_cast<double>(cells.size());
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atz = Eigen::Vector3d::Zero();
+    for (int c : cells) {
+      const Eigen::Vector3d row((c % n) - mx, (c / n) - my, 1.0);
+      ata += row * row.transpose();
+      atz += row * static_cast<double>(heights[static_cast<std::size_t>(c)]);
+    }
+    const Eigen::Vector3d plane = ata.ldlt().solve(atz);
+    if (!plane.allFinite()) continue;
+    const auto on_plane = [&](int c) { return plane.x() * ((c % n) - mx) + plane.y() * ((c / n) - my) + plane.z(); };
+    double sq = 0.0;
+    for (int c : cells) sq += std::pow(heights[static_cast<std::size_t>(c)] - on_plane(c), 2);
+    if (std::sqrt(sq / static_cast<double>(cells.size())) > config.plane_max_rms_m) continue;
+    for (int c : cells) heights[static_cast<std::size_t>(c)] = static_cast<float>(on_plane(c));
+    plane_of.back() = static_cast<int>(planes.size());
+    planes.push_back({plane.x(), plane.y(), plane.z(), mx, my});
+  }
+  // Holes between the returns of a plane (far from the sensor, rays fall more than a cell apart)
+  // are that plane: an unknown cell with enough neighbours on one plane joins it.
+  if (config.mesh_fill_neighbours > 8) return;
+  for (int pass = 0; pass < kFillPasses; ++pass) {
+    std::vector<std::pair<std::size_t, int>> fills;  // cell, region
+    for (int iy = 0; iy < n; ++iy) {
+      for (int ix = 0; ix < n; ++ix) {
+        const std::size_t i = flat(ix, iy);
+        if (!std::isnan(heights[i])) continue;
+        int best_region = -1, best_count = 0;
+        int seen[8];
+        int count[8];
+        int kinds = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int jx = ix + dx, jy = iy + dy;
+            if ((dx == 0 && dy == 0) || jx < 0 || jy < 0 || jx >= n || jy >= n) continue;
+            const int r = region[flat(jx, jy)];
+            if (r < 0 || plane_of[static_cast<std::size_t>(r)] < 0) continue;
+            int k = 0;
+            while (k < kinds && seen[k] != r) ++k;
+            if (k == kinds) {
+              seen[kinds] = r;
+              count[kinds++] = 0;
+            }
+            if (++count[k] > best_count) {
+              best_count = count[k];
+              best_region = r;
+            }
+          }
+        }
+        if (best_count >= config.mesh_fill_neighbours) fills.emplace_back(i, best_region);
+      }
+    }
+    if (fills.empty()) break;
+    for (const auto& [i, r] : fills) {
+      const Plane& p = planes[static_cast<std::size_t>(plane_of[static_cast<std::size_t>(r)])];
+      heights[i] = static_cast<float>(p.At(static_cast<int>(i % static_cast<std::size_t>(n)), static_cast<int>(i / static_cast<std::size_t>(n))));
+      region[i] = r;
+    }
+  }
+}
+
+}  // namespace
+
 TriangleMesh ElevationMap::ToMesh() const {
   TriangleMesh mesh;
   if (!placed_ || known_ == 0) return mesh;
-  const auto known = [&](int ix, int iy) { return !std::isnan(height_[Flat(ix, iy)]); };
+  std::vector<float> heights = MeshHeights();
+  SnapPlanes(heights, n_, config_);
+  const auto known = [&](int ix, int iy) { return !std::isnan(heights[Flat(ix, iy)]); };
   // Vertex of a cell, made the first time a triangle uses it (only used cells become vertices).
   std::vector<int> vertex(height_.size(), -1);
   const auto v = [&](int ix, int iy) {
@@ -169,7 +318,7 @@ TriangleMesh ElevationMap::ToMesh() const {
     if (id < 0) {
       const Eigen::Vector2d c = CellCentre(ix, iy);
       id = static_cast<int>(mesh.vertices.size());
-      mesh.vertices.emplace_back(c.x(), c.y(), static_cast<double>(height_[Flat(ix, iy)]));
+      mesh.vertices.emplace_back(c.x(), c.y(), static_cast<double>(heights[Flat(ix, iy)]));
     }
     return id;
   };

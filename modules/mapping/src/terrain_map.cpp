@@ -1,7 +1,10 @@
 #include <octomap/OcTree.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -220,6 +223,63 @@ void TerrainMap::IntegrateContact(const Eigen::Vector3d& contact, double varianc
       const double offset = (elevation_.CellCentre(ix, iy) - contact.head<2>()).norm();
       if ((dx != 0 || dy != 0) && offset > radius) continue;
       elevation_.FuseCell(ix, iy, contact.z(), variance, offset, /*gate=*/false);
+    }
+  }
+}
+
+void TerrainMap::InitializeFootprint(const std::vector<Eigen::Vector3d>& feet, double margin_m, double variance) {
+  if (feet.size() < 3 || !std::isfinite(variance) || variance <= 0.0 || !(margin_m >= 0.0)) {
+    throw InputError(
+        "TerrainMap::InitializeFootprint: expected at least three feet, a margin >= 0 and a positive variance");
+  }
+  for (const Eigen::Vector3d& f : feet) {
+    if (!f.allFinite()) throw InputError("TerrainMap::InitializeFootprint: a foot is not finite");
+  }
+  if (!elevation_.placed()) elevation_.Recenter(feet.front().head<2>());
+  // The plane z = a x + b y + c through the feet, least squares.
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(feet.size()), 3);
+  Eigen::VectorXd z(static_cast<Eigen::Index>(feet.size()));
+  for (std::size_t i = 0; i < feet.size(); ++i) {
+    A.row(static_cast<Eigen::Index>(i)) << feet[i].x(), feet[i].y(), 1.0;
+    z(static_cast<Eigen::Index>(i)) = feet[i].z();
+  }
+  const Eigen::Vector3d plane = A.colPivHouseholderQr().solve(z);
+  // The feet's polygon: their convex hull (gift wrapping; four points at most in practice).
+  std::vector<Eigen::Vector2d> hull;
+  std::vector<Eigen::Vector2d> pts;
+  for (const Eigen::Vector3d& f : feet) pts.push_back(f.head<2>());
+  std::size_t start = 0;
+  for (std::size_t i = 1; i < pts.size(); ++i) {
+    if (pts[i].x() < pts[start].x() || (pts[i].x() == pts[start].x() && pts[i].y() < pts[start].y())) start = i;
+  }
+  std::size_t p = start;
+  do {
+    hull.push_back(pts[p]);
+    std::size_t q = (p + 1) % pts.size();
+    for (std::size_t r = 0; r < pts.size(); ++r) {
+      const Eigen::Vector2d a = pts[q] - pts[p], b = pts[r] - pts[p];
+      if (a.x() * b.y() - a.y() * b.x() < 0.0) q = r;  // r lies clockwise of p->q: a tighter hull
+    }
+    p = q;
+  } while (p != start && hull.size() <= pts.size());
+  if (hull.size() < 3) return;  // the feet on a line: no area to fill
+  // Inside the polygon, or within `margin_m` of it: the ground around each foot.
+  const auto inside = [&](const Eigen::Vector2d& c) {
+    bool in = true;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < hull.size(); ++i) {
+      const Eigen::Vector2d a = hull[(i + 1) % hull.size()] - hull[i], b = c - hull[i];
+      if (a.x() * b.y() - a.y() * b.x() < 0.0) in = false;
+      const double t = std::clamp(a.dot(b) / a.squaredNorm(), 0.0, 1.0);
+      nearest = std::min(nearest, (b - t * a).norm());
+    }
+    return in || nearest <= margin_m;
+  };
+  for (int iy = 0; iy < elevation_.num_y(); ++iy) {
+    for (int ix = 0; ix < elevation_.num_x(); ++ix) {
+      const Eigen::Vector2d c = elevation_.CellCentre(ix, iy);
+      if (elevation_.At(ix, iy) || !inside(c)) continue;
+      elevation_.FuseCell(ix, iy, plane.x() * c.x() + plane.y() * c.y() + plane.z(), variance, 0.0, /*gate=*/false);
     }
   }
 }

@@ -285,3 +285,30 @@ TEST(TerrainMap, MemoryStaysBoundedOnALongWalk) {
 
 }  // namespace
 }  // namespace rbcp::mapping
+
+namespace rbcp::mapping {
+namespace {
+
+TEST(TerrainMap, AMapStartsWithTheGroundUnderTheStandingRobot) {
+  TerrainMap map{MapperConfig()};
+  map.Recenter({0, 0});
+  // A cell seen before stays as seen.
+  map.IntegrateContact({0.0, 0.0, 0.3}, 1e-4);
+  const std::vector<Eigen::Vector3d> feet = {{0.35, 0.25, 0.1}, {0.35, -0.25, 0.1}, {-0.35, 0.25, 0.1}, {-0.35, -0.25, 0.1}};
+  map.InitializeFootprint(feet, 0.1, 4e-4);
+  const ElevationMap& grid = map.elevation();
+  ASSERT_TRUE(grid.At(Eigen::Vector2d(0.0, 0.0)).has_value());
+  EXPECT_NEAR(grid.At(Eigen::Vector2d(0.0, 0.0))->height, 0.3, 1e-6) << "known before: kept";
+  for (const Eigen::Vector2d xy : {Eigen::Vector2d(0.2, 0.1), Eigen::Vector2d(-0.3, -0.2), Eigen::Vector2d(0.42, 0.3)}) {
+    const auto cell = grid.At(xy);
+    ASSERT_TRUE(cell.has_value()) << xy.transpose();
+    EXPECT_NEAR(cell->height, 0.1, 1e-6);
+    EXPECT_NEAR(cell->variance, 4e-4, 1e-9);
+  }
+  EXPECT_FALSE(grid.At(Eigen::Vector2d(0.55, 0.0)).has_value()) << "beyond the margin";
+  EXPECT_FALSE(grid.At(Eigen::Vector2d(0.0, 0.45)).has_value());
+  EXPECT_THROW(map.InitializeFootprint({feet[0], feet[1]}, 0.1, 4e-4), InputError);
+}
+
+}  // namespace
+}  // namespace rbcp::mapping

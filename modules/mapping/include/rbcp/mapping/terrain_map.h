@@ -31,6 +31,11 @@ struct ElevationMapConfig {
   double recenter_distance_m = 0.5;  ///< the window moves (in whole cells) when the robot is this far from its centre
   double min_variance_m2 = 1e-6;     ///< a cell's variance never falls below this (no estimate is exact)
   double gate_sigma = 3.0;           ///< a point this many standard deviations off a cell's height is not fused (see ElevationMap::Fuse)
+  double mesh_smoothing_step_m = 0.02;  ///< ToMesh: a cell's height is averaged with its neighbours within this of it
+  double plane_step_m = 0.015;          ///< ToMesh: neighbouring cells of one plane differ in height by at most this
+  double plane_max_rms_m = 0.01;        ///< ToMesh: a region this close to its least-squares plane (RMS) is that plane
+  int plane_min_cells = 9;              ///< ToMesh: regions of fewer cells are not made planes
+  int mesh_fill_neighbours = 4;         ///< ToMesh: an unknown cell with this many neighbours on one plane is on it
 
   template <class Visitor>
   void Serialize(Visitor* v);
@@ -128,8 +133,15 @@ class ElevationMap {
 
   /// The known cells as a height field: one vertex per known cell at its centre and height, two
   /// triangles per 2 x 2 block of known cells (one where three of the four are known), so that
-  /// neighbouring cells of the same surface share their edges. Counter-clockwise from above.
+  /// neighbouring cells of the same surface share their edges. Counter-clockwise from above. The
+  /// heights are smoothed without blurring steps (mesh_smoothing_step_m), a hole of one cell
+  /// between the returns of one surface is filled (mesh_fill_neighbours), and a region that is a
+  /// plane within the noise (plane_step_m, plane_max_rms_m, plane_min_cells) is meshed exactly on
+  /// its least-squares plane: the planners look for planar regions, which the noise of single
+  /// returns would break into pieces.
   TriangleMesh ToMesh() const;
+  /// The heights ToMesh meshes, per cell (NaN: not in the mesh).
+  std::vector<float> MeshHeights() const;
 
  private:
   std::size_t Flat(int ix, int iy) const { return static_cast<std::size_t>(iy) * static_cast<std::size_t>(n_) + static_cast<std::size_t>(ix); }
@@ -171,6 +183,12 @@ class TerrainMap {
   /// A stance foot measures the terrain under it: the cells within foot_patch_radius_m of
   /// `contact` (the lowest point of the foot's sphere) take its height with `variance`.
   void IntegrateContact(const Eigen::Vector3d& contact, double variance);
+  /// The terrain under a robot standing on `feet` (its stance feet's contact points, at least
+  /// three) before any sensor saw it: the unknown cells inside the feet's polygon, or within
+  /// `margin_m` of it, take the height of the plane through the feet (least squares) with
+  /// `variance`. For a map's start: the sensors do not look under the trunk, and the robot stands
+  /// there.
+  void InitializeFootprint(const std::vector<Eigen::Vector3d>& feet, double margin_m, double variance);
 
   const ElevationMap& elevation() const { return elevation_; }
   TriangleMesh ToMesh() const { return elevation_.ToMesh(); }
@@ -216,6 +234,19 @@ void ElevationMapConfig::Serialize(Visitor* v) {
            "a cell's variance never falls below this (no estimate is exact)");
   v->Visit("gate_sigma", &gate_sigma, "-", bounds::Positive(),
            "a point this many standard deviations above a cell's height replaces it, as far below is not fused");
+  v->Visit("mesh_smoothing_step_m", &mesh_smoothing_step_m, "m", bounds::NonNegative(),
+           "the mesh's height of a cell is the variance-weighted mean of its 3 x 3 neighbours within this of its own "
+           "height (an edge-preserving smoothing; 0: the fused heights as they are)");
+  v->Visit("plane_step_m", &plane_step_m, "m", bounds::NonNegative(),
+           "the mesh's planes: regions of cells (8-neighbours) whose heights differ by at most this from cell to cell "
+           "(0: no planes)");
+  v->Visit("plane_max_rms_m", &plane_max_rms_m, "m", bounds::NonNegative(),
+           "a region whose cells lie this close to its least-squares plane (RMS) is meshed on that plane");
+  v->Visit("plane_min_cells", &plane_min_cells, "-", bounds::AtLeast(3),
+           "a region of fewer cells is not made a plane");
+  v->Visit("mesh_fill_neighbours", &mesh_fill_neighbours, "-", bounds::Closed(1, 9),
+           "an unknown cell with at least this many of its 8 neighbours on one of the mesh's planes is meshed on that "
+           "plane, in two rounds (a hole between rays of up to two cells; 9: never)");
 }
 
 template <class Visitor>
