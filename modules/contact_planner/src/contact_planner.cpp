@@ -489,20 +489,18 @@ ContactPlanResult ContactPlanner::MergeSteps(const ContactPlan& plan) {
   return result;
 }
 
-ContactPlanResult ContactPlanner::FromStart(const ContactPlan& plan, const WholeBodyState& start) {
+namespace {
+
+/// `plan` with its states replaced by `states`, checked again by FromStart or OnThisTerrain
+/// (nullopt: a state is not valid; `why` says so), swings attached again and the walk timed with
+/// every step's duration kept, which may fail its check at no more steps than plan's did.
+ContactPlanResult WithRevalidatedStates(const PlannerContext& ctx, const ContactPlan& plan,
+                                        std::optional<std::vector<WholeBodyState>> states, const std::string& where,
+                                        const std::string& why) {
   ContactPlanResult result;
-  if (!impl_->context || plan.states.empty()) {
-    result.status = ContactPlanStatus::kInvalidInput;
-    result.reason = !impl_->context ? "ContactPlanner::FromStart: no terrain set" : "ContactPlanner::FromStart: no state";
-    return result;
-  }
-  impl_->budget.Start(impl_->config.time_budget_s);
-  const PlannerContext& ctx = impl_->ctx();
-  std::optional<std::vector<WholeBodyState>> states = contact_planner_detail::FromStart(ctx, plan.states, start);
-  result.planning_time_s = impl_->budget.Elapsed();
   result.status = ContactPlanStatus::kNoFoothold;
   if (!states) {
-    result.reason = "from this stance a state of the plan is not valid (checked as step merging checks a state it changes), or the stance differs in more than one foot";
+    result.reason = where + " " + why;
     return result;
   }
   const int steps = static_cast<int>(plan.states.size()) - 1;
@@ -513,15 +511,47 @@ ContactPlanResult ContactPlanner::FromStart(const ContactPlan& plan, const Whole
   const int keep = plan.Timed() ? steps : 0;
   const std::vector<DynamicStepCheck> checks_before = TimeWalkOf(ctx.stance, &before, nullptr, keep);
   const std::vector<DynamicStepCheck> checks = TimeWalkOf(ctx.stance, &result.plan, &result.stats, keep);
-  result.planning_time_s = impl_->budget.Elapsed();
   if (WalkFailures(checks) > WalkFailures(checks_before)) {
-    result.reason = "from this stance the plan's dynamic walk fails its check at more steps";
+    result.reason = where + " the plan's dynamic walk fails its check at more steps";
     return result;
   }
   result.ok = true;
   result.status = ContactPlanStatus::kOk;
   result.steps = steps;
   result.reached_goal = plan.reaches_goal;
+  return result;
+}
+
+ContactPlanResult NoTerrainOrState(const char* what, bool has_terrain) {
+  ContactPlanResult result;
+  result.status = ContactPlanStatus::kInvalidInput;
+  result.reason = std::string("ContactPlanner::") + what + (has_terrain ? ": no state" : ": no terrain set");
+  return result;
+}
+
+}  // namespace
+
+ContactPlanResult ContactPlanner::FromStart(const ContactPlan& plan, const WholeBodyState& start) {
+  if (!impl_->context || plan.states.empty()) return NoTerrainOrState("FromStart", impl_->context.has_value());
+  impl_->budget.Start(impl_->config.time_budget_s);
+  const PlannerContext& ctx = impl_->ctx();
+  ContactPlanResult result = WithRevalidatedStates(
+      ctx, plan, contact_planner_detail::FromStart(ctx, plan.states, start), "from this stance",
+      "a state of the plan is not valid (checked as step merging checks a state it changes), or the stance differs "
+      "in more than one foot");
+  result.planning_time_s = impl_->budget.Elapsed();
+  return result;
+}
+
+ContactPlanResult ContactPlanner::OnThisTerrain(const ContactPlan& plan, double max_offset_m) {
+  if (!impl_->context || plan.states.empty()) return NoTerrainOrState("OnThisTerrain", impl_->context.has_value());
+  impl_->budget.Start(impl_->config.time_budget_s);
+  const PlannerContext& ctx = impl_->ctx();
+  ContactPlanResult result = WithRevalidatedStates(
+      ctx, plan, contact_planner_detail::OnTerrain(ctx, plan.states, max_offset_m), "on this terrain",
+      "a foothold of the plan has no contact surface within " + FixedNumber(max_offset_m) +
+          " m, or a state is not valid");
+  result.planning_time_s = impl_->budget.Elapsed();
   return result;
 }
 

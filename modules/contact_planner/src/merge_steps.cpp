@@ -1,5 +1,6 @@
 #include "merge_steps.h"
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -178,6 +179,33 @@ std::optional<std::vector<WholeBodyState>> FromStart(const PlannerContext& ctx,
     out[i] = std::move(*valid);
   }
   return std::nullopt;  // the leg never steps again
+}
+
+std::optional<std::vector<WholeBodyState>> OnTerrain(const PlannerContext& ctx, const std::vector<WholeBodyState>& states,
+                                                     double max_offset_m) {
+  if (states.empty()) return std::nullopt;
+  std::vector<WholeBodyState> out = states;
+  for (const WholeBodyState& state : out) {
+    for (const FootContact& foot : state.feet) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const ConvexPolygon3d& surface : ctx.surfaces) {
+        nearest = std::min(nearest, (surface.ClosestPoint(foot.position) - foot.position).norm());
+      }
+      if (!(nearest <= max_offset_m)) return std::nullopt;
+    }
+  }
+  const std::optional<JointVector> q = SolveStance(ctx, BasePose(out[0]), out[0].feet, -1);
+  if (!q) return std::nullopt;
+  out[0].joints = *q;
+  for (std::size_t i = 1; i < out.size(); ++i) {
+    StanceBase own;
+    own.base_W = BasePose(out[i]);
+    own.rpy = out[i].base_rpy;
+    std::optional<WholeBodyState> valid = AtTouchDown(ctx, out[i - 1], out[i], out[i].moving_leg, own);
+    if (!valid || !LiftOffValid(ctx, out[i - 1], *valid)) return std::nullopt;
+    out[i] = std::move(*valid);
+  }
+  return out;
 }
 
 }  // namespace rbcp::contact_planner_detail

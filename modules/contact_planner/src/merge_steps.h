@@ -41,4 +41,12 @@ std::optional<std::vector<WholeBodyState>> FromStart(const PlannerContext& ctx,
                                                      const std::vector<WholeBodyState>& states,
                                                      const WholeBodyState& start);
 
+/// `states` on the context's terrain (a map that changed since they were planned): every
+/// foothold within `max_offset_m` of a contact surface (where it is: the plan stays the plan), and
+/// every state valid there with its own base pose, at touch-down and at lift-off of its step, as
+/// step merging checks a state (its joints solved again). nullopt when a foothold has no surface
+/// that near or a state is not valid.
+std::optional<std::vector<WholeBodyState>> OnTerrain(const PlannerContext& ctx, const std::vector<WholeBodyState>& states,
+                                                     double max_offset_m);
+
 }  // namespace rbcp::contact_planner_detail

@@ -690,6 +690,38 @@ TEST(ContactPlannerTest, APlanHoldsFromAStanceWithOneFootBesideItsFoothold) {
   EXPECT_FALSE(refused.reason.empty());
 }
 
+TEST(ContactPlannerTest, APlanHoldsOnAMapThatChangedLittleAndNotWhereItsFootholdsAreGone) {
+  // A plan made on one map, on the next: the floor 4 mm higher holds it as it is; a floor that
+  // ends before the plan's last footholds does not.
+  FlatWholePlan w = PlanFlatPath();
+  ASSERT_TRUE(w.full.ok) << w.full.reason;
+  const ContactPlan& plan = w.full.plan;
+  const World& world = ScenarioWorld("flat_ground");
+  TriangleMesh raised = world.terrain;
+  for (Eigen::Vector3d& v : raised.vertices) v.z() += 0.004;
+  w.planner.SetTerrain(raised, test::ExtractSurfaces(raised));
+  const ContactPlanResult held = w.planner.OnThisTerrain(plan, 0.02);
+  ASSERT_TRUE(held.ok) << held.reason;
+  ASSERT_EQ(held.plan.states.size(), plan.states.size());
+  for (std::size_t i = 0; i < plan.states.size(); ++i) {
+    for (std::size_t f = 0; f < kNumLegs; ++f) {
+      EXPECT_EQ(held.plan.states[i].feet[f].position, plan.states[i].feet[f].position) << "the plan stays the plan";
+    }
+  }
+  EXPECT_TRUE(held.plan.Timed());
+
+  // The floor ends at x = 0.8: the plan's last footholds (beyond x = 1.1) have no surface near.
+  TerrainBox floor;
+  floor.size = Eigen::Vector3d(2.8, 3.0, 0.5);
+  floor.position = Eigen::Vector3d(-0.6, 0.0, -0.25);
+  const TriangleMesh shorter = BuildTerrainMesh({floor});
+  w.planner.SetTerrain(shorter, test::ExtractSurfaces(shorter));
+  const ContactPlanResult gone = w.planner.OnThisTerrain(plan, 0.02);
+  EXPECT_FALSE(gone.ok);
+  EXPECT_EQ(gone.status, ContactPlanStatus::kNoFoothold);
+  EXPECT_NE(gone.reason.find("no contact surface within 0.02"), std::string::npos) << gone.reason;
+}
+
 TEST(ContactPlannerTest, MergingShortensARubblePlanAndKeepsItValid) {
   // darpa_rubble seed 2 planned with and without merging: the merged plan has fewer steps, passes
   // every check and ends on the same footholds; merging the unmerged plan afterwards gives it.

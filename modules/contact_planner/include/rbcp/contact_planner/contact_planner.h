@@ -247,6 +247,14 @@ class ContactPlanner {
   /// valid, or when the dynamic walk fails its check at more steps than plan's does.
   ContactPlanResult FromStart(const ContactPlan& plan, const WholeBodyState& start);
 
+  /// `plan`, made on another terrain (a mapped terrain that has changed since), on this one:
+  /// every foothold (where it is) within `max_offset_m` of a contact surface, every state checked
+  /// with its own base pose as step merging checks a state, swings attached again and the walk
+  /// timed with every step's duration kept. kInvalidInput without SetTerrain() or for
+  /// an empty plan; kNoFoothold with the reason when a foothold has no surface that near, a state
+  /// is not valid, or the dynamic walk fails its check at more steps than plan's does.
+  ContactPlanResult OnThisTerrain(const ContactPlan& plan, double max_offset_m);
+
   const ContactPlannerConfig& Config() const;
   const EquilibriumConfig& EquilibriumParameters() const;
 
