@@ -34,7 +34,7 @@ struct Options {
   sim::SimNodeOptions node_options;
   double realtime_factor = 1.0;
   long long sensor_seed = -1;  ///< overrides sensing.noise_seed when >= 0
-  bool no_sensing = false;
+  std::string terrain = "ground_truth";
 };
 
 void AddOptions(CLI::App& app, Options& o) {
@@ -66,8 +66,11 @@ void AddOptions(CLI::App& app, Options& o) {
                  "seed of the depth sensors' range noise (overrides sensing.noise_seed; the same seed gives the "
                  "same POINT_CLOUD messages)")
       ->check(CLI::NonNegativeNumber);
-  app.add_flag("--no-sensing", o.no_sensing,
-               "no depth sensors: nothing is captured or published on POINT_CLOUD (overrides sensing.enabled)");
+  app.add_option("--terrain", o.terrain,
+                 "what the planners plan on: ground_truth (the true terrain on TERRAIN; no sensor runs) or perceived "
+                 "(the depth sensors' POINT_CLOUD for terrain_mapper, the true terrain on TERRAIN_TRUTH); with --plan, "
+                 "perceived runs the sensors as the process does, to measure their cost")
+      ->capture_default_str()->check(CLI::IsMember({"ground_truth", "perceived"}));
   app.add_option("--controller-config", o.controller_config_path,
                  "controller parameters (default: CONFIG_DIR/controller.yaml)");
   app.add_option("--walk", o.walk, "how the controller walks: static or dynamic (default: the controller file's mode)")
@@ -75,11 +78,11 @@ void AddOptions(CLI::App& app, Options& o) {
 
   app.description(
       "ANYmal B in a Bullet simulation, walked by the onboard plan controller.\n"
-      "Process: publishes TERRAIN, ROBOT_STATE (at the control rate of simulated time), POINT_CLOUD (the\n"
-      "depth sensors of sim.yaml's sensing map, unless --no-sensing) and STATUS, and walks every\n"
-      "CONTACT_PLAN it receives. Offline (--plan): executes one plan on the scenario and prints the outcome\n"
-      "(the sensors capture as in the process, nothing is published); exit status 0 goal reached, 1 the run\n"
-      "failed, 2 bad input.");
+      "Process: publishes TERRAIN (or, with --terrain perceived, POINT_CLOUD from the depth sensors of\n"
+      "sim.yaml's sensing map and the true terrain on TERRAIN_TRUTH), ROBOT_STATE (at the control rate of\n"
+      "simulated time) and STATUS, and walks every CONTACT_PLAN it receives. Offline (--plan): executes one\n"
+      "plan on the scenario and prints the outcome (with --terrain perceived the sensors capture as in the\n"
+      "process, nothing is published); exit status 0 goal reached, 1 the run failed, 2 bad input.");
 }
 
 /// The controller file (CONFIG_DIR/controller.yaml or --controller-config), its mode set by --walk.
@@ -90,13 +93,11 @@ ControllerConfig LoadControllerConfig(const Options& o) {
   return config;
 }
 
-/// The simulator file (CONFIG_DIR/sim.yaml or --sim-config), its sensing set by --sensor-seed and
-/// --no-sensing.
+/// The simulator file (CONFIG_DIR/sim.yaml or --sim-config), its noise seed set by --sensor-seed.
 sim::SimConfig LoadSimConfig(const Options& o) {
   sim::SimConfig config =
       sim::SimConfig::LoadFile(o.sim_config_path.empty() ? o.common.config_dir + "/sim.yaml" : o.sim_config_path);
   if (o.sensor_seed >= 0) config.sensing.noise_seed = static_cast<std::uint64_t>(o.sensor_seed);
-  if (o.no_sensing) config.sensing.enabled = false;
   return config;
 }
 
@@ -147,8 +148,10 @@ void RunExecution(sim::PlanExecution& execution, const std::string& csv_path, Af
 int ExecutePlan(const Options& o, World& world) {
   const ContactPlan plan = LoadContactPlanFile(o.plan_path);
   world.execution.Start(plan);
-  // The depth sensors capture as the process's would (the same cost), for no one.
-  sim::SensorRig sensors(world.sim_config.sensing, world.sim_config.control_rate_hz);
+  // With --terrain perceived the depth sensors capture as the process's would (the same cost), for no one.
+  sim::SensingConfig sensing = world.sim_config.sensing;
+  if (o.terrain != "perceived") sensing.enabled = false;
+  sim::SensorRig sensors(sensing, world.sim_config.control_rate_hz);
   long clouds = 0;
   const auto start = Clock::now();
   if (o.log_csv_path.empty() && sensors.Empty()) {
@@ -187,6 +190,7 @@ int ServeWorld(const Options& o, World& world) {
   if (!o.events_path.empty()) node_options.events = sim::LoadWorldEvents(o.events_path);
   auto lcm = transport::OpenLcm(o.common.lcm_url);
   node_options.pause_while_awaiting = o.realtime_factor <= 0.0;
+  node_options.terrain = *ValueOf(o.terrain, sim::TerrainSourceNames());  // --terrain checked it
   sim::SimNode node(*lcm, world.execution, world.scenario, world.sim_config, node_options);
   node.status().set_verbose(!o.common.quiet);
   node.status().StartBackgroundHeartbeat(0.4);

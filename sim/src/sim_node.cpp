@@ -56,6 +56,24 @@ rbcp_msgs::point_cloud_t ToPointCloudMsg(const PointCloud& cloud, int64_t utime)
 
 }  // namespace
 
+const EnumNames<TerrainSource>& TerrainSourceNames() {
+  static const EnumNames<TerrainSource> names = {{TerrainSource::kGroundTruth, "ground_truth"},
+                                                 {TerrainSource::kPerceived, "perceived"}};
+  return names;
+}
+
+namespace {
+
+/// The sensing the node runs: the configured sensors when the planners plan on their map, none
+/// otherwise.
+SensingConfig SensingFor(const SimConfig& config, const SimNodeOptions& options) {
+  SensingConfig sensing = config.sensing;
+  if (options.terrain == TerrainSource::kGroundTruth) sensing.enabled = false;
+  return sensing;
+}
+
+}  // namespace
+
 SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenario, const SimConfig& config,
                  SimNodeOptions options)
     : lcm_(lcm),
@@ -64,7 +82,7 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
       config_(config),
       status_(lcm, kProcessName, channels::kStatus),
       publisher_(lcm),
-      sensors_(config.sensing, config.control_rate_hz),
+      sensors_(SensingFor(config, options), config.control_rate_hz),
       options_(std::move(options)),
       plans_in_(lcm, channels::kContactPlan),
       planner_failures_(lcm, channels::kStatus, [this](const rbcp_msgs::process_status_t& s) {
@@ -73,6 +91,9 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
       requests_(lcm, channels::kPlanRequest) {
   if (!(options_.await_timeout_s > 0.0) || !(options_.retry_hold_s >= 0.0) || options_.max_failed_waits < 1) {
     throw InputError("simulator: await_timeout_s expected > 0, retry_hold_s >= 0 and max_failed_waits >= 1");
+  }
+  if (options_.terrain == TerrainSource::kPerceived && sensors_.Empty()) {
+    throw InputError("simulator: a perceived terrain needs a depth sensor (sim.yaml sensing: enabled, and a camera enabled)");
   }
   execution_.SetAwaitPlans(options_.replan);
   execution_.StandAt(scenario_.start);
@@ -85,7 +106,8 @@ int64_t SimNode::Utime() const { return static_cast<int64_t>(std::llround(execut
 void SimNode::PublishTerrain() {
   last_terrain_wall_ = std::chrono::steady_clock::now();
   const auto msg = transport::ToTerrainMsg(execution_.CurrentWorld().terrain_mesh, Utime(), scenario_.name);
-  const std::string problem = publisher_.Publish(channels::kTerrain, msg);
+  const bool perceived = options_.terrain == TerrainSource::kPerceived;
+  const std::string problem = publisher_.Publish(perceived ? channels::kTerrainTruth : channels::kTerrain, msg);
   if (!problem.empty()) status_.Failed(Utime(), Utime(), 0.0, problem);
 }
 
@@ -97,7 +119,10 @@ void SimNode::TakePlan(const rbcp_msgs::contact_plan_t& msg) {
   if (const auto* goal = requests_taken_.Latest(); goal && msg.request_id != goal->request_id) {
     stale_why = "it answers another goal";
   }
-  if (msg.terrain_id != terrain_id_) stale_why = "it was planned on another terrain";
+  // On a perceived terrain the plan was made on a map, which the true terrain cannot judge.
+  if (options_.terrain == TerrainSource::kGroundTruth && msg.terrain_id != terrain_id_) {
+    stale_why = "it was planned on another terrain";
+  }
   if (stale_why) {
     stale_plans_ += 1;
     if (status_.verbose()) {
@@ -157,7 +182,8 @@ void SimNode::UpdateWait() {
   const bool timed_out = std::chrono::duration<double>(now - await_wall_start_).count() > options_.await_timeout_s;
   if (!failed && !timed_out) return;
   // The rest of the current plan is walked only if it was planned on the world as it is.
-  const bool go_on = execution_.CanContinue() && walked_plan_terrain_id_ == terrain_id_;
+  const bool go_on = execution_.CanContinue() &&
+                     (options_.terrain == TerrainSource::kPerceived || walked_plan_terrain_id_ == terrain_id_);
   if (status_.verbose()) {
     std::fprintf(stderr, "[%s] no new plan for the wait since utime %lld (%s): %s\n", kProcessName,
                  static_cast<long long>(*awaiting_since_), failed ? "the contact planner failed" : "timed out",
@@ -305,7 +331,7 @@ void SimNode::Tick() {
     const auto now = std::chrono::steady_clock::now();
     if (now - last_state_wall_ >= std::chrono::milliseconds(5)) {
       last_state_wall_ = now;
-      PublishState();
+      PublishClouds(PublishState());  // a capture due at this tick, once
     }
     // The terrain, due every terrain_period_s of simulated time, goes out on the wall clock meanwhile.
     if (now - last_terrain_wall_ >= std::chrono::duration<double>(config_.terrain_period_s)) PublishTerrain();

@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <thread>
 
 #include "flat_ground_plan.h"
 #include "rbcp/controller/controller_config.h"
@@ -108,12 +110,29 @@ TEST_F(SimNodeTest, PublishesTheTerrainAndTheStateAtTheControlRate) {
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::ALIVE);
 }
 
-TEST_F(SimNodeTest, PublishesPointCloudsAtTheSensingRateWithTheStatesUtimes) {
-  TickFor(0.55, [] { return false; });
+/// The simulator with the planners on a perceived terrain (the map of its sensors' clouds).
+SimNodeOptions Perceived(bool replan = false) {
+  SimNodeOptions o;
+  o.terrain = TerrainSource::kPerceived;
+  o.replan = replan;
+  return o;
+}
+
+TEST_F(SimWorld, OnAPerceivedTerrainPointCloudsGoOutAtTheSensingRateWithTheStatesUtimes) {
+  SimNode node(lcm_, execution_, scenario_, config_, Perceived());
+  node.status().set_verbose(false);
+  transport::LatestMessage<rbcp_msgs::terrain_mesh_t> truth(lcm_, channels::kTerrainTruth);
+  for (int k = 0; k < 220; ++k) {  // 0.55 s
+    node.Tick();
+    Pump();
+  }
+  EXPECT_FALSE(terrain_.Latest().has_value()) << "the planners' TERRAIN is the mapper's";
+  ASSERT_TRUE(truth.Latest().has_value()) << "the true terrain, for judging the map";
+  EXPECT_EQ(truth.Latest()->scenario_name, "flat_ground");
   ASSERT_EQ(config_.sensing.rate_hz, 10.0);
   ASSERT_TRUE(config_.sensing.front_camera.enabled && config_.sensing.rear_camera.enabled);
   ASSERT_EQ(clouds_.messages.size(), 10u) << "5 captures in 0.55 s, front and rear";
-  EXPECT_EQ(node_.PointClouds(), 10);
+  EXPECT_EQ(node.PointClouds(), 10);
   std::map<int64_t, rbcp_msgs::robot_state_t> states;
   for (const auto& s : all_states_.messages) states[s.utime] = s;
   for (std::size_t i = 0; i < clouds_.messages.size(); ++i) {
@@ -143,10 +162,9 @@ TEST_F(SimNodeTest, PublishesPointCloudsAtTheSensingRateWithTheStatesUtimes) {
   }
 }
 
-TEST_F(SimWorld, NoPointCloudsWithSensingOff) {
-  SimConfig config = config_;
-  config.sensing.enabled = false;
-  SimNode node(lcm_, execution_, scenario_, config);
+TEST_F(SimWorld, OnTheGroundTruthNoSensorRuns) {
+  ASSERT_TRUE(config_.sensing.enabled);
+  SimNode node(lcm_, execution_, scenario_, config_);
   node.status().set_verbose(false);
   for (int k = 0; k < 200; ++k) {
     node.Tick();
@@ -154,6 +172,13 @@ TEST_F(SimWorld, NoPointCloudsWithSensingOff) {
   }
   EXPECT_EQ(all_states_.messages.size(), 200u);
   EXPECT_TRUE(clouds_.messages.empty());
+  EXPECT_TRUE(terrain_.Latest().has_value());
+}
+
+TEST_F(SimWorld, APerceivedTerrainNeedsASensor) {
+  SimConfig config = config_;
+  config.sensing.enabled = false;
+  EXPECT_THROW(SimNode(lcm_, execution_, scenario_, config, Perceived()), InputError);
 }
 
 TEST_F(SimNodeTest, WalksAPlanAndReportsTheVerdict) {
@@ -277,24 +302,32 @@ class ReplanningSimNodeTest : public SimWorld {
   int64_t handled_ = 0;
 };
 
-TEST_F(ReplanningSimNodeTest, NoPointCloudsWhileTheWorldStandsStill) {
-  auto state = Tick();
-  ASSERT_TRUE(replanning_.Paused());
-  for (int k = 0; k < 100; ++k) state = Tick();
-  EXPECT_TRUE(clouds_.messages.empty()) << "the robot waits for its first plan: no physics, no capture";
+TEST_F(SimWorld, WhileTheWorldStandsStillTheStanceOfTheWaitIsCapturedOnce) {
+  SimNode node(lcm_, execution_, scenario_, config_, Perceived(/*replan=*/true));
+  node.status().set_verbose(false);
+  const auto tick = [&] {
+    node.Tick();
+    Pump();
+    // A paused world publishes its state every 5 ms of wall time.
+    std::this_thread::sleep_for(std::chrono::microseconds(node.Paused() ? 5500 : 0));
+  };
+  for (int k = 0; k < 20; ++k) tick();
+  ASSERT_TRUE(node.Paused());
+  ASSERT_EQ(clouds_.messages.size(), 2u) << "the robot waits for its first plan: its stance, captured once";
+  EXPECT_EQ(clouds_.messages.front().utime, 0);
 
   ContactPlan piece = rbcp::test::BuildFlatGroundPlan(robot_, 2, 0.08);
   piece.reaches_goal = false;
-  const auto plan = transport::ToContactPlanMsg(piece, state.state.utime, 7, WorldTerrainId(), 1, state.state.utime);
+  const int64_t start = states_.Latest()->utime;
+  const auto plan = transport::ToContactPlanMsg(piece, start, 7, 12345, 1, start);
   lcm_.publish(channels::kContactPlan, &plan);
   Pump();
-  Tick();
-  TickUntilWaiting(20.0);
-  ASSERT_TRUE(replanning_.Paused()) << "the robot waits after its first step";
+  for (int k = 0; k < 8000 && (k == 0 || !node.Paused()); ++k) tick();
+  ASSERT_TRUE(node.Paused()) << "the robot waits after its first step (a plan on a map: any terrain id)";
   const int64_t boundary = states_.Latest()->utime;
   const std::size_t walking = clouds_.messages.size();
-  EXPECT_EQ(walking, 2u * static_cast<std::size_t>(boundary / 100000)) << "two sensors every 0.1 s while walking";
-  for (int k = 0; k < 100; ++k) Tick();
+  EXPECT_EQ(walking, 2u * static_cast<std::size_t>(boundary / 100000 + 1)) << "two sensors every 0.1 s";
+  for (int k = 0; k < 20; ++k) tick();
   EXPECT_EQ(states_.Latest()->utime, boundary);
   EXPECT_EQ(clouds_.messages.size(), walking) << "nothing new while the world stands still";
 }

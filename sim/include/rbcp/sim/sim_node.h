@@ -18,10 +18,13 @@
 /// pause_while_awaiting (runs faster than real time) the world stands still during the wait, so a
 /// run does not depend on how fast the planners answer.
 ///
-/// Depth sensors (SimConfig::sensing, depth_sensor.h): when enabled, every 1/rate_hz of simulated
-/// time each enabled sensor captures at that control tick, from the state that tick's ROBOT_STATE
-/// carries, and POINT_CLOUD goes out right after it with the same utime. While the world stands
-/// still (Paused) nothing is captured.
+/// What the planners plan on (SimNodeOptions::terrain). Ground truth: the true terrain goes out on
+/// TERRAIN and no sensor runs. Perceived: the depth sensors (SimConfig::sensing, depth_sensor.h)
+/// capture every 1/rate_hz of simulated time at a control tick, from the state that tick's
+/// ROBOT_STATE carries, and POINT_CLOUD goes out right after it with the same utime (terrain_mapper
+/// maps them onto TERRAIN); the true terrain goes out on TERRAIN_TRUTH, and plans are not judged
+/// stale by the true terrain they cannot know. While the world stands still (Paused) the state of
+/// the wait is captured once, when a capture is due then (the robot's first stance, at 0 s).
 ///
 /// The world changes at the events' simulated times (SimNodeOptions::events): a box added or
 /// removed is in the physics, the judge's and the controller's terrain at once and TERRAIN goes
@@ -58,7 +61,16 @@ namespace rbcp::sim {
 /// or "fall at 12.30 s, step 7 (LF): LF_THIGH touches the terrain".
 std::string OutcomeSummary(const ExecutionOutcome& outcome);
 
+/// What the planners plan on.
+enum class TerrainSource {
+  kGroundTruth,  ///< the simulator's true terrain, on TERRAIN
+  kPerceived,    ///< the map terrain_mapper makes of the depth sensors' POINT_CLOUD
+};
+/// "ground_truth", "perceived".
+const EnumNames<TerrainSource>& TerrainSourceNames();
+
 struct SimNodeOptions {
+  TerrainSource terrain = TerrainSource::kGroundTruth;
   bool replan = false;               ///< wait at every step boundary for a plan from that stance
   bool pause_while_awaiting = true;  ///< replan: the world stands still while the robot waits
   double await_timeout_s = 15.0;     ///< [s, wall clock] replan: longest wait for an answer
