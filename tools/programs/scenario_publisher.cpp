@@ -61,6 +61,8 @@ constexpr int kOk = 0, kPlanningFailed = 1, kNoAnswer = 3;
 bool AnswersGoal(const rbcp_msgs::root_path_t& path, const rbcp_msgs::plan_request_t& request) {
   constexpr double kGoalTolerance_m = 0.01;  // the root planner ends its paths at the goal's xy
   if (path.points.empty()) return false;
+  // A path towards a goal the map does not show yet (a mapped terrain) ends short of it.
+  if (!path.reaches_goal) return true;
   const auto& end = path.points.back().position;
   return std::hypot(end[0] - request.goal_position[0], end[1] - request.goal_position[1]) <= kGoalTolerance_m;
 }
@@ -254,8 +256,8 @@ class LoopFollower {
   }
 
   /// A contact planner's failure costs a replan, and so does a root planner's (its new path from
-  /// where the robot stands: the robot goes on along the previous one); another process's ends
-  /// the run.
+  /// where the robot stands: the robot goes on along the previous one); a cloud the terrain
+  /// mapper rejects is one cloud less; another process's failure ends the run.
   std::optional<int> TakeFailures() {
     while (auto f = board_.TakeFailure()) {
       if (f->process == "contact_planner") {
@@ -266,6 +268,10 @@ class LoopFollower {
       if (f->process == "root_planner") {
         planner_failures_ += 1;
         std::cout << "root_planner: no new root path from where the robot stands: " << f->reason << std::endl;
+        continue;
+      }
+      if (f->process == "terrain_mapper") {  // one cloud lost: the map goes on with the next
+        std::cout << "terrain_mapper: " << f->reason << std::endl;
         continue;
       }
       std::cout << f->process << ": FAILED: " << f->reason << std::endl;

@@ -127,7 +127,13 @@ std::optional<RejectedInput> ContactPlannerNode::TakeInputs() {
   if (auto e = world_.Take(&clock_)) return e;
   if (world_.TakeChanged()) {
     world_set_ = false;
-    DropPlanAhead();
+    // On a growing map the plan made ahead is made on the map it started on, and checked on the
+    // map of the wait (Replan).
+    if (options_.partial_map) {
+      FinishPlanAhead();
+    } else {
+      DropPlanAhead();
+    }
     if (world_.Ready()) {
       const TriangleMesh& mesh = *world_.terrain();
       terrain_min_xy_ = terrain_max_xy_ = mesh.vertices.front().head<2>();
@@ -214,12 +220,16 @@ bool ContactPlannerNode::PendingPathFitsTheWorld() const {
   return pending_ && world_set_ && pending_->terrain_id == world_.terrain_id();
 }
 
-bool ContactPlannerNode::IsRepeat(const rbcp_msgs::root_path_t& msg, const std::vector<RootPathSample>& samples) const {
+bool ContactPlannerNode::SamePath(const rbcp_msgs::root_path_t& msg, const std::vector<RootPathSample>& samples) const {
   const auto same_sample = [](const RootPathSample& a, const RootPathSample& b) {
     return a.t == b.t && a.p == b.p && a.v == b.v && a.yaw == b.yaw;
   };
-  return msg.request_id == path_request_id_ && msg.terrain_id == path_terrain_id_ && samples.size() == path_.size() &&
+  return msg.request_id == path_request_id_ && samples.size() == path_.size() &&
          std::equal(samples.begin(), samples.end(), path_.begin(), same_sample);
+}
+
+bool ContactPlannerNode::IsRepeat(const rbcp_msgs::root_path_t& msg, const std::vector<RootPathSample>& samples) const {
+  return msg.terrain_id == path_terrain_id_ && SamePath(msg, samples);
 }
 
 void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
@@ -233,6 +243,13 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   // older path of the same goal, come late (the network reordered it), is superseded.
   if (!path_.empty() && msg.request_id == path_request_id_ && msg.utime < path_utime_) return;
   logged_stale_ = false;
+  if (SamePath(msg, samples)) {
+    // The same path on a new map (a mapped terrain that grew): the walk along it goes on.
+    path_terrain_id_ = msg.terrain_id;
+    path_reaches_goal_ = msg.reaches_goal;
+    path_utime_ = msg.utime;
+    return;
+  }
   path_ = std::move(samples);
   path_request_id_ = msg.request_id;
   path_terrain_id_ = msg.terrain_id;
@@ -283,6 +300,7 @@ std::string PlanAheadMissed::Describe() const {
     case Kind::kOtherPlan: return "the robot walks another plan than the one planned ahead";
     case Kind::kStanceDeviates: return deviation ? deviation->Describe() : "the robot stands elsewhere";
     case Kind::kFailed: return "the plan made ahead failed";
+    case Kind::kMapChanged: return "the plan made ahead does not hold on the map of this wait";
   }
   return "the plan made ahead is not taken";
 }
@@ -361,6 +379,18 @@ std::optional<PlanAheadMissed> ContactPlannerNode::WhyNotPlannedAhead(
   return std::nullopt;
 }
 
+bool ContactPlannerNode::HoldsOnThisMap(PlanMadeAhead& ahead) {
+  ContactPlanResult here = planner_.OnThisTerrain(ahead.result.plan, options_.map_foothold_offset_m);
+  if (verbose_) {
+    std::fprintf(stderr, "[%s] the map changed since the plan made ahead: it %s (%.3f s)\n", kProcessName,
+                 here.ok ? "holds on this one" : ("does not hold: " + here.reason).c_str(), here.planning_time_s);
+  }
+  if (!here.ok) return false;
+  here.reached_goal = ahead.result.reached_goal;
+  ahead.result = std::move(here);
+  return true;
+}
+
 bool ContactPlannerNode::HoldsWithOneFootOff(PlanMadeAhead& ahead, const PlanAheadMissed& missed,
                                              const WholeBodyState& stance,
                                              const rbcp_msgs::controller_status_t& controller) {
@@ -424,6 +454,9 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   FinishPlanAhead();
   std::optional<PlanMadeAhead> ahead = std::exchange(plan_made_ahead_, std::nullopt);
   std::optional<PlanAheadMissed> missed = WhyNotPlannedAhead(ahead, stance, controller);
+  if (!missed && plan_ahead_terrain_id_ != world_.terrain_id() && !HoldsOnThisMap(*ahead)) {
+    missed = PlanAheadMissed{PlanAheadMissed::Kind::kMapChanged, std::nullopt};
+  }
   if (missed && HoldsWithOneFootOff(*ahead, *missed, stance, controller)) missed.reset();
   if (!missed) {
     path_progress_ = ahead->progress;
@@ -516,6 +549,7 @@ bool ContactPlannerNode::SearchWorkerBusy() const {
 
 void ContactPlannerNode::PlanAhead(int steps_committed) {
   if (!options_.plan_ahead || !last_plan_ || last_plan_->states.size() < 2) return;
+  plan_ahead_terrain_id_ = world_.terrain_id();
   if (last_plan_->reaches_goal && last_plan_->states.size() == 2) return;  // the last step: nothing after it
   SearchAhead search;
   search.next.after_plan_seq = plan_seq_;

@@ -158,6 +158,44 @@ bool RootPlannerNode::StandsAtStart(const rbcp_msgs::plan_request_t& request) co
   return off && *off <= options_.replan_path_offset_m;
 }
 
+bool RootPlannerNode::KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state) {
+  if (!last_result_ || !last_result_->ok() || !published_ || !active_) return false;
+  const auto& samples = last_result_->samples;
+  const Eigen::Vector2d base(state.base_position[0], state.base_position[1]);
+  if (!base.allFinite() || samples.empty()) return false;
+  std::size_t nearest = 0;
+  for (std::size_t i = 1; i < samples.size(); ++i) {
+    if ((samples[i].p.head<2>() - base).norm() < (samples[nearest].p.head<2>() - base).norm()) nearest = i;
+  }
+  try {
+    const TriangleMesh& terrain = *world_.terrain();
+    const std::vector<AffordanceSurface>& surfaces = *world_.surfaces();
+    if (!last_reaches_goal_) {
+      // A path short of the goal is planned again when the map shows a way much nearer it.
+      const Eigen::Vector2d goal(active_->goal_position[0], active_->goal_position[1]);
+      const std::vector<Eigen::Vector3d> goals =
+          planner_.GoalsToward(terrain, surfaces, base, goal, active_->goal_yaw, options_.partial_goal_spacing_m,
+                               options_.partial_min_progress_m, options_.partial_goal_ahead_m);
+      const double now_left = (samples.back().p.head<2>() - goal).norm();
+      if (!goals.empty() && now_left - (goals.front().head<2>() - goal).norm() >= options_.partial_replan_gain_m) {
+        return false;
+      }
+    }
+    // The rest of the path must hold on the new map.
+    ReachabilityChecker checker = planner_.MakeChecker(terrain, surfaces);
+    for (std::size_t i = nearest; i < samples.size(); ++i) {
+      if (!checker.IsValid(samples[i].p, samples[i].yaw)) return false;
+    }
+  } catch (const InputError&) {
+    return false;
+  }
+  // The same path, now the path on this map.
+  published_->terrain_id = world_.terrain_id();
+  published_->utime = Now();
+  lcm_.publish(options_.root_path_channel, &*published_);
+  return true;
+}
+
 std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {
   if (!active_) return std::nullopt;
   // On a growing map a request without a path is planned again on the next map.
@@ -190,6 +228,9 @@ std::optional<std::string> RootPlannerNode::ReplanReason(bool world_changed) {
   if (terrain_replan_due_) {
     terrain_replan_due_ = false;
     checked_wait_ = controller.awaiting_since;
+    // A map that grew: the path the robot follows goes on while it holds on the new map and the
+    // map shows no way much nearer the goal.
+    if (options_.partial_map && KeepPathOnNewMap(state)) return std::nullopt;
     return "the terrain changed";
   }
   if (checked_wait_ == controller.awaiting_since || !last_result_ || !last_result_->ok()) return std::nullopt;
@@ -213,8 +254,17 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
       last_result_.reset();
       published_.reset();
     }
-    // On a growing map the request stays active: the next map may show the way.
-    if (options_.partial_map) active_ = request;
+    // On a growing map the request stays active: the next map may show the way. A path kept is
+    // sent again as the path on this map, so that the contact planner plans along it on the map
+    // of this wait.
+    if (options_.partial_map) {
+      active_ = request;
+      if (keep) {
+        published_->terrain_id = world_.terrain_id();
+        published_->utime = Now();
+        lcm_.publish(options_.root_path_channel, &*published_);
+      }
+    }
     status_.Failed(Now(), request.utime, ms, reason + (keep ? " (the robot goes on along the previous path)" : ""));
   };
   terrain_replan_due_ = false;  // planned on the terrain as it is now

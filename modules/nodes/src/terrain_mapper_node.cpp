@@ -138,6 +138,7 @@ void TerrainMapperNode::Restart() {
   newest_cloud_utime_ = published_utime_ = -1;
   next_publish_utime_ = 0;
   dirty_ = false;
+  footprint_done_ = false;
 }
 
 void TerrainMapperNode::TakeState(const rbcp_msgs::robot_state_t& msg) {
@@ -245,12 +246,22 @@ void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg, const Rob
   }
   map_.Recenter(state.base_position_W.head<2>());
   const mapping::IntegrateReport report = map_.Integrate(cloud);
-  // The stance feet measure the terrain under the trunk, where no sensor looks.
+  // The stance feet measure the terrain under the trunk, where no sensor looks; a new map starts
+  // with the plane through them there (the robot stands on it).
   const auto feet_B = robot_.FootPositions(state.q);
+  std::vector<Eigen::Vector3d> stance;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     if (state.foot_contact[static_cast<std::size_t>(leg)]) {
-      map_.IntegrateContact(base_W * feet_B[static_cast<std::size_t>(leg)], options_.contact_variance_m2);
+      stance.push_back(base_W * feet_B[static_cast<std::size_t>(leg)]);
+      map_.IntegrateContact(stance.back(), options_.contact_variance_m2);
     }
+  }
+  if (!footprint_done_) {
+    // The robot starts standing on its four feet (it may be dropped the last millimetres).
+    std::vector<Eigen::Vector3d> feet;
+    for (const Eigen::Vector3d& f : feet_B) feet.push_back(base_W * f);
+    map_.InitializeFootprint(feet, options_.footprint_margin_m, options_.footprint_variance_m2);
+    footprint_done_ = true;
   }
   clouds_fused_ += 1;
   newest_cloud_utime_ = std::max(newest_cloud_utime_, msg.utime);
@@ -278,6 +289,7 @@ void TerrainMapperNode::Publish(int64_t utime, double compute_ms) {
   const rbcp_msgs::elevation_map_t em = ToElevationMapMsg(grid, utime, terrain.terrain_id, clouds_fused_);
   std::string problem = publisher_.Publish(channels_.terrain, terrain);
   if (problem.empty()) problem = publisher_.Publish(channels_.elevation_map, em);
+  last_terrain_ = terrain;
   const double ms =
       compute_ms + std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   integrate_ms_ = 0.0;
@@ -307,7 +319,7 @@ bool TerrainMapperNode::Step() {
     const int64_t wait = *wait_to_publish_;
     wait_to_publish_.reset();
     last_wait_published_ = wait;
-    if (published_utime_ != wait) {
+    if (published_utime_ != wait || dirty_) {
       Publish(wait, integrate_ms_);
       worked = true;
     }
@@ -315,6 +327,11 @@ bool TerrainMapperNode::Step() {
   return worked;
 }
 
-void TerrainMapperNode::Heartbeat() { status_.Heartbeat(std::max<int64_t>(newest_cloud_utime_, 0)); }
+void TerrainMapperNode::Heartbeat() {
+  status_.Heartbeat(std::max<int64_t>(newest_cloud_utime_, 0));
+  // The latest map again, unchanged, for a process that started after it went out (while the
+  // world stands still no new one comes).
+  if (last_terrain_) publisher_.Publish(channels_.terrain, *last_terrain_);
+}
 
 }  // namespace rbcp::nodes

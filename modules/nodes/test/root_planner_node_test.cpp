@@ -657,6 +657,71 @@ TEST(RootPlannerNodePartialMap, PlansTowardsAGoalTheMapDoesNotShowThenToItOnceIt
   EXPECT_NEAR(path->points.back().position[0], 3.0, 1e-9);
 }
 
+TEST(RootPlannerNodePartialMap, APathThatHoldsOnANewMapGoesOnAsThePathOnIt) {
+  lcm::LCM lcm("memq://");
+  const RobotModel robot = RobotModel::LoadDefault(kConfig);
+  RootPlannerNodeOptions options;
+  options.partial_map = true;
+  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
+  node.status().set_verbose(false);
+  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
+  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
+  const auto pump = [&] {
+    while (lcm.handleTimeout(0) > 0) {
+    }
+  };
+  test::PublishWorld(lcm, FloorTo(3.5), kConfig, 100);
+  rbcp_msgs::plan_request_t request{};
+  request.utime = 200;
+  request.request_id = 8;
+  request.use_start = true;
+  request.goal_position[0] = 2.5;
+  request.time_budget = 5.0;
+  request.seed = 3;
+  lcm.publish(channels::kPlanRequest, &request);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  const auto first = paths.Take();
+  ASSERT_TRUE(first.has_value()) << status.Latest()->reason;
+  ASSERT_TRUE(first->reaches_goal);
+
+  // The robot waits on the path; the map grew a little: the same path, as the path on this map.
+  const auto wait_at = [&](int64_t utime, double x) {
+    rbcp_msgs::controller_status_t controller{};
+    rbcp_msgs::robot_state_t state{};
+    controller.utime = state.utime = controller.awaiting_since = utime;
+    controller.awaiting_plan = true;
+    state.base_position[0] = x;
+    state.base_position[2] = 0.45;
+    state.base_orientation[0] = 1.0;
+    lcm.publish(channels::kControllerStatus, &controller);
+    lcm.publish(channels::kRobotState, &state);
+  };
+  wait_at(1000000, 0.3);
+  test::PublishWorld(lcm, FloorTo(3.7), kConfig, 1000000);
+  pump();
+  node.Step();
+  pump();
+  const auto kept = paths.Take();
+  ASSERT_TRUE(kept.has_value());
+  EXPECT_NE(kept->terrain_id, first->terrain_id) << "the path on the new map";
+  ASSERT_EQ(kept->num_points, first->num_points) << "the same path";
+  for (int i = 0; i < kept->num_points; ++i) EXPECT_EQ(kept->points[i].position[0], first->points[i].position[0]);
+
+  // The next map shows the floor ending before the goal: a new path, towards it.
+  wait_at(2000000, 0.6);
+  test::PublishWorld(lcm, FloorTo(1.8), kConfig, 2000000);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  const auto replanned = paths.Take();
+  ASSERT_TRUE(replanned.has_value()) << status.Latest()->reason;
+  EXPECT_FALSE(replanned->reaches_goal);
+  EXPECT_NEAR(replanned->points.front().position[0], 0.6, 1e-9);
+  EXPECT_LE(replanned->points.back().position[0], 1.8 - 0.5 + 1e-9);
+}
+
 TEST(RootPlannerNodePartialMap, ARequestTheMapShowsNoWayForIsPlannedAgainOnTheNextMap) {
   lcm::LCM lcm("memq://");
   const RobotModel robot = RobotModel::LoadDefault(kConfig);

@@ -86,6 +86,10 @@ struct ContactPlannerNodeOptions {
   /// time or later (utime >= awaiting_since), never on an older map, so that the plan depends on
   /// the clouds up to the wait and not on when the map arrived.
   bool partial_map = false;
+  /// partial_map: a plan made ahead on an earlier map is taken on the map of the wait when it
+  /// holds there (ContactPlanner::OnThisTerrain: every foothold within this of a contact surface,
+  /// every state valid) [m]
+  double map_foothold_offset_m = 0.02;
   /// Horizon mode, plan_ahead: the earlier search goes on instead of a new plan whose K steps get
   /// the trunk less far, while it holds horizon_steps + reuse_margin_steps steps after the next
   /// one (or reaches the goal).
@@ -139,6 +143,7 @@ struct PlanAheadMissed {
     kOtherPlan,      ///< the robot walks another plan than the one planned ahead from
     kStanceDeviates, ///< the robot does not stand where the plan made ahead starts (deviation)
     kFailed,         ///< the plan made ahead failed
+    kMapChanged,     ///< made on an earlier map, it does not hold on the map of the wait
   };
   Kind kind = Kind::kNone;
   std::optional<StanceDeviation> deviation;  ///< kStanceDeviates
@@ -195,6 +200,9 @@ class ContactPlannerNode {
     std::optional<ContactPlanResult> result;
     std::string error;
   };
+  /// partial_map: whether the plan made ahead, searched on an earlier map, holds on this one
+  /// (ContactPlanner::OnThisTerrain); if so `ahead` takes that plan.
+  bool HoldsOnThisMap(PlanMadeAhead& ahead);
 
   /// Takes new terrain / surfaces / path; returns why an input was rejected, if one was.
   std::optional<RejectedInput> TakeInputs();
@@ -202,6 +210,8 @@ class ContactPlannerNode {
   /// A path is waiting and was planned on the terrain the planner holds.
   bool PendingPathFitsTheWorld() const;
   /// The path taken last, again: same request, terrain and samples.
+  /// The path being followed, for the same request (on whichever terrain).
+  bool SamePath(const rbcp_msgs::root_path_t& msg, const std::vector<RootPathSample>& samples) const;
   bool IsRepeat(const rbcp_msgs::root_path_t& msg, const std::vector<RootPathSample>& samples) const;
   /// Horizon mode: keeps a new path as the one to follow.
   void TakePath(const rbcp_msgs::root_path_t& msg);
@@ -300,6 +310,7 @@ class ContactPlannerNode {
   std::chrono::steady_clock::time_point answer_wall_;
   std::optional<ContactPlan> last_plan_;
   std::optional<PlanMadeAhead> plan_made_ahead_;
+  int64_t plan_ahead_terrain_id_ = 0;  ///< the terrain the plan made ahead is searched on
   std::optional<SearchAhead> search_ahead_;
   std::future<SearchAheadAnswer> search_worker_;  ///< declared after ahead_planner_, which it uses
   ContactPlan searched_;  ///< the whole last plan searched or continued (K steps and the look-ahead)

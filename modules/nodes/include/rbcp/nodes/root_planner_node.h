@@ -43,13 +43,19 @@ struct RootPlannerNodeOptions {
   /// The terrain is a map that grows as the robot walks (terrain_mapper; `--terrain perceived`):
   /// a goal the map does not show yet is planned toward, to the standing position nearest it on
   /// the known terrain (RootPlanner::GoalsToward; the path says it does not reach the goal), and
-  /// every new map is planned on again while the robot waits at a step boundary, also after a
-  /// request found no path on the map before.
+  /// a new map is planned on again while the robot waits at a step boundary (also after a request
+  /// found no path on the map before) unless the path the robot follows holds on it
+  /// (KeepPathOnNewMap). A path kept, or kept by a replan that fails, is sent again as the path
+  /// on the new map. The wait's map is the one of its time
+  /// or later (TERRAIN utime >= awaiting_since).
   bool partial_map = false;
   double partial_goal_spacing_m = 0.1;  ///< partial_map: candidate goals along the way this far apart [m]
   double partial_min_progress_m = 0.3;  ///< partial_map: a candidate goal at least this much nearer the goal [m]
   double partial_goal_ahead_m = 0.5;    ///< partial_map: a candidate goal has known terrain this far beyond it [m]
   int partial_goal_tries = 4;           ///< partial_map: candidate goals planned to before the request fails
+  /// partial_map: a path short of the goal is planned again on a new map when the map shows a
+  /// standing position this much nearer the goal than the path's end [m]
+  double partial_replan_gain_m = 0.5;
 };
 
 class RootPlannerNode {
@@ -103,6 +109,11 @@ class RootPlannerNode {
   bool StandsAtStart(const rbcp_msgs::plan_request_t& request) const;
   /// Why the current request needs a new path; nullopt when it does not.
   std::optional<std::string> ReplanReason(bool world_changed);
+  /// partial_map, at a wait on a new map: whether the path the robot follows goes on (the rest
+  /// of it satisfies the reachability condition on the new map, and it reaches the goal or the
+  /// map shows no way partial_replan_gain_m nearer the goal); if so it is sent again as the path
+  /// on this map.
+  bool KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state);
   int64_t Now() const;
 
   lcm::LCM& lcm_;

@@ -9,7 +9,9 @@
 /// than max_cloud_lead_s ahead of the newest state, or older than every state kept, is rejected
 /// with the reason on STATUS, as is a malformed one (counts that disagree, a mount that is not a
 /// rigid pose, more points than the map takes). The stance feet of that state (forward kinematics
-/// of the measured joints) mark the terrain under them too: the sensors do not see under the trunk.
+/// of the measured joints) mark the terrain under them too, and a new map starts with the plane
+/// through the four feet under the trunk (the robot starts standing on them): the sensors do not
+/// see under the trunk.
 ///
 /// The map goes out when its clouds' time reaches the next multiple of publish_period_s, and when
 /// the robot starts waiting at a step boundary (CONTROLLER_STATUS awaiting_since) once every cloud
@@ -36,6 +38,7 @@
 #include "rbcp_msgs/elevation_map_t.hpp"
 #include "rbcp_msgs/point_cloud_t.hpp"
 #include "rbcp_msgs/robot_state_t.hpp"
+#include "rbcp_msgs/terrain_mesh_t.hpp"
 
 namespace rbcp::nodes {
 
@@ -53,6 +56,8 @@ struct TerrainMapperNodeOptions {
   double max_cloud_lead_s = 0.5;   ///< [s, simulated] a cloud this far ahead of the newest state is rejected
   double state_history_s = 2.0;    ///< [s, simulated] states kept to place clouds
   double contact_variance_m2 = 1e-4;  ///< a stance foot's height measurement [m^2]
+  double footprint_variance_m2 = 4e-4;  ///< the terrain under the trunk at a map's start (TerrainMap::InitializeFootprint) [m^2]
+  double footprint_margin_m = 0.15;     ///< ... and around the feet, this far [m]
   std::size_t max_pending_clouds = 16;  ///< clouds waiting for their state; the oldest goes beyond
 };
 
@@ -78,6 +83,8 @@ class TerrainMapperNode {
   /// Integrates every cloud whose state is known, rejects what cannot be placed and publishes
   /// the map when due. Returns true if a message was handled.
   bool Step();
+  /// Republishes STATUS, and the latest TERRAIN unchanged (for a process that started after it
+  /// went out: while the robot waits, the world stands still and no new map comes).
   void Heartbeat();
 
   const mapping::TerrainMap& map() const { return map_; }
@@ -106,6 +113,7 @@ class TerrainMapperNode {
   transport::MessagePublisher publisher_;
   transport::StatusReporter status_;
   mapping::TerrainMap map_;
+  std::optional<rbcp_msgs::terrain_mesh_t> last_terrain_;  ///< the latest map sent
   std::map<int64_t, RobotState> states_;            ///< by utime, the last state_history_s
   std::deque<rbcp_msgs::point_cloud_t> pending_;    ///< clouds waiting for their state, capture order
   std::optional<int64_t> wait_to_publish_;          ///< a step boundary's wait whose map is owed
@@ -118,6 +126,7 @@ class TerrainMapperNode {
   int64_t maps_published_ = 0;
   double integrate_ms_ = 0.0;  ///< wall time integrating since the last map
   bool dirty_ = false;         ///< clouds integrated since the last map
+  bool footprint_done_ = false;  ///< this map started with the terrain under the trunk
   transport::EveryMessage<rbcp_msgs::robot_state_t> state_in_;
   transport::EveryMessage<rbcp_msgs::point_cloud_t> cloud_in_;
   transport::LatestMessage<rbcp_msgs::controller_status_t> controller_in_;
