@@ -97,6 +97,8 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
   }
   execution_.SetAwaitPlans(options_.replan);
   execution_.StandAt(scenario_.start);
+  // On a perceived terrain the robot looks around, standing, before it waits for its first plan.
+  if (options_.terrain == TerrainSource::kPerceived) hold_until_s_ = config_.sensing.look_before_walking_s;
   element_names_.assign(execution_.CurrentWorld().terrain.size(), "");
   terrain_id_ = transport::TerrainId(execution_.CurrentWorld().terrain_mesh);
 }

@@ -76,19 +76,25 @@ struct SensingConfig {
   double rate_hz = 10.0;
   double range_noise_m = 0.01;
   std::uint64_t noise_seed = 1;
+  double look_before_walking_s = 1.0;
   DepthSensorConfig front_camera = DepthSensorConfig::Front();
   DepthSensorConfig rear_camera = DepthSensorConfig::Rear();
 
   template <class Visitor>
   void Serialize(Visitor* v) {
     v->Visit("enabled", &enabled,
-             "the simulator captures and publishes POINT_CLOUD (off: no sensor runs, nothing else changes)");
+             "the robot carries the depth sensors: with a perceived terrain (anymal_sim --terrain perceived) they "
+             "capture and POINT_CLOUD goes out");
     v->Visit("rate_hz", &rate_hz, "Hz", bounds::Positive(),
              "captures per second of simulated time, per sensor (must divide control_rate_hz)");
     v->Visit("range_noise_m", &range_noise_m, "m", bounds::Closed(0.0, 1.0),
              "1-sigma Gaussian range noise along each ray");
     v->Visit("noise_seed", &noise_seed, "", bounds::NonNegative(),
              "seeds the range noise: the same seed gives the same clouds (anymal_sim --sensor-seed)");
+    v->Visit("look_before_walking_s", &look_before_walking_s, "s", bounds::Closed(0.0, 10.0),
+             "on a perceived terrain the robot stands this long of simulated time, its sensors capturing, before "
+             "it waits for its first plan (a robot looks around before it walks; the world stands still while it "
+             "waits)");
     v->Visit("front_camera", &front_camera, "the front depth camera: on the trunk's front end, looking ahead and down");
     v->Visit("rear_camera", &rear_camera, "the rear depth camera: the front one mirrored, looking behind and down");
   }
