@@ -302,8 +302,23 @@ class ReplanningSimNodeTest : public SimWorld {
   int64_t handled_ = 0;
 };
 
-TEST_F(SimWorld, WhileTheWorldStandsStillTheStanceOfTheWaitIsCapturedOnce) {
+TEST_F(SimWorld, ARobotOnAPerceivedTerrainLooksAroundBeforeItsFirstWait) {
+  ASSERT_EQ(config_.sensing.look_before_walking_s, 1.0);
   SimNode node(lcm_, execution_, scenario_, config_, Perceived(/*replan=*/true));
+  node.status().set_verbose(false);
+  for (int k = 0; k < 1000 && !node.Paused(); ++k) {
+    node.Tick();
+    Pump();
+  }
+  ASSERT_TRUE(node.Paused());
+  EXPECT_EQ(states_.Latest()->utime, 1000000) << "it waits once it has looked for a second";
+  EXPECT_EQ(clouds_.messages.size(), 2u * 10u) << "two cameras at 0.1, 0.2, ..., 1.0 s";
+}
+
+TEST_F(SimWorld, WhileTheWorldStandsStillTheStanceOfTheWaitIsCapturedOnce) {
+  SimConfig config = config_;
+  config.sensing.look_before_walking_s = 0.0;  // it waits at once
+  SimNode node(lcm_, execution_, scenario_, config, Perceived(/*replan=*/true));
   node.status().set_verbose(false);
   const auto tick = [&] {
     node.Tick();
