@@ -195,9 +195,7 @@ namespace {
 constexpr int kFillPasses = 2;
 
 /// Snaps the regions of `heights` (an n x n grid, NaN unknown) that are planes within the noise
-/// onto their least-squares planes. Regions grow over 8-neighbours (far from the sensor the
-/// returns of one surface may touch only at corners) whose heights differ by at most
-/// plane_step_m, seeded in cell order (deterministic).
+/// onto their least-squares planes, seeded in cell order (deterministic) at flat patches.
 void SnapPlanes(std::vector<float>& heights, int n, const ElevationMapConfig& config) {
   if (config.plane_step_m <= 0.0) return;
   struct Plane {
@@ -207,19 +205,44 @@ void SnapPlanes(std::vector<float>& heights, int n, const ElevationMapConfig& co
   std::vector<Plane> planes;
   std::vector<int> plane_of;  ///< per region: its plane in `planes`, or -1
   const auto flat = [n](int ix, int iy) { return static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix); };
+  const double step = config.plane_step_m;
+  // A seed is a cell in the middle of a flat patch: its 8 neighbours known and within half a step.
+  const auto flat_patch = [&](int cx, int cy) {
+    const float h = heights[flat(cx, cy)];
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int jx = cx + dx, jy = cy + dy;
+        if (jx < 0 || jy < 0 || jx >= n || jy >= n) return false;
+        const float hn = heights[flat(jx, jy)];
+        if (std::isnan(hn) || std::abs(hn - h) > 0.5 * step) return false;
+      }
+    }
+    return true;
+  };
   std::vector<int> region(heights.size(), -1);
   std::vector<int> cells;
-  std::vector<int> queue;
   int next = 0;
   for (std::size_t seed = 0; seed < heights.size(); ++seed) {
-    if (region[seed] >= 0 || std::isnan(heights[seed])) continue;
-    cells.clear();
-    queue.assign(1, static_cast<int>(seed));
+    const int sx = static_cast<int>(seed % static_cast<std::size_t>(n)), sy = static_cast<int>(seed / static_cast<std::size_t>(n));
+    if (region[seed] >= 0 || std::isnan(heights[seed]) || !flat_patch(sx, sy)) continue;
+    // Grow over 8-neighbours (far from the sensor the returns of one surface may touch only at
+    // corners) that step at most `step` from the cell they join from and lie within `step` of the
+    // region's plane so far (refitted as the region doubles), so that blocks of nearly the same
+    // height, side by side, stay apart.
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atz = Eigen::Vector3d::Zero();
+    Eigen::Vector3d fit(0.0, 0.0, heights[seed]);  // z = a (ix - sx) + b (iy - sy) + c
+    std::size_t refit_at = 8;
+    const auto add = [&](int c) {
+      const Eigen::Vector3d row((c % n) - sx, (c / n) - sy, 1.0);
+      ata += row * row.transpose();
+      atz += row * static_cast<double>(heights[static_cast<std::size_t>(c)]);
+    };
+    cells.assign(1, static_cast<int>(seed));
     region[seed] = next;
-    while (!queue.empty()) {
-      const int c = queue.back();
-      queue.pop_back();
-      cells.push_back(c);
+    add(static_cast<int>(seed));
+    for (std::size_t head = 0; head < cells.size(); ++head) {
+      const int c = cells[head];
       const int cx = c % n, cy = c / n;
       const int nx[8] = {cx - 1, cx + 1, cx, cx, cx - 1, cx + 1, cx - 1, cx + 1};
       const int ny[8] = {cy, cy, cy - 1, cy + 1, cy - 1, cy - 1, cy + 1, cy + 1};
@@ -227,38 +250,31 @@ void SnapPlanes(std::vector<float>& heights, int n, const ElevationMapConfig& co
         if (nx[k] < 0 || ny[k] < 0 || nx[k] >= n || ny[k] >= n) continue;
         const std::size_t j = flat(nx[k], ny[k]);
         if (region[j] >= 0 || std::isnan(heights[j])) continue;
-        if (std::abs(heights[j] - heights[static_cast<std::size_t>(c)]) > config.plane_step_m) continue;
+        if (std::abs(heights[j] - heights[static_cast<std::size_t>(c)]) > step) continue;
+        const double on_fit = fit.x() * (nx[k] - sx) + fit.y() * (ny[k] - sy) + fit.z();
+        if (std::abs(heights[j] - on_fit) > step) continue;
         region[j] = next;
-        queue.push_back(static_cast<int>(j));
+        cells.push_back(static_cast<int>(j));
+        add(static_cast<int>(j));
+      }
+      if (cells.size() >= refit_at) {
+        const Eigen::Vector3d refit = ata.ldlt().solve(atz);
+        if (refit.allFinite()) fit = refit;
+        refit_at *= 2;
       }
     }
     ++next;
     plane_of.push_back(-1);
     if (static_cast<int>(cells.size()) < config.plane_min_cells) continue;
-    // z = a (x - mx) + b (y - my) + c, least squares, in cell units about the region's mean.
-    double mx = 0.0, my = 0.0;
-    for (int c : cells) {
-      mx += c % n;
-      my += c / n;
-    }
-    mx /= static_cast<double>(cells.size());
-    my /= static_cast<double>(cells.size());
-    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d atz = Eigen::Vector3d::Zero();
-    for (int c : cells) {
-      const Eigen::Vector3d row((c % n) - mx, (c / n) - my, 1.0);
-      ata += row * row.transpose();
-      atz += row * static_cast<double>(heights[static_cast<std::size_t>(c)]);
-    }
     const Eigen::Vector3d plane = ata.ldlt().solve(atz);
     if (!plane.allFinite()) continue;
-    const auto on_plane = [&](int c) { return plane.x() * ((c % n) - mx) + plane.y() * ((c / n) - my) + plane.z(); };
+    const auto on_plane = [&](int c) { return plane.x() * ((c % n) - sx) + plane.y() * ((c / n) - sy) + plane.z(); };
     double sq = 0.0;
     for (int c : cells) sq += std::pow(heights[static_cast<std::size_t>(c)] - on_plane(c), 2);
     if (std::sqrt(sq / static_cast<double>(cells.size())) > config.plane_max_rms_m) continue;
     for (int c : cells) heights[static_cast<std::size_t>(c)] = static_cast<float>(on_plane(c));
     plane_of.back() = static_cast<int>(planes.size());
-    planes.push_back({plane.x(), plane.y(), plane.z(), mx, my});
+    planes.push_back({plane.x(), plane.y(), plane.z(), static_cast<double>(sx), static_cast<double>(sy)});
   }
   // Holes between the returns of a plane (far from the sensor, rays fall more than a cell apart)
   // are that plane: an unknown cell with enough neighbours on one plane joins it.

@@ -32,7 +32,7 @@ struct ElevationMapConfig {
   double min_variance_m2 = 1e-6;     ///< a cell's variance never falls below this (no estimate is exact)
   double gate_sigma = 3.0;           ///< a point this many standard deviations off a cell's height is not fused (see ElevationMap::Fuse)
   double mesh_smoothing_step_m = 0.02;  ///< ToMesh: a cell's height is averaged with its neighbours within this of it
-  double plane_step_m = 0.015;          ///< ToMesh: neighbouring cells of one plane differ in height by at most this
+  double plane_step_m = 0.015;          ///< ToMesh: a plane's cells step at most this from cell to cell and off its plane
   double plane_max_rms_m = 0.01;        ///< ToMesh: a region this close to its least-squares plane (RMS) is that plane
   int plane_min_cells = 9;              ///< ToMesh: regions of fewer cells are not made planes
   int mesh_fill_neighbours = 4;         ///< ToMesh: an unknown cell with this many neighbours on one plane is on it
@@ -238,8 +238,8 @@ void ElevationMapConfig::Serialize(Visitor* v) {
            "the mesh's height of a cell is the variance-weighted mean of its 3 x 3 neighbours within this of its own "
            "height (an edge-preserving smoothing; 0: the fused heights as they are)");
   v->Visit("plane_step_m", &plane_step_m, "m", bounds::NonNegative(),
-           "the mesh's planes: regions of cells (8-neighbours) whose heights differ by at most this from cell to cell "
-           "(0: no planes)");
+           "the mesh's planes: regions grown from flat patches over cells (8-neighbours) that step at most this "
+           "from the cell they join from and lie within this of the region's plane (0: no planes)");
   v->Visit("plane_max_rms_m", &plane_max_rms_m, "m", bounds::NonNegative(),
            "a region whose cells lie this close to its least-squares plane (RMS) is meshed on that plane");
   v->Visit("plane_min_cells", &plane_min_cells, "-", bounds::AtLeast(3),
