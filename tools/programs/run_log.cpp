@@ -4,6 +4,7 @@
 // robot's trace at 20 Hz of simulated time, and the world the run saw (terrain, contact surfaces,
 // root path) for tools/view, and the planners' compute times (from their STATUS answers).
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -97,6 +98,7 @@ struct RunLog {
   std::optional<rbcp_msgs::elevation_map_t> elevation;    ///< the newest ELEVATION_MAP
   std::map<int64_t, int64_t> cloud_received;  ///< per capture utime, when its last cloud was received [us]
   std::vector<double> map_latency_ms;  ///< per map of a capture's time: from its cloud's receipt to the map's
+  std::set<int64_t> maps_seen;         ///< utimes of the maps heard
   long clouds = 0, maps = 0;
 
   void OnMessage(const std::string& channel, const Event& e) {
@@ -160,6 +162,8 @@ struct RunLog {
   /// A map of the mapper: its latency when it is the map of a capture's time (the mapper sends one
   /// when its clouds' time reaches the next period; a wait's map is sent at the wait's time).
   void OnMap(int64_t timestamp, int64_t utime) {
+    // The mapper repeats its latest map every second: only the first copy of each map counts.
+    if (!maps_seen.insert(utime).second) return;
     ++maps;
     const auto cloud = cloud_received.find(utime);
     if (cloud != cloud_received.end()) map_latency_ms.push_back(1e-3 * static_cast<double>(timestamp - cloud->second));
@@ -270,6 +274,14 @@ void AddPerception(RunLog& log, nlohmann::json& j) {
     for (const auto& s : log.record.Trace()) path.emplace_back(s.state.base_position[0], s.state.base_position[1]);
     p["path_coverage"] = mapping::PathCoverage(map, path, kPathCoverageRadius_m);
     p["known_cells"] = map.KnownCells();
+    // The grid, for viewers: heights row by row (cell (ix, iy) at iy * num_x + ix), null where unknown.
+    const rbcp_msgs::elevation_map_t& em = *log.elevation;
+    nlohmann::json heights = nlohmann::json::array();
+    for (std::size_t i = 0; i < em.height.size(); ++i) {
+      heights.push_back(std::isfinite(em.height[i]) ? nlohmann::json(em.height[i]) : nlohmann::json(nullptr));
+    }
+    p["elevation_map"] = {{"origin", {em.origin[0], em.origin[1]}}, {"resolution", em.resolution},
+                          {"num_x", em.num_x},  {"num_y", em.num_y}, {"height", heights}};
   } catch (const InputError& e) {
     ++log.malformed;
     p["height_error_m"] = nullptr;
