@@ -492,6 +492,12 @@ void ContactPlannerNode::PublishHorizon(const rbcp_msgs::robot_state_t& msg,
     status_.Failed(Now(), msg.utime, ms, ToString(r.status) + ": " + r.reason);
     return;
   }
+  if (r.plan.states.size() < 2 && !path_reaches_goal_) {
+    // At the end of a path short of the goal: nothing to walk until the map shows more.
+    last_result_.reset();
+    status_.Failed(Now(), msg.utime, ms, "the robot stands at the end of its path, short of the goal (the map does not show the way on yet)");
+    return;
+  }
   // Publish the first K steps; the look-ahead beyond them only showed they lead on. The whole
   // search is kept: while the robot walks it as planned, its continuation is the next answer.
   searched_ = r.plan;

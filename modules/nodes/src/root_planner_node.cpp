@@ -177,8 +177,9 @@ bool RootPlannerNode::KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state) {
           planner_.GoalsToward(terrain, surfaces, base, goal, active_->goal_yaw, options_.partial_goal_spacing_m,
                                options_.partial_min_progress_m, options_.partial_goal_ahead_m);
       const double now_left = (samples.back().p.head<2>() - goal).norm();
-      if (!goals.empty() && now_left - (goals.front().head<2>() - goal).norm() >= options_.partial_replan_gain_m) {
-        return false;
+      if (!goals.empty()) {
+        const double then_left = (goals.front().head<2>() - goal).norm();
+        if (then_left < 1e-9 || now_left - then_left >= options_.partial_replan_gain_m) return false;  // the goal, or much nearer
       }
     }
     // The rest of the path must hold on the new map.
