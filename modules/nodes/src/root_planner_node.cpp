@@ -174,8 +174,7 @@ bool RootPlannerNode::KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state) {
       // A path short of the goal is planned again when the map shows a way much nearer it.
       const Eigen::Vector2d goal(active_->goal_position[0], active_->goal_position[1]);
       const std::vector<Eigen::Vector3d> goals =
-          planner_.GoalsToward(terrain, surfaces, base, goal, active_->goal_yaw, options_.partial_goal_spacing_m,
-                               options_.partial_min_progress_m, options_.partial_goal_ahead_m);
+          planner_.GoalsToward(terrain, surfaces, base, goal, active_->goal_yaw, options_.partial_goals);
       const double now_left = (samples.back().p.head<2>() - goal).norm();
       if (!goals.empty()) {
         const double then_left = (goals.front().head<2>() - goal).norm();
@@ -300,12 +299,11 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
       // The goal, or the standing positions nearest it on the known terrain, until one has a path.
       const std::vector<Eigen::Vector3d> goals =
           planner_.GoalsToward(*world_.terrain(), *world_.surfaces(), start_xy, goal_xy, request.goal_yaw,
-                               options_.partial_goal_spacing_m, options_.partial_min_progress_m,
-                               options_.partial_goal_ahead_m);
+                               options_.partial_goals);
       if (goals.empty()) return failed(0.0, "the map shows no standing position nearer the goal yet");
-      for (std::size_t i = 0; i < goals.size() && static_cast<int>(i) < options_.partial_goal_tries; ++i) {
+      for (std::size_t i = 0; i < goals.size(); ++i) {
         last_reaches_goal_ = (goals[i].head<2>() - goal_xy).norm() < 1e-9;
-        const Eigen::Vector2d way = goal_xy - start_xy;
+        const Eigen::Vector2d way = goal_xy - goals[i].head<2>();  // at a partial goal the robot faces the goal
         const double yaw = last_reaches_goal_ ? request.goal_yaw : std::atan2(way.y(), way.x());
         result = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, goals[i], yaw, seed, budget);
         if (result.status != RootPlanStatus::kGoalUnreachable && result.status != RootPlanStatus::kGoalInvalid) break;

@@ -5,10 +5,12 @@
 #include <ompl/base/SpaceInformation.h>
 #include <ompl/base/goals/GoalState.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <tuple>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -513,30 +515,56 @@ std::optional<MeasuredBaseProblem> RootPlanner::CheckMeasuredBase(const Triangle
 std::vector<Eigen::Vector3d> RootPlanner::GoalsToward(const TriangleMesh& terrain,
                                                      const std::vector<AffordanceSurface>& surfaces,
                                                      const Eigen::Vector2d& start_xy, const Eigen::Vector2d& goal_xy,
-                                                     double goal_yaw, double spacing_m, double min_progress_m,
-                                                     double ahead_m) const {
-  if (!(spacing_m > 0.0) || !start_xy.allFinite() || !goal_xy.allFinite()) {
-    throw InputError("GoalsToward: expected finite ends and a positive spacing");
+                                                     double goal_yaw, const GoalsTowardOptions& options) const {
+  if (!(options.spacing_m > 0.0) || !start_xy.allFinite() || !goal_xy.allFinite() || options.max_goals < 1) {
+    throw InputError("GoalsToward: expected finite ends, a positive spacing and max_goals >= 1");
   }
   std::vector<Eigen::Vector3d> goals;
-  const Eigen::Vector2d to_goal = goal_xy - start_xy;
-  const double length = to_goal.norm();
   if (surfaces.empty() || terrain.Empty()) return goals;
   ReachabilityChecker checker = MakeChecker(terrain, surfaces);
-  // At the goal the robot stands at the goal's yaw; on the way it faces the way on.
-  const double heading = length > 1e-9 ? std::atan2(to_goal.y(), to_goal.x()) : goal_yaw;
-  const int n = static_cast<int>(std::floor(length / spacing_m));
-  for (int k = 0; k <= n; ++k) {
-    const double back = k * spacing_m;  // from the goal towards the start
-    if (length - back < min_progress_m) break;
-    const Eigen::Vector2d xy = length > 1e-9 ? Eigen::Vector2d(goal_xy - to_goal * (back / length)) : goal_xy;
-    const std::optional<Eigen::Vector3d> p = StandingPosition(terrain, xy);
-    if (!p) continue;
-    if (k > 0) {
-      const Eigen::Vector2d further = xy + ahead_m * Eigen::Vector2d(std::cos(heading), std::sin(heading));
-      if (!TerrainHeightAt(terrain, further)) continue;
+  const TerrainHeightMap heights(terrain);
+  const auto standing = [&](const Eigen::Vector2d& xy) -> std::optional<Eigen::Vector3d> {
+    const std::optional<double> z = heights.At(xy);
+    if (!z) return std::nullopt;
+    return Eigen::Vector3d(xy.x(), xy.y(), *z + nominal_base_height_);
+  };
+  if (const auto at_goal = standing(goal_xy); at_goal && checker.IsValid(*at_goal, goal_yaw)) {
+    goals.push_back(*at_goal);
+  }
+  // Candidates on a grid over the contact surfaces, the nearest to the goal first, each facing the
+  // goal with known terrain ahead of it for the front feet.
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const AffordanceSurface& surface : surfaces) {
+    for (const Eigen::Vector3d& v : surface.vertices) {
+      lo = lo.cwiseMin(v.head<2>());
+      hi = hi.cwiseMax(v.head<2>());
     }
-    if (checker.IsValid(*p, k == 0 ? goal_yaw : heading)) goals.push_back(*p);
+  }
+  const double from_start = (goal_xy - start_xy).norm();
+  std::vector<std::pair<double, Eigen::Vector2d>> candidates;
+  const double r = options.spacing_m;
+  for (double y = std::ceil(lo.y() / r) * r; y <= hi.y(); y += r) {
+    for (double x = std::ceil(lo.x() / r) * r; x <= hi.x(); x += r) {
+      const Eigen::Vector2d xy(x, y);
+      const double left = (goal_xy - xy).norm();
+      if (from_start - left >= options.min_progress_m && left > 1e-9) candidates.emplace_back(left, xy);
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : std::tie(a.second.x(), a.second.y()) < std::tie(b.second.x(), b.second.y());
+  });
+  int evaluated = 0;
+  for (const auto& [left, xy] : candidates) {
+    if (static_cast<int>(goals.size()) >= options.max_goals || evaluated >= options.max_evaluations) break;
+    const Eigen::Vector2d toward = (goal_xy - xy) / left;
+    const std::optional<Eigen::Vector3d> p = standing(xy);
+    if (!p || !heights.At(xy + options.ahead_m * toward)) continue;
+    ++evaluated;
+    // Apart from the goals taken already: the next try is somewhere else.
+    bool near_taken = false;
+    for (const Eigen::Vector3d& g : goals) near_taken = near_taken || (g.head<2>() - xy).norm() < options.apart_m;
+    if (near_taken) continue;
+    if (checker.IsValid(*p, std::atan2(toward.y(), toward.x()))) goals.push_back(*p);
   }
   return goals;
 }

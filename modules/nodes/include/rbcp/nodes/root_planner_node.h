@@ -41,18 +41,15 @@ struct RootPlannerNodeOptions {
   /// for its swings stay within the contact planner's 0.16 m.
   double replan_path_offset_m = 0.3;
   /// The terrain is a map that grows as the robot walks (terrain_mapper; `--terrain perceived`):
-  /// a goal the map does not show yet is planned toward, to the standing position nearest it on
-  /// the known terrain (RootPlanner::GoalsToward; the path says it does not reach the goal), and
-  /// a new map is planned on again while the robot waits at a step boundary (also after a request
-  /// found no path on the map before) unless the path the robot follows holds on it
-  /// (KeepPathOnNewMap). A path kept, or kept by a replan that fails, is sent again as the path
-  /// on the new map. The wait's map is the one of its time
-  /// or later (TERRAIN utime >= awaiting_since).
+  /// a goal the map does not show yet is planned toward, to the first of the known terrain's
+  /// standing positions nearest it that has a path (RootPlanner::GoalsToward; the path says it
+  /// does not reach the goal), and a new map is planned on again while the robot waits at a step
+  /// boundary (also after a request found no path on the map before) unless the path the robot
+  /// follows holds on it (KeepPathOnNewMap). A path kept, or kept by a replan that fails, is sent
+  /// again as the path on the new map. The wait's map is the one of its time or later (TERRAIN
+  /// utime >= awaiting_since).
   bool partial_map = false;
-  double partial_goal_spacing_m = 0.1;  ///< partial_map: candidate goals along the way this far apart [m]
-  double partial_min_progress_m = 0.3;  ///< partial_map: a candidate goal at least this much nearer the goal [m]
-  double partial_goal_ahead_m = 0.5;    ///< partial_map: a candidate goal has known terrain this far beyond it [m]
-  int partial_goal_tries = 4;           ///< partial_map: candidate goals planned to before the request fails
+  GoalsTowardOptions partial_goals;      ///< partial_map: where to plan towards a goal the map does not show
   /// partial_map: a path short of the goal is planned again on a new map when the map shows a
   /// standing position this much nearer the goal than the path's end [m]
   double partial_replan_gain_m = 0.5;

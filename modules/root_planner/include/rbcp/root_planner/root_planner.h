@@ -211,6 +211,16 @@ struct MeasuredBaseProblem {
   std::string Describe() const;
 };
 
+/// RootPlanner::GoalsToward's search.
+struct GoalsTowardOptions {
+  double spacing_m = 0.1;       ///< candidates on a grid this fine [m]
+  double min_progress_m = 0.3;  ///< a candidate at least this much nearer the goal than the start [m]
+  double ahead_m = 0.5;         ///< known terrain this far beyond a candidate, towards the goal [m]
+  double apart_m = 0.3;         ///< candidates returned at least this far apart [m]
+  int max_goals = 4;            ///< candidates returned at most
+  int max_evaluations = 2000;   ///< candidates checked at most
+};
+
 class RootPlanner {
  public:
   /// Throws InputError if the config is out of range (RootPlannerConfig::Problem).
@@ -236,16 +246,15 @@ class RootPlanner {
                       unsigned seed, double time_budget_s) const;
 
   /// Where to plan toward on a terrain known only in part (a map that grows as the robot walks):
-  /// standing positions on the segment from `start_xy` to `goal_xy`, the nearest to the goal
-  /// first, every `spacing_m`, that satisfy the reachability condition at the segment's heading,
-  /// are at least `min_progress_m` nearer the goal than the start and have terrain `ahead_m`
-  /// further on (the front feet stand ahead of the base). The goal itself comes first when it
-  /// satisfies the condition at the goal's yaw. Empty when nothing along the segment qualifies:
-  /// the map shows no way on yet.
+  /// the goal's standing position first when it satisfies the reachability condition at the
+  /// goal's yaw, then standing positions on a grid over the contact surfaces, the nearest to the
+  /// goal first, that are at least min_progress_m nearer the goal than the start, have known
+  /// terrain ahead_m further towards the goal (the front feet stand ahead of the base), lie
+  /// apart_m from those already taken and satisfy the condition facing the goal. At most
+  /// max_goals; empty when nothing qualifies: the map shows no way on yet.
   std::vector<Eigen::Vector3d> GoalsToward(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
                                            const Eigen::Vector2d& start_xy, const Eigen::Vector2d& goal_xy,
-                                           double goal_yaw, double spacing_m, double min_progress_m,
-                                           double ahead_m) const;
+                                           double goal_yaw, const GoalsTowardOptions& options) const;
 
   /// A reachability checker for a terrain with this planner's ROMs and trunk shape.
   ReachabilityChecker MakeChecker(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces) const;
