@@ -146,7 +146,8 @@ TEST(WireCheck, NestedCountsAndStringsAreCheckedToo) {
 
 TEST(WireCheck, ANegativeCountOrAnotherTypeIsRejected) {
   std::vector<uint8_t> buf = Encode(rbcp_msgs::root_path_t{});
-  PutInt32(buf, 8 + 8 + 8 + 8, 0xfffffffbu);
+  // After the fingerprint, utime, request_id, terrain_id and the reaches_goal byte.
+  PutInt32(buf, 8 + 8 + 8 + 8 + 1, 0xfffffffbu);
   EXPECT_EQ(CheckEncoded<rbcp_msgs::root_path_t>(buf.data(), buf.size()), "root_path_t: num_points -5 is negative");
   buf = Encode(rbcp_msgs::plan_request_t{});
   EXPECT_EQ(CheckEncoded<rbcp_msgs::root_path_t>(buf.data(), buf.size()),
