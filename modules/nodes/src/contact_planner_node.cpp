@@ -82,9 +82,10 @@ ContactPlannerNode::ContactPlannerNode(lcm::LCM& lcm, const RobotModel& robot, c
     throw InputError("contact planner node: max_foot_offset_m expected > 0, got " +
                      std::to_string(options_.max_foot_offset_m));
   }
-  if (options_.lookahead_steps < 0) {
-    throw InputError("contact planner node: lookahead_steps expected >= 0, got " +
-                     std::to_string(options_.lookahead_steps));
+  if (options_.lookahead_steps < 0 || options_.partial_lookahead_steps < 0) {
+    throw InputError("contact planner node: lookahead_steps and partial_lookahead_steps expected >= 0, got " +
+                     std::to_string(options_.lookahead_steps) + " and " +
+                     std::to_string(options_.partial_lookahead_steps));
   }
   if (!(options_.foothold_match_m >= 0.0)) {
     throw InputError("contact planner node: foothold_match_m expected >= 0, got " +
@@ -475,7 +476,7 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
                    measured.base_position_W.x(), measured.base_position_W.y(), controller.base_error, remaining.size());
     }
     try {
-      last_result_ = planner_.PlanHorizon(stance, remaining, k + options_.lookahead_steps);
+      last_result_ = planner_.PlanHorizon(stance, remaining, SearchSteps());
     } catch (const std::exception& e) {
       return fail(std::string("internal error: ") + e.what());
     }
@@ -540,6 +541,12 @@ bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status
   return true;
 }
 
+int ContactPlannerNode::SearchSteps() const {
+  const int lookahead =
+      path_reaches_goal_ ? options_.lookahead_steps : std::min(options_.lookahead_steps, options_.partial_lookahead_steps);
+  return options_.horizon_steps + lookahead;
+}
+
 void ContactPlannerNode::DropPlanAhead() {
   plan_made_ahead_.reset();
   search_ahead_.reset();  // a search still running goes on; its answer is dropped
@@ -588,7 +595,7 @@ void ContactPlannerNode::PlanAhead(int steps_committed) {
     std::vector<RootPathSample> remaining(path_.begin() + static_cast<std::ptrdiff_t>(at), path_.end());
     // The new search's plan begins with the committed steps, as the earlier search made them.
     std::vector<WholeBodyState> committed(continuation.states.begin(), continuation.states.begin() + kept + 1);
-    const int max_steps = options_.horizon_steps + options_.lookahead_steps;
+    const int max_steps = SearchSteps();
     search_worker_ = std::async(std::launch::async, [planner = &ahead_planner_, kept, timed, from,
                                                      committed = std::move(committed), remaining = std::move(remaining),
                                                      max_steps] {

@@ -65,6 +65,10 @@ struct ContactPlannerNodeOptions {
   /// which no plan leads on (on the DARPA mesh, 8 steps ended before the centre block, and 8 of
   /// 20 runs stood in such a stance).
   int lookahead_steps = 1000;
+  /// Horizon mode, along a path short of the goal (partial_map): steps searched beyond the K
+  /// published at most, so that the search need not end in a standing stance at the edge of what
+  /// the map shows (the path's end is no goal; the next map carries the path on).
+  int partial_lookahead_steps = 4;
   /// Horizon mode: largest horizontal distance from the measured base to the path [m].
   double max_path_offset_m = 0.5;
   /// Horizon mode: largest distance from a measured foot to the contact surface it stands on [m].
@@ -200,6 +204,9 @@ class ContactPlannerNode {
     std::optional<ContactPlanResult> result;
     std::string error;
   };
+  /// Steps a search plans at most: K and the look-ahead (partial_lookahead_steps along a path
+  /// short of the goal).
+  int SearchSteps() const;
   /// partial_map: whether the plan made ahead, searched on an earlier map, holds on this one
   /// (ContactPlanner::OnThisTerrain); if so `ahead` takes that plan.
   bool HoldsOnThisMap(PlanMadeAhead& ahead);
