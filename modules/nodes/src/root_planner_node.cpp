@@ -171,6 +171,8 @@ bool RootPlannerNode::KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state) {
     const TriangleMesh& terrain = *world_.terrain();
     const std::vector<AffordanceSurface>& surfaces = *world_.surfaces();
     if (!last_reaches_goal_) {
+      // At the end of a path short of the goal the robot needs a new one, whatever the map shows.
+      if ((samples.back().p.head<2>() - base).norm() <= options_.replan_path_offset_m) return false;
       // A path short of the goal is planned again when the map shows a way much nearer it.
       const Eigen::Vector2d goal(active_->goal_position[0], active_->goal_position[1]);
       const std::vector<Eigen::Vector3d> goals =
@@ -306,7 +308,10 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
         const Eigen::Vector2d way = goal_xy - goals[i].head<2>();  // at a partial goal the robot faces the goal
         const double yaw = last_reaches_goal_ ? request.goal_yaw : std::atan2(way.y(), way.x());
         result = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, goals[i], yaw, seed, budget);
-        if (result.status != RootPlanStatus::kGoalUnreachable && result.status != RootPlanStatus::kGoalInvalid) break;
+        // A candidate the search cannot reach (the map between is not known well enough): the next.
+        if (result.ok() || result.status == RootPlanStatus::kInvalidInput || result.status == RootPlanStatus::kStartInvalid) {
+          break;
+        }
       }
     } else {
       const auto goal = planner_.StandingPosition(*world_.terrain(), goal_xy);

@@ -722,6 +722,56 @@ TEST(RootPlannerNodePartialMap, APathThatHoldsOnANewMapGoesOnAsThePathOnIt) {
   EXPECT_LE(replanned->points.back().position[0], 1.8 - 0.5 + 1e-9);
 }
 
+TEST(RootPlannerNodePartialMap, AtTheEndOfAPathShortOfTheGoalTheRobotGetsANewOne) {
+  lcm::LCM lcm("memq://");
+  const RobotModel robot = RobotModel::LoadDefault(kConfig);
+  RootPlannerNodeOptions options;
+  options.partial_map = true;
+  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
+  node.status().set_verbose(false);
+  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
+  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
+  const auto pump = [&] {
+    while (lcm.handleTimeout(0) > 0) {
+    }
+  };
+  test::PublishWorld(lcm, FloorTo(1.5), kConfig, 100);
+  rbcp_msgs::plan_request_t request{};
+  request.utime = 200;
+  request.request_id = 9;
+  request.use_start = true;
+  request.goal_position[0] = 3.0;
+  request.time_budget = 5.0;
+  request.seed = 3;
+  lcm.publish(channels::kPlanRequest, &request);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  const auto first = paths.Take();
+  ASSERT_TRUE(first.has_value()) << status.Latest()->reason;
+  const double end_x = first->points.back().position[0];
+
+  // The robot waits at the path's end; the map shows a little more (less than the 0.5 m gain that
+  // replans a path on the way): a new path from there all the same.
+  rbcp_msgs::controller_status_t controller{};
+  rbcp_msgs::robot_state_t state{};
+  controller.utime = state.utime = controller.awaiting_since = 3000000;
+  controller.awaiting_plan = true;
+  state.base_position[0] = end_x;
+  state.base_position[2] = 0.45;
+  state.base_orientation[0] = 1.0;
+  lcm.publish(channels::kControllerStatus, &controller);
+  lcm.publish(channels::kRobotState, &state);
+  test::PublishWorld(lcm, FloorTo(1.5 + 0.3), kConfig, 3000000);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  const auto next = paths.Take();
+  ASSERT_TRUE(next.has_value()) << status.Latest()->reason;
+  EXPECT_NEAR(next->points.front().position[0], end_x, 1e-9) << "from where the robot stands";
+  EXPECT_GT(next->points.back().position[0], end_x + 0.2);
+}
+
 TEST(RootPlannerNodePartialMap, ARequestTheMapShowsNoWayForIsPlannedAgainOnTheNextMap) {
   lcm::LCM lcm("memq://");
   const RobotModel robot = RobotModel::LoadDefault(kConfig);

@@ -108,8 +108,8 @@ class RootPlannerNode {
   std::optional<std::string> ReplanReason(bool world_changed);
   /// partial_map, at a wait on a new map: whether the path the robot follows goes on (the rest
   /// of it satisfies the reachability condition on the new map, and it reaches the goal or the
-  /// map shows neither the goal nor a way partial_replan_gain_m nearer it); if so it is sent again
-  /// as the path on this map.
+  /// map shows neither the goal nor a way partial_replan_gain_m nearer it, and the robot is not at
+  /// its end); if so it is sent again as the path on this map.
   bool KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state);
   int64_t Now() const;
 
