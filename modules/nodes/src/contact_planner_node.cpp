@@ -258,7 +258,9 @@ void ContactPlannerNode::TakePath(const rbcp_msgs::root_path_t& msg) {
   path_utime_ = msg.utime;
   path_progress_ = 0;
   answered_since_.reset();  // a wait already answered on the old path gets a plan on the new one
-  last_plan_.reset();
+  // On a growing map new paths come often; the robot still stands on the footholds of the plan it
+  // walks, and its feet are snapped to them (SnapToLastPlan) so that the walk goes on from there.
+  if (!options_.partial_map) last_plan_.reset();
   answer_.reset();
   DropPlanAhead();
   if (verbose_) {
