@@ -11,7 +11,7 @@ prefix="$work/prefix"
 
 cmake --install "$build_dir" --prefix "$prefix" >"$work/install.log"
 echo "install_package_test: installed $(grep -c 'Installing' "$work/install.log") files into the prefix"
-for f in bin/plan_scenario bin/anymal_sim bin/live_bridge share/rbcp/config/robots/anymal_b.urdf \
+for f in bin/plan_scenario bin/anymal_sim bin/live_bridge bin/terrain_mapper share/rbcp/config/robots/anymal_b.urdf share/rbcp/config/mapper.yaml \
          include/rbcp/contact_planner/contact_planner.h lib/cmake/rbcp/rbcpConfig.cmake; do
   [ -e "$prefix/$f" ] || { echo "install_package_test: FAILED: $f is not installed" >&2; exit 1; }
 done
