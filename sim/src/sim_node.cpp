@@ -203,7 +203,7 @@ void SimNode::UpdateWait() {
   answered_utime_ = Utime();
 }
 
-RobotState SimNode::PublishState() {
+void SimNode::PublishState() {
   // The controller's status first: a process that hears of a wait then hears the state it waits in.
   const RobotState state = execution_.State();
   const auto state_msg = transport::ToRobotStateMsg(state);
@@ -223,7 +223,6 @@ RobotState SimNode::PublishState() {
   const auto progress_msg = transport::ToControllerStatusMsg(state_msg.utime, progress);
   lcm_.publish(channels::kControllerStatus, &progress_msg);
   lcm_.publish(channels::kRobotState, &state_msg);
-  return state;
 }
 
 void SimNode::PublishClouds(const RobotState& state) {
@@ -333,7 +332,8 @@ void SimNode::Tick() {
     const auto now = std::chrono::steady_clock::now();
     if (now - last_state_wall_ >= std::chrono::milliseconds(5)) {
       last_state_wall_ = now;
-      PublishClouds(PublishState());  // a capture due at this tick, once
+      PublishClouds(execution_.State());  // a capture due at this tick, once
+      PublishState();
     }
     // The terrain, due every terrain_period_s of simulated time, goes out on the wall clock meanwhile.
     if (now - last_terrain_wall_ >= std::chrono::duration<double>(config_.terrain_period_s)) PublishTerrain();
@@ -346,7 +346,9 @@ void SimNode::Tick() {
   ApplyEvents();
   execution_.Tick();
   UpdateWait();
-  PublishClouds(PublishState());
+  // The tick's clouds before its state: a mapper that hears of a wait has every cloud up to it.
+  PublishClouds(execution_.State());
+  PublishState();
 
   if ((plans_ > 0 || options_.replan) && execution_.Decided() && !reported_) {
     reported_ = true;

@@ -21,7 +21,7 @@
 /// What the planners plan on (SimNodeOptions::terrain). Ground truth: the true terrain goes out on
 /// TERRAIN and no sensor runs. Perceived: the depth sensors (SimConfig::sensing, depth_sensor.h)
 /// capture every 1/rate_hz of simulated time at a control tick, from the state that tick's
-/// ROBOT_STATE carries, and POINT_CLOUD goes out right after it with the same utime (terrain_mapper
+/// ROBOT_STATE carries, and POINT_CLOUD goes out just before it with the same utime (terrain_mapper
 /// maps them onto TERRAIN); the true terrain goes out on TERRAIN_TRUTH, and plans are not judged
 /// stale by the true terrain they cannot know. While the world stands still (Paused) the state of
 /// the wait is captured once, when a capture is due then (the robot's first stance, at 0 s).
@@ -113,9 +113,10 @@ class SimNode {
   void PublishTerrain();
   void TakePlan(const rbcp_msgs::contact_plan_t& msg);
   void UpdateWait();
-  /// Publishes CONTROLLER_STATUS and ROBOT_STATE; returns the state published.
-  RobotState PublishState();
-  /// The depth sensors' captures due at `state` (the tick's published state), on POINT_CLOUD.
+  /// Publishes CONTROLLER_STATUS and ROBOT_STATE.
+  void PublishState();
+  /// The depth sensors' captures due at `state` (the tick's state), on POINT_CLOUD, just before
+  /// the tick's ROBOT_STATE: a mapper that hears of a wait has every cloud up to it.
   void PublishClouds(const RobotState& state);
   /// Applies the events due by now; ends a push that is over.
   void ApplyEvents();
