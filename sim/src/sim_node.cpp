@@ -33,11 +33,15 @@ std::string OutcomeSummary(const ExecutionOutcome& o) {
 
 namespace {
 
-rbcp_msgs::point_cloud_t ToPointCloudMsg(const PointCloud& cloud, int64_t utime) {
+rbcp_msgs::point_cloud_t ToPointCloudMsg(const PointCloud& cloud, const RobotState& state) {
   rbcp_msgs::point_cloud_t msg{};
-  msg.utime = utime;
+  // The utime and base pose of the ROBOT_STATE that carries this state, as it carries them.
+  const rbcp_msgs::robot_state_t carried = transport::ToRobotStateMsg(state);
+  msg.utime = carried.utime;
   msg.sensor = cloud.sensor;
   msg.seq = cloud.seq;
+  for (int k = 0; k < 3; ++k) msg.base_position[k] = carried.base_position[k];
+  for (int k = 0; k < 4; ++k) msg.base_orientation[k] = carried.base_orientation[k];
   const Eigen::Quaterniond q(cloud.mount.linear());
   for (int k = 0; k < 3; ++k) msg.mount_position[k] = cloud.mount.translation()[k];
   msg.mount_orientation[0] = q.w();
@@ -229,10 +233,9 @@ void SimNode::PublishClouds(const RobotState& state) {
   if (sensors_.Empty()) return;
   const std::vector<PointCloud> clouds = sensors_.CaptureIfDue(execution_.World(), state);
   if (clouds.empty()) return;
-  // The utime of the ROBOT_STATE that carries this state: a receiver finds the base pose by it.
   const int64_t utime = transport::ToRobotStateMsg(state).utime;
   for (const PointCloud& cloud : clouds) {
-    const std::string problem = publisher_.Publish(channels::kPointCloud, ToPointCloudMsg(cloud, utime));
+    const std::string problem = publisher_.Publish(channels::kPointCloud, ToPointCloudMsg(cloud, state));
     if (problem.empty()) {
       point_clouds_ += 1;
     } else {

@@ -142,6 +142,8 @@ TEST_F(SimWorld, OnAPerceivedTerrainPointCloudsGoOutAtTheSensingRateWithTheState
     EXPECT_EQ(c.seq, static_cast<int64_t>(i / 2 + 1));
     EXPECT_EQ(c.utime, 100000 * c.seq) << "every 0.1 s of simulated time";
     ASSERT_EQ(states.count(c.utime), 1u) << "a ROBOT_STATE of the same utime";
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(c.base_position[k], states[c.utime].base_position[k]) << "its base pose";
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(c.base_orientation[k], states[c.utime].base_orientation[k]);
     EXPECT_EQ(c.num_rays, config_.sensing.front_camera.columns * config_.sensing.front_camera.rows);
     EXPECT_EQ(c.num_points, static_cast<int32_t>(c.points.size()));
     ASSERT_GT(c.num_points, c.num_rays / 2);

@@ -32,7 +32,17 @@ std::optional<std::string> CheckCloud(const rbcp_msgs::point_cloud_t& msg, int m
     return what + std::to_string(msg.num_points) + " points, more than the map takes in one cloud (" +
            std::to_string(max_points) + ", mapper.yaml max_points_per_cloud)";
   }
+  if (!Finite(msg.base_position, 3) || !Finite(msg.base_orientation, 4)) return what + "the base pose is not finite";
   if (!Finite(msg.mount_position, 3) || !Finite(msg.mount_orientation, 4)) return what + "the sensor's mount is not finite";
+  if (std::abs(msg.base_position[0]) > transport::kMaxCoordinate_m || std::abs(msg.base_position[1]) > transport::kMaxCoordinate_m ||
+      std::abs(msg.base_position[2]) > transport::kMaxCoordinate_m) {
+    return what + "the base is beyond " + FixedNumber(transport::kMaxCoordinate_m, 0) + " m";
+  }
+  const Eigen::Quaterniond base(msg.base_orientation[0], msg.base_orientation[1], msg.base_orientation[2],
+                                msg.base_orientation[3]);
+  if (std::abs(base.norm() - 1.0) > transport::kUnitTolerance) {
+    return what + "the base orientation is not a unit quaternion (norm " + FixedNumber(base.norm(), 4) + ")";
+  }
   if (std::abs(msg.mount_position[0]) > 10.0 || std::abs(msg.mount_position[1]) > 10.0 ||
       std::abs(msg.mount_position[2]) > 10.0) {
     return what + "the sensor's mount is more than 10 m from the base";
@@ -179,21 +189,6 @@ void TerrainMapperNode::Reject(const rbcp_msgs::point_cloud_t& msg, const std::s
   status_.Failed(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime, 0.0, why);
 }
 
-std::optional<RobotState> TerrainMapperNode::StateAt(int64_t utime) const {
-  const auto after = states_.lower_bound(utime);
-  if (after == states_.end()) return std::nullopt;
-  if (after->first == utime) return after->second;
-  if (after == states_.begin()) return std::nullopt;
-  const auto before = std::prev(after);
-  // Between two states: the base pose interpolated (the joints and contacts of the nearer one).
-  const double s = static_cast<double>(utime - before->first) / static_cast<double>(after->first - before->first);
-  RobotState state = s < 0.5 ? before->second : after->second;
-  state.base_position_W = (1.0 - s) * before->second.base_position_W + s * after->second.base_position_W;
-  state.base_orientation_W = before->second.base_orientation_W.slerp(s, after->second.base_orientation_W);
-  state.t = Seconds(utime);
-  return state;
-}
-
 bool TerrainMapperNode::IntegratePending() {
   bool worked = false;
   while (!pending_.empty()) {
@@ -210,25 +205,24 @@ bool TerrainMapperNode::IntegratePending() {
       }
       return worked;  // its state is still on its way
     }
-    const std::optional<RobotState> state = StateAt(msg.utime);
-    if (!state) {
-      Reject(msg, "POINT_CLOUD '" + msg.sensor + "' " + std::to_string(msg.seq) + " is from " +
-                      FixedNumber(Seconds(msg.utime), 3) + " s, older than every ROBOT_STATE kept");
-    } else {
-      Integrate(msg, *state);
-    }
+    const auto state = states_.find(msg.utime);  // lost, or a late cloud's gone: no feet then
+    if (state == states_.end()) clouds_without_state_ += 1;
+    Integrate(msg, state == states_.end() ? nullptr : &state->second);
     pending_.pop_front();
     worked = true;
   }
   return worked;
 }
 
-void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg, const RobotState& state) {
+void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg, const RobotState* state) {
   const auto start = std::chrono::steady_clock::now();
   status_.Busy(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime);
   Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-  base_W.linear() = state.base_orientation_W.normalized().toRotationMatrix();
-  base_W.translation() = state.base_position_W;
+  base_W.linear() = Eigen::Quaterniond(msg.base_orientation[0], msg.base_orientation[1], msg.base_orientation[2],
+                                       msg.base_orientation[3])
+                        .normalized()
+                        .toRotationMatrix();
+  base_W.translation() = Eigen::Vector3d(msg.base_position[0], msg.base_position[1], msg.base_position[2]);
   Eigen::Isometry3d sensor_B = Eigen::Isometry3d::Identity();
   sensor_B.linear() = Eigen::Quaterniond(msg.mount_orientation[0], msg.mount_orientation[1], msg.mount_orientation[2],
                                          msg.mount_orientation[3])
@@ -244,19 +238,20 @@ void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg, const Rob
   for (const auto& p : msg.points) {
     cloud.points.push_back(sensor_W * Eigen::Vector3d(p[0], p[1], p[2]));  // NaN stays NaN: the map skips it
   }
-  map_.Recenter(state.base_position_W.head<2>());
+  map_.Recenter(base_W.translation().head<2>());
   const mapping::IntegrateReport report = map_.Integrate(cloud);
   // The stance feet measure the terrain under the trunk, where no sensor looks; a new map starts
   // with the plane through them there (the robot stands on it).
-  const auto feet_B = robot_.FootPositions(state.q);
-  std::vector<Eigen::Vector3d> stance;
-  for (int leg = 0; leg < kNumLegs; ++leg) {
-    if (state.foot_contact[static_cast<std::size_t>(leg)]) {
-      stance.push_back(base_W * feet_B[static_cast<std::size_t>(leg)]);
-      map_.IntegrateContact(stance.back(), options_.contact_variance_m2);
+  if (state) {
+    const auto feet_B = robot_.FootPositions(state->q);
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      if (state->foot_contact[static_cast<std::size_t>(leg)]) {
+        map_.IntegrateContact(base_W * feet_B[static_cast<std::size_t>(leg)], options_.contact_variance_m2);
+      }
     }
   }
-  if (!footprint_done_) {
+  if (!footprint_done_ && state) {
+    const auto feet_B = robot_.FootPositions(state->q);
     // The robot starts standing on its four feet (it may be dropped the last millimetres).
     std::vector<Eigen::Vector3d> feet;
     for (const Eigen::Vector3d& f : feet_B) feet.push_back(base_W * f);
@@ -302,7 +297,8 @@ void TerrainMapperNode::Publish(int64_t utime, double compute_ms) {
   maps_published_ += 1;
   status_.Ok(utime, utime, ms,
              std::to_string(grid.KnownCells()) + " cells known, " + std::to_string(mesh.NumTriangles()) +
-                 " triangles, " + std::to_string(clouds_fused_) + " clouds, " +
+                 " triangles, " + std::to_string(clouds_fused_) + " clouds (" + std::to_string(clouds_without_state_) +
+                 " without the state of their time), " +
                  FixedNumber(static_cast<double>(map_.MemoryBytes()) / (1024.0 * 1024.0), 1) + " MB");
 }
 

@@ -34,6 +34,9 @@ rbcp_msgs::point_cloud_t FlatGroundCloud(int64_t utime, double x, double ground 
   c.seq = utime / 1000 + 1;
   const Eigen::Isometry3d mount = Mount();
   const Eigen::Quaterniond q(mount.linear());
+  c.base_position[0] = x;
+  c.base_position[2] = ground + kBaseHeight;
+  c.base_orientation[0] = 1.0;  // level
   for (int k = 0; k < 3; ++k) c.mount_position[k] = mount.translation()[k];
   c.mount_orientation[0] = q.w();
   c.mount_orientation[1] = q.x();
@@ -166,19 +169,34 @@ TEST_F(TerrainMapperNodeTest, ACloudWaitsForTheStateOfItsTime) {
   EXPECT_EQ(terrain->utime, 100000);
 }
 
-TEST_F(TerrainMapperNodeTest, ACloudBetweenTwoStatesIsPlacedWithTheInterpolatedPose) {
-  // The base walks from x = 0 to x = 0.2 between two states; the cloud is captured half way.
-  const auto a = State(0, 0.0);
-  const auto b = State(10000, 0.2);
-  lcm_.publish(channels::kRobotState, &a);
-  lcm_.publish(channels::kRobotState, &b);
-  const auto cloud = FlatGroundCloud(5000, 0.1, 0.0);
-  lcm_.publish(channels::kPointCloud, &cloud);
-  Run();
-  ASSERT_EQ(node_.clouds_fused(), 1);
-  const auto terrain = terrain_.Take();
-  ASSERT_TRUE(terrain.has_value());
-  for (const Eigen::Vector3d& v : transport::FromTerrainMsg(*terrain).vertices) EXPECT_NEAR(v.z(), 0.0, 0.01);
+TEST_F(TerrainMapperNodeTest, ACloudIsPlacedWithTheBasePoseItCarries) {
+  // The base pose at capture travels with the cloud: the map does not depend on which states the
+  // mapper heard. The same capture carried from 0.5 m further on is mapped 0.5 m further on.
+  const auto state = State(0, 0.0);
+  const auto near = FlatGroundCloud(0, 0.0);
+  auto moved = near;
+  moved.base_position[0] = 0.5;
+  const auto extent = [&](const rbcp_msgs::point_cloud_t& cloud) {
+    TerrainMapperNode node(lcm_, config_, robot_);
+    node.status().set_verbose(false);
+    lcm_.publish(channels::kPointCloud, &cloud);
+    lcm_.publish(channels::kRobotState, &state);  // the state at capture says x = 0 for both
+    for (int i = 0; i < 10; ++i) {
+      Pump();
+      node.Step();
+    }
+    double max_x = -1e9;
+    const mapping::ElevationMap& grid = node.map().elevation();
+    for (int iy = 0; iy < grid.num_y(); ++iy) {
+      for (int ix = 0; ix < grid.num_x(); ++ix) {
+        if (grid.At(ix, iy)) max_x = std::max(max_x, grid.CellCentre(ix, iy).x());
+      }
+    }
+    return max_x;
+  };
+  const double a = extent(near);
+  const double b = extent(moved);
+  EXPECT_NEAR(b - a, 0.5, 0.05);
 }
 
 TEST_F(TerrainMapperNodeTest, HostileCloudsAreRejectedWithTheReasonAndTheMapperGoesOn) {
@@ -202,6 +220,12 @@ TEST_F(TerrainMapperNodeTest, HostileCloudsAreRejectedWithTheReasonAndTheMapperG
   Run();
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
   EXPECT_NE(LastReason().find("mount is not finite"), std::string::npos) << LastReason();
+
+  // A base pose that is not a pose.
+  auto bad_base = FlatGroundCloud(0, 0.0);
+  bad_base.base_orientation[0] = 2.0;
+  EXPECT_NE(CheckCloud(bad_base, config_.max_points_per_cloud).value_or("").find("base orientation is not a unit"),
+            std::string::npos);
 
   // A count that disagrees with the points.
   auto bad_count = FlatGroundCloud(0, 0.0);

@@ -108,6 +108,7 @@ const WireLayout kMessagePart{"message_part_t",
 constexpr int64_t kFloat = 4;
 const WireLayout kPointCloud{"point_cloud_t",
                              {Bytes("utime", kInt64), String("sensor"), Bytes("seq", kInt64),
+                              Bytes("base_position", 3 * kDouble), Bytes("base_orientation", 4 * kDouble),
                               Bytes("mount_position", 3 * kDouble), Bytes("mount_orientation", 4 * kDouble),
                               Bytes("min_range", kFloat), Bytes("max_range", kFloat), Bytes("range_noise_std", kFloat),
                               Bytes("num_rays", kInt32), Count("num_points"), Array("points", "num_points", 3 * kFloat)}};

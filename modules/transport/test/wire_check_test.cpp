@@ -83,6 +83,7 @@ TEST(WireCheck, EveryLayoutMatchesTheGeneratedEncoding) {
 
   rbcp_msgs::point_cloud_t cloud{};
   cloud.sensor = "front_camera";
+  cloud.base_orientation[0] = 1.0;
   cloud.num_points = 2;
   cloud.points = {{1.0f, 0.0f, 0.5f}, {2.0f, 0.1f, -0.2f}};
   ExpectLayoutMatches(cloud);

@@ -3,15 +3,15 @@
 /// it knows out, as TERRAIN (a mesh of the known cells of its elevation map; unknown cells are no
 /// terrain) beside ELEVATION_MAP (the grid, with each cell's variance), and STATUS.
 ///
-/// Each cloud is placed in the world with the base pose of the ROBOT_STATE of its utime (between
-/// two states, interpolated) and the sensor's mount on the base, as the robot places its clouds
-/// with its state estimate. A cloud newer than every state heard waits for its state; one more
-/// than max_cloud_lead_s ahead of the newest state, or older than every state kept, is rejected
-/// with the reason on STATUS, as is a malformed one (counts that disagree, a mount that is not a
-/// rigid pose, more points than the map takes). The stance feet of that state (forward kinematics
-/// of the measured joints) mark the terrain under them too, and a new map starts with the plane
-/// through the four feet under the trunk (the robot starts standing on them): the sensors do not
-/// see under the trunk.
+/// Each cloud is placed in the world with the base pose it carries (the state estimate's at
+/// capture, which the ROBOT_STATE of its utime carries too) and the sensor's mount on the base, as
+/// the robot places its clouds. It waits for the ROBOT_STATE of its utime (the simulator sends a
+/// tick's clouds just before its state), whose stance feet (forward kinematics of the measured
+/// joints) mark the terrain under them too; a new map starts with the plane through the four feet
+/// under the trunk (the robot starts standing on them): the sensors do not see under the trunk. A
+/// cloud more than max_cloud_lead_s ahead of the newest state is rejected with the reason on
+/// STATUS, as is a malformed one (counts that disagree, a base or mount that is not a rigid pose,
+/// more points than the map takes).
 ///
 /// The map goes out when its clouds' time reaches the next multiple of publish_period_s, and when
 /// the robot starts waiting at a step boundary (CONTROLLER_STATUS awaiting_since) once every cloud
@@ -97,11 +97,10 @@ class TerrainMapperNode {
   void TakeState(const rbcp_msgs::robot_state_t& msg);
   void TakeCloud(const rbcp_msgs::point_cloud_t& msg);
   void Reject(const rbcp_msgs::point_cloud_t& msg, const std::string& why);
-  /// The state at `utime`, interpolated between the two around it; nullopt outside the history.
-  std::optional<RobotState> StateAt(int64_t utime) const;
   /// Integrates the pending clouds whose state is known (in capture order).
   bool IntegratePending();
-  void Integrate(const rbcp_msgs::point_cloud_t& msg, const RobotState& state);
+  /// `state`: the ROBOT_STATE of the cloud's utime, if heard (its stance feet mark the terrain).
+  void Integrate(const rbcp_msgs::point_cloud_t& msg, const RobotState* state);
   void Publish(int64_t utime, double compute_ms);
   void Restart();
 
@@ -114,7 +113,7 @@ class TerrainMapperNode {
   transport::StatusReporter status_;
   mapping::TerrainMap map_;
   std::optional<rbcp_msgs::terrain_mesh_t> last_terrain_;  ///< the latest map sent
-  std::map<int64_t, RobotState> states_;            ///< by utime, the last state_history_s
+  std::map<int64_t, RobotState> states_;            ///< by utime, the last state_history_s (for the feet)
   std::deque<rbcp_msgs::point_cloud_t> pending_;    ///< clouds waiting for their state, capture order
   std::optional<int64_t> wait_to_publish_;          ///< a step boundary's wait whose map is owed
   int64_t last_wait_published_ = -1;
@@ -123,6 +122,7 @@ class TerrainMapperNode {
   int64_t next_publish_utime_ = 0;
   int64_t clouds_fused_ = 0;
   int64_t clouds_rejected_ = 0;
+  int64_t clouds_without_state_ = 0;  ///< fused without the ROBOT_STATE of their time (lost): no feet
   int64_t maps_published_ = 0;
   double integrate_ms_ = 0.0;  ///< wall time integrating since the last map
   bool dirty_ = false;         ///< clouds integrated since the last map
