@@ -102,6 +102,11 @@ bool RootPlannerNode::Step() {
   if (!pending_->use_start && !robot_state_.Latest()) {
     return ReportWaiting("waiting for " + options_.robot_state_channel + ": the request starts where the robot stands");
   }
+  if (options_.partial_map && !WaitsOnItsMap()) {
+    // A growing map is planned on as it stood when the robot waits (terrain_mapper sends that map):
+    // the path then depends on the clouds up to the wait, not on when the request came.
+    return ReportWaiting("waiting for the robot to wait at a step boundary and for the map of that wait");
+  }
   rbcp_msgs::plan_request_t request = *pending_;
   pending_.reset();
   waiting_for_.clear();
@@ -156,6 +161,13 @@ bool RootPlannerNode::StandsAtStart(const rbcp_msgs::plan_request_t& request) co
   if (!controller_.Latest() || controller_.Latest()->steps_done > 0) return false;
   const std::optional<double> off = DistanceFromStart(request);
   return off && *off <= options_.replan_path_offset_m;
+}
+
+bool RootPlannerNode::WaitsOnItsMap() const {
+  const auto& state = robot_state_.Latest();
+  const auto& controller = controller_.Latest();
+  return state && controller && controller->awaiting_plan && state->utime >= controller->awaiting_since &&
+         world_.terrain_utime() >= controller->awaiting_since;
 }
 
 bool RootPlannerNode::KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state) {

@@ -8,6 +8,7 @@
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp/transport/sim_clock.h"
 
 namespace rbcp::nodes {
 namespace {
@@ -141,7 +142,7 @@ TerrainMapperNode::TerrainMapperNode(lcm::LCM& lcm, const mapping::MapperConfig&
 
 void TerrainMapperNode::Restart() {
   map_ = mapping::TerrainMap(config_);
-  states_.clear();
+  newest_state_utime_ = -1;
   pending_.clear();
   wait_to_publish_.reset();
   last_wait_published_ = -1;
@@ -152,23 +153,19 @@ void TerrainMapperNode::Restart() {
 }
 
 void TerrainMapperNode::TakeState(const rbcp_msgs::robot_state_t& msg) {
-  RobotState state;
-  try {
-    state = transport::FromRobotStateMsg(msg);
-  } catch (const InputError& e) {
-    status_.Failed(newest_cloud_utime_, msg.utime, 0.0, std::string("ROBOT_STATE: ") + e.what());
+  if (msg.utime < 0 || msg.utime > transport::SimClock::kMaxUtime) {
+    status_.Failed(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime, 0.0,
+                   "ROBOT_STATE: utime " + std::to_string(msg.utime) + " us is not a simulated time");
     return;
   }
-  if (!states_.empty() && msg.utime + 1'000'000 < states_.rbegin()->first) {
+  if (newest_state_utime_ >= 0 && msg.utime + 1'000'000 < newest_state_utime_) {
     // The world's time went back by more than a second: a new run, a new map.
     if (status_.verbose()) {
       std::fprintf(stderr, "[%s] the world's time went back to %.3f s: a new map\n", kProcessName, Seconds(msg.utime));
     }
     Restart();
   }
-  states_[msg.utime] = state;
-  const int64_t keep_from = states_.rbegin()->first - static_cast<int64_t>(options_.state_history_s * 1e6);
-  while (states_.size() > 1 && states_.begin()->first < keep_from) states_.erase(states_.begin());
+  newest_state_utime_ = std::max(newest_state_utime_, msg.utime);
 }
 
 void TerrainMapperNode::TakeCloud(const rbcp_msgs::point_cloud_t& msg) {
@@ -191,30 +188,20 @@ void TerrainMapperNode::Reject(const rbcp_msgs::point_cloud_t& msg, const std::s
 
 bool TerrainMapperNode::IntegratePending() {
   bool worked = false;
-  while (!pending_.empty()) {
+  for (; !pending_.empty(); pending_.pop_front(), worked = true) {
     const rbcp_msgs::point_cloud_t& msg = pending_.front();
-    const int64_t newest_state = states_.empty() ? -1 : states_.rbegin()->first;
-    if (msg.utime > newest_state) {
-      if (newest_state >= 0 && msg.utime - newest_state > static_cast<int64_t>(options_.max_cloud_lead_s * 1e6)) {
-        Reject(msg, "POINT_CLOUD '" + msg.sensor + "' " + std::to_string(msg.seq) + " is from " +
-                        FixedNumber(Seconds(msg.utime), 3) + " s, more than " + FixedNumber(options_.max_cloud_lead_s, 2) +
-                        " s after the newest ROBOT_STATE (" + FixedNumber(Seconds(newest_state), 3) + " s)");
-        pending_.pop_front();
-        worked = true;
-        continue;
-      }
-      return worked;  // its state is still on its way
+    if (newest_state_utime_ >= 0 && msg.utime - newest_state_utime_ > static_cast<int64_t>(options_.max_cloud_lead_s * 1e6)) {
+      Reject(msg, "POINT_CLOUD '" + msg.sensor + "' " + std::to_string(msg.seq) + " is from " +
+                      FixedNumber(Seconds(msg.utime), 3) + " s, more than " + FixedNumber(options_.max_cloud_lead_s, 2) +
+                      " s after the newest ROBOT_STATE (" + FixedNumber(Seconds(newest_state_utime_), 3) + " s)");
+      continue;
     }
-    const auto state = states_.find(msg.utime);  // lost, or a late cloud's gone: no feet then
-    if (state == states_.end()) clouds_without_state_ += 1;
-    Integrate(msg, state == states_.end() ? nullptr : &state->second);
-    pending_.pop_front();
-    worked = true;
+    Integrate(msg);
   }
   return worked;
 }
 
-void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg, const RobotState* state) {
+void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg) {
   const auto start = std::chrono::steady_clock::now();
   status_.Busy(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime);
   Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
@@ -240,21 +227,12 @@ void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg, const Rob
   }
   map_.Recenter(base_W.translation().head<2>());
   const mapping::IntegrateReport report = map_.Integrate(cloud);
-  // The stance feet measure the terrain under the trunk, where no sensor looks; a new map starts
-  // with the plane through them there (the robot stands on it).
-  if (state) {
-    const auto feet_B = robot_.FootPositions(state->q);
-    for (int leg = 0; leg < kNumLegs; ++leg) {
-      if (state->foot_contact[static_cast<std::size_t>(leg)]) {
-        map_.IntegrateContact(base_W * feet_B[static_cast<std::size_t>(leg)], options_.contact_variance_m2);
-      }
-    }
-  }
-  if (!footprint_done_ && state) {
-    const auto feet_B = robot_.FootPositions(state->q);
-    // The robot starts standing on its four feet (it may be dropped the last millimetres).
+  // No sensor looks under the trunk: a new map starts with the ground the robot stands on, the
+  // plane through its feet where its reference stance puts them under the base pose of its first
+  // cloud (the robot starts standing; it may be dropped the last millimetres).
+  if (!footprint_done_) {
     std::vector<Eigen::Vector3d> feet;
-    for (const Eigen::Vector3d& f : feet_B) feet.push_back(base_W * f);
+    for (Leg leg : kAllLegs) feet.push_back(base_W * robot_.ReferenceFootPosition(leg));
     map_.InitializeFootprint(feet, options_.footprint_margin_m, options_.footprint_variance_m2);
     footprint_done_ = true;
   }
@@ -297,8 +275,7 @@ void TerrainMapperNode::Publish(int64_t utime, double compute_ms) {
   maps_published_ += 1;
   status_.Ok(utime, utime, ms,
              std::to_string(grid.KnownCells()) + " cells known, " + std::to_string(mesh.NumTriangles()) +
-                 " triangles, " + std::to_string(clouds_fused_) + " clouds (" + std::to_string(clouds_without_state_) +
-                 " without the state of their time), " +
+                 " triangles, " + std::to_string(clouds_fused_) + " clouds, " +
                  FixedNumber(static_cast<double>(map_.MemoryBytes()) / (1024.0 * 1024.0), 1) + " MB");
 }
 
@@ -308,10 +285,10 @@ bool TerrainMapperNode::Step() {
   if (const auto c = controller_in_.Take(); c && c->awaiting_plan && c->awaiting_since != last_wait_published_) {
     wait_to_publish_ = c->awaiting_since;
   }
-  // The robot waits at a step boundary: once every cloud up to the wait is in, the map of the
-  // wait goes out (its utime the wait's), for the planners to answer the wait on.
-  if (wait_to_publish_ && !states_.empty() && states_.rbegin()->first >= *wait_to_publish_ &&
-      (pending_.empty() || pending_.front().utime > *wait_to_publish_)) {
+  // The robot waits at a step boundary: every cloud up to the wait is in (the simulator sends a
+  // tick's clouds before its status), and the map of the wait goes out (its utime the wait's), for
+  // the planners to answer the wait on.
+  if (wait_to_publish_ && (pending_.empty() || pending_.front().utime > *wait_to_publish_)) {
     const int64_t wait = *wait_to_publish_;
     wait_to_publish_.reset();
     last_wait_published_ = wait;

@@ -601,6 +601,19 @@ Scenario FloorTo(double end_x) {
   return s;
 }
 
+/// The robot waiting at a step boundary since `utime`, its base at (x, 0).
+void PublishWaiting(lcm::LCM& lcm, int64_t utime, double x) {
+  rbcp_msgs::controller_status_t controller{};
+  rbcp_msgs::robot_state_t state{};
+  controller.utime = state.utime = controller.awaiting_since = utime;
+  controller.awaiting_plan = true;
+  state.base_position[0] = x;
+  state.base_position[2] = 0.45;
+  state.base_orientation[0] = 1.0;
+  lcm.publish(channels::kControllerStatus, &controller);
+  lcm.publish(channels::kRobotState, &state);
+}
+
 TEST(RootPlannerNodePartialMap, PlansTowardsAGoalTheMapDoesNotShowThenToItOnceItDoes) {
   lcm::LCM lcm("memq://");
   const RobotModel robot = RobotModel::LoadDefault(kConfig);
@@ -615,7 +628,8 @@ TEST(RootPlannerNodePartialMap, PlansTowardsAGoalTheMapDoesNotShowThenToItOnceIt
     }
   };
 
-  // The map knows the floor to x = 1.5; the goal is at x = 3.
+  // The map knows the floor to x = 1.5; the goal is at x = 3. The robot waits for its first plan.
+  PublishWaiting(lcm, 100, 0.0);
   test::PublishWorld(lcm, FloorTo(1.5), kConfig, 100);
   rbcp_msgs::plan_request_t request{};
   request.utime = 200;
@@ -657,6 +671,50 @@ TEST(RootPlannerNodePartialMap, PlansTowardsAGoalTheMapDoesNotShowThenToItOnceIt
   EXPECT_NEAR(path->points.back().position[0], 3.0, 1e-9);
 }
 
+TEST(RootPlannerNodePartialMap, ARequestIsPlannedOnTheMapOfAWait) {
+  lcm::LCM lcm("memq://");
+  const RobotModel robot = RobotModel::LoadDefault(kConfig);
+  RootPlannerNodeOptions options;
+  options.partial_map = true;
+  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
+  node.status().set_verbose(false);
+  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
+  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
+  const auto pump = [&] {
+    while (lcm.handleTimeout(0) > 0) {
+    }
+  };
+  test::PublishWorld(lcm, FloorTo(1.5), kConfig, 100);
+  rbcp_msgs::plan_request_t request{};
+  request.utime = 200;
+  request.request_id = 10;
+  request.use_start = true;
+  request.goal_position[0] = 3.0;
+  request.time_budget = 5.0;
+  request.seed = 3;
+  lcm.publish(channels::kPlanRequest, &request);
+  pump();
+  node.Step();
+  pump();
+  EXPECT_FALSE(paths.Take().has_value()) << "the robot does not wait yet: the map may still grow before it does";
+  ASSERT_TRUE(status.Latest().has_value());
+  EXPECT_NE(status.Latest()->reason.find("the map of that wait"), std::string::npos) << status.Latest()->reason;
+  // The robot waits since 1 s; the map it has is older: still no path.
+  PublishWaiting(lcm, 1000000, 0.0);
+  pump();
+  node.Step();
+  pump();
+  EXPECT_FALSE(paths.Take().has_value());
+  // The map of the wait comes: the path, on it.
+  test::PublishWorld(lcm, FloorTo(1.6), kConfig, 1000000);
+  pump();
+  ASSERT_TRUE(node.Step());
+  pump();
+  const auto path = paths.Take();
+  ASSERT_TRUE(path.has_value()) << status.Latest()->reason;
+  EXPECT_EQ(path->terrain_id, transport::TerrainId(FloorTo(1.6).terrain_mesh));
+}
+
 TEST(RootPlannerNodePartialMap, APathThatHoldsOnANewMapGoesOnAsThePathOnIt) {
   lcm::LCM lcm("memq://");
   const RobotModel robot = RobotModel::LoadDefault(kConfig);
@@ -670,6 +728,7 @@ TEST(RootPlannerNodePartialMap, APathThatHoldsOnANewMapGoesOnAsThePathOnIt) {
     while (lcm.handleTimeout(0) > 0) {
     }
   };
+  PublishWaiting(lcm, 100, 0.0);
   test::PublishWorld(lcm, FloorTo(3.5), kConfig, 100);
   rbcp_msgs::plan_request_t request{};
   request.utime = 200;
@@ -735,6 +794,7 @@ TEST(RootPlannerNodePartialMap, AtTheEndOfAPathShortOfTheGoalTheRobotGetsANewOne
     while (lcm.handleTimeout(0) > 0) {
     }
   };
+  PublishWaiting(lcm, 100, 0.0);
   test::PublishWorld(lcm, FloorTo(1.5), kConfig, 100);
   rbcp_msgs::plan_request_t request{};
   request.utime = 200;
@@ -786,6 +846,7 @@ TEST(RootPlannerNodePartialMap, ARequestTheMapShowsNoWayForIsPlannedAgainOnTheNe
     }
   };
   // The map knows only the floor under the robot: no standing position nearer the goal.
+  PublishWaiting(lcm, 100, 0.0);
   test::PublishWorld(lcm, FloorTo(0.3), kConfig, 100);
   rbcp_msgs::plan_request_t request{};
   request.utime = 200;

@@ -137,36 +137,22 @@ TEST_F(TerrainMapperNodeTest, ACloudOfFlatGroundBecomesTerrainAtTheGroundsHeight
   EXPECT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::OK) << LastReason();
 }
 
-TEST_F(TerrainMapperNodeTest, TheStanceFeetMarkTheTerrainUnderTheTrunk) {
-  const auto state = State(0);
-  lcm_.publish(channels::kRobotState, &state);
+TEST_F(TerrainMapperNodeTest, ANewMapStartsWithTheGroundUnderTheStandingRobot) {
+  // The cameras never see under the trunk; the robot stands there, on its feet.
   const auto cloud = FlatGroundCloud(0, 0.0);
   lcm_.publish(channels::kPointCloud, &cloud);
   Run();
-  const auto feet = robot_.FootPositions(robot_.ReferenceConfiguration());
-  for (const Eigen::Vector3d& foot_B : feet) {
-    const Eigen::Vector3d foot_W = foot_B + Eigen::Vector3d(0.0, 0.0, kBaseHeight);
-    const auto cell = node_.map().elevation().At(foot_W.head<2>());
-    ASSERT_TRUE(cell.has_value()) << "under the foot at " << foot_W.transpose();
+  ASSERT_EQ(node_.clouds_fused(), 1) << "a cloud needs no ROBOT_STATE: it carries its base pose";
+  const mapping::ElevationMap& grid = node_.map().elevation();
+  for (Leg leg : kAllLegs) {
+    const Eigen::Vector3d foot_W = robot_.ReferenceFootPosition(leg) + Eigen::Vector3d(0.0, 0.0, kBaseHeight);
+    const auto cell = grid.At(foot_W.head<2>());
+    ASSERT_TRUE(cell.has_value()) << "under " << LegName(leg);
     EXPECT_NEAR(cell->height, foot_W.z(), 0.01);
   }
-}
-
-TEST_F(TerrainMapperNodeTest, ACloudWaitsForTheStateOfItsTime) {
-  const auto early = State(0);
-  lcm_.publish(channels::kRobotState, &early);
-  const auto cloud = FlatGroundCloud(100000, 0.0);
-  lcm_.publish(channels::kPointCloud, &cloud);
-  Run();
-  EXPECT_EQ(node_.clouds_fused(), 0) << "its state has not come yet";
-  EXPECT_FALSE(terrain_.Take().has_value());
-  const auto state = State(100000);
-  lcm_.publish(channels::kRobotState, &state);
-  Run();
-  EXPECT_EQ(node_.clouds_fused(), 1);
-  const auto terrain = terrain_.Take();
-  ASSERT_TRUE(terrain.has_value()) << LastReason();
-  EXPECT_EQ(terrain->utime, 100000);
+  const auto under_trunk = grid.At(Eigen::Vector2d(0.0, 0.0));
+  ASSERT_TRUE(under_trunk.has_value());
+  EXPECT_NEAR(under_trunk->height, kBaseHeight + robot_.ReferenceFootPosition(Leg::kLF).z(), 0.01);
 }
 
 TEST_F(TerrainMapperNodeTest, ACloudIsPlacedWithTheBasePoseItCarries) {

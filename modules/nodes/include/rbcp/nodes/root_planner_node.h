@@ -46,8 +46,9 @@ struct RootPlannerNodeOptions {
   /// does not reach the goal), and a new map is planned on again while the robot waits at a step
   /// boundary (also after a request found no path on the map before) unless the path the robot
   /// follows holds on it (KeepPathOnNewMap). A path kept, or kept by a replan that fails, is sent
-  /// again as the path on the new map. The wait's map is the one of its time or later (TERRAIN
-  /// utime >= awaiting_since).
+  /// again as the path on the new map. Requests and replans are planned on the map of a wait of
+  /// the robot (TERRAIN utime >= awaiting_since), so that a path depends on the clouds up to the
+  /// wait and not on when the request or the maps came.
   bool partial_map = false;
   GoalsTowardOptions partial_goals;      ///< partial_map: where to plan towards a goal the map does not show
   /// partial_map: a path short of the goal is planned again on a new map when the map shows a
@@ -111,6 +112,9 @@ class RootPlannerNode {
   /// map shows neither the goal nor a way partial_replan_gain_m nearer it, and the robot is not at
   /// its end); if so it is sent again as the path on this map.
   bool KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state);
+  /// partial_map: the robot waits at a step boundary and the map of that wait (or a later one) is
+  /// here: a new request is planned only then.
+  bool WaitsOnItsMap() const;
   int64_t Now() const;
 
   lcm::LCM& lcm_;

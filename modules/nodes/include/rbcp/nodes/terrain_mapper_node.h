@@ -1,17 +1,16 @@
 #pragma once
-/// The terrain mapper as a process (terrain_mapper): POINT_CLOUD and ROBOT_STATE in; the terrain
+/// The terrain mapper as a process (terrain_mapper): POINT_CLOUD (and ROBOT_STATE, CONTROLLER_STATUS for the time and the waits) in; the terrain
 /// it knows out, as TERRAIN (a mesh of the known cells of its elevation map; unknown cells are no
 /// terrain) beside ELEVATION_MAP (the grid, with each cell's variance), and STATUS.
 ///
 /// Each cloud is placed in the world with the base pose it carries (the state estimate's at
-/// capture, which the ROBOT_STATE of its utime carries too) and the sensor's mount on the base, as
-/// the robot places its clouds. It waits for the ROBOT_STATE of its utime (the simulator sends a
-/// tick's clouds just before its state), whose stance feet (forward kinematics of the measured
-/// joints) mark the terrain under them too; a new map starts with the plane through the four feet
-/// under the trunk (the robot starts standing on them): the sensors do not see under the trunk. A
-/// cloud more than max_cloud_lead_s ahead of the newest state is rejected with the reason on
-/// STATUS, as is a malformed one (counts that disagree, a base or mount that is not a rigid pose,
-/// more points than the map takes).
+/// capture) and the sensor's mount on the base, as the robot places its clouds, so the map is made
+/// of the clouds alone, whichever other messages were lost on the way. No sensor looks under the
+/// trunk: a new map starts with the plane through the feet of the reference stance under the
+/// base pose of its first cloud (the robot starts standing). A cloud more than max_cloud_lead_s
+/// ahead of the newest ROBOT_STATE is rejected with the reason on STATUS, as is a malformed one
+/// (counts that disagree, a base or mount that is not a rigid pose, more points than the map
+/// takes).
 ///
 /// The map goes out when its clouds' time reaches the next multiple of publish_period_s, and when
 /// the robot starts waiting at a step boundary (CONTROLLER_STATUS awaiting_since) once every cloud
@@ -54,11 +53,9 @@ struct TerrainMapperNodeChannels {
 /// The process's limits on its inputs (not map parameters: those are mapping::MapperConfig's).
 struct TerrainMapperNodeOptions {
   double max_cloud_lead_s = 0.5;   ///< [s, simulated] a cloud this far ahead of the newest state is rejected
-  double state_history_s = 2.0;    ///< [s, simulated] states kept to place clouds
-  double contact_variance_m2 = 1e-4;  ///< a stance foot's height measurement [m^2]
   double footprint_variance_m2 = 4e-4;  ///< the terrain under the trunk at a map's start (TerrainMap::InitializeFootprint) [m^2]
   double footprint_margin_m = 0.15;     ///< ... and around the feet, this far [m]
-  std::size_t max_pending_clouds = 16;  ///< clouds waiting for their state; the oldest goes beyond
+  std::size_t max_pending_clouds = 16;  ///< clouds received and not yet fused; the oldest goes beyond
 };
 
 /// Why a cloud was not integrated (for STATUS and tests).
@@ -97,10 +94,9 @@ class TerrainMapperNode {
   void TakeState(const rbcp_msgs::robot_state_t& msg);
   void TakeCloud(const rbcp_msgs::point_cloud_t& msg);
   void Reject(const rbcp_msgs::point_cloud_t& msg, const std::string& why);
-  /// Integrates the pending clouds whose state is known (in capture order).
+  /// Fuses the clouds received (in capture order), rejecting one from the future.
   bool IntegratePending();
-  /// `state`: the ROBOT_STATE of the cloud's utime, if heard (its stance feet mark the terrain).
-  void Integrate(const rbcp_msgs::point_cloud_t& msg, const RobotState* state);
+  void Integrate(const rbcp_msgs::point_cloud_t& msg);
   void Publish(int64_t utime, double compute_ms);
   void Restart();
 
@@ -113,7 +109,7 @@ class TerrainMapperNode {
   transport::StatusReporter status_;
   mapping::TerrainMap map_;
   std::optional<rbcp_msgs::terrain_mesh_t> last_terrain_;  ///< the latest map sent
-  std::map<int64_t, RobotState> states_;            ///< by utime, the last state_history_s (for the feet)
+  int64_t newest_state_utime_ = -1;                 ///< of the ROBOT_STATE messages heard
   std::deque<rbcp_msgs::point_cloud_t> pending_;    ///< clouds waiting for their state, capture order
   std::optional<int64_t> wait_to_publish_;          ///< a step boundary's wait whose map is owed
   int64_t last_wait_published_ = -1;
@@ -122,7 +118,6 @@ class TerrainMapperNode {
   int64_t next_publish_utime_ = 0;
   int64_t clouds_fused_ = 0;
   int64_t clouds_rejected_ = 0;
-  int64_t clouds_without_state_ = 0;  ///< fused without the ROBOT_STATE of their time (lost): no feet
   int64_t maps_published_ = 0;
   double integrate_ms_ = 0.0;  ///< wall time integrating since the last map
   bool dirty_ = false;         ///< clouds integrated since the last map
