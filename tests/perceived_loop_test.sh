@@ -2,7 +2,8 @@
 # The replanning loop on the perceived terrain: the planners plan on the map terrain_mapper builds
 # from the simulator's depth cameras, and the goal lies beyond what they see from the start. The
 # robot walks to it (the simulator judges the walk on the true terrain), and run_log judges the map
-# against the true terrain: height error, coverage of the walked path, cloud-to-TERRAIN latency.
+# against the true terrain: height error, coverage of the walked path, cloud-to-TERRAIN latency;
+# map_replay replays the log into a mapper of its own, which sends the same maps.
 # (check_plan is not asked: the plans' footholds lie on the map's surfaces, a millimetre or so off
 # the true ones, beyond the checker's tolerance for a plan made on the terrain it checks.)
 set -euo pipefail
@@ -30,4 +31,7 @@ assert e["cells"] > 1000 and e["rms"] <= 0.02, "the map is off the true terrain"
 assert p["path_coverage"] >= 0.5, "the map does not cover the walked path"
 assert p["cloud_to_terrain_ms"]["count"] > 0, "no map of a capture's time"
 PY
+"$bin/map_replay" --log "$dir/run.lcmlog" | tee "$dir/map_replay.txt"
+grep -q "the replayed mapper sent the same" "$dir/map_replay.txt" \
+  || { echo "perceived_loop_test: the log replayed into a mapper gives other maps" >&2; exit 1; }
 echo "perceived_loop_test: the robot walked to a goal beyond its cameras on the map it built"
