@@ -33,10 +33,9 @@ std::string OutcomeSummary(const ExecutionOutcome& o) {
 
 namespace {
 
-rbcp_msgs::point_cloud_t ToPointCloudMsg(const PointCloud& cloud, const RobotState& state) {
+/// `cloud` with the utime and base pose of the ROBOT_STATE of its tick (`carried`), as it carries them.
+rbcp_msgs::point_cloud_t ToPointCloudMsg(const PointCloud& cloud, const rbcp_msgs::robot_state_t& carried) {
   rbcp_msgs::point_cloud_t msg{};
-  // The utime and base pose of the ROBOT_STATE that carries this state, as it carries them.
-  const rbcp_msgs::robot_state_t carried = transport::ToRobotStateMsg(state);
   msg.utime = carried.utime;
   msg.sensor = cloud.sensor;
   msg.seq = cloud.seq;
@@ -208,9 +207,11 @@ void SimNode::UpdateWait() {
 }
 
 void SimNode::PublishState() {
-  // The controller's status first: a process that hears of a wait then hears the state it waits in.
   const RobotState state = execution_.State();
   const auto state_msg = transport::ToRobotStateMsg(state);
+  // The tick's clouds first: a mapper that hears of a wait has every cloud up to it. Then the
+  // controller's status: a process that hears of a wait then hears the state it waits in.
+  PublishClouds(state, state_msg);
   const ControllerStatus& status = execution_.Controller().Status();
   ControllerProgress progress;
   progress.plan_seq = plan_seq_;
@@ -229,17 +230,15 @@ void SimNode::PublishState() {
   lcm_.publish(channels::kRobotState, &state_msg);
 }
 
-void SimNode::PublishClouds(const RobotState& state) {
+void SimNode::PublishClouds(const RobotState& state, const rbcp_msgs::robot_state_t& state_msg) {
   if (sensors_.Empty()) return;
   const std::vector<PointCloud> clouds = sensors_.CaptureIfDue(execution_.World(), state);
-  if (clouds.empty()) return;
-  const int64_t utime = transport::ToRobotStateMsg(state).utime;
   for (const PointCloud& cloud : clouds) {
-    const std::string problem = publisher_.Publish(channels::kPointCloud, ToPointCloudMsg(cloud, state));
+    const std::string problem = publisher_.Publish(channels::kPointCloud, ToPointCloudMsg(cloud, state_msg));
     if (problem.empty()) {
       point_clouds_ += 1;
     } else {
-      status_.Failed(utime, utime, 0.0, problem);
+      status_.Failed(state_msg.utime, state_msg.utime, 0.0, problem);
     }
   }
 }
@@ -335,8 +334,7 @@ void SimNode::Tick() {
     const auto now = std::chrono::steady_clock::now();
     if (now - last_state_wall_ >= std::chrono::milliseconds(5)) {
       last_state_wall_ = now;
-      PublishClouds(execution_.State());  // a capture due at this tick, once
-      PublishState();
+      PublishState();  // with a capture due at this tick, once
     }
     // The terrain, due every terrain_period_s of simulated time, goes out on the wall clock meanwhile.
     if (now - last_terrain_wall_ >= std::chrono::duration<double>(config_.terrain_period_s)) PublishTerrain();
@@ -349,8 +347,6 @@ void SimNode::Tick() {
   ApplyEvents();
   execution_.Tick();
   UpdateWait();
-  // The tick's clouds before its state: a mapper that hears of a wait has every cloud up to it.
-  PublishClouds(execution_.State());
   PublishState();
 
   if ((plans_ > 0 || options_.replan) && execution_.Decided() && !reported_) {

@@ -54,6 +54,7 @@
 #include "rbcp_msgs/contact_plan_t.hpp"
 #include "rbcp_msgs/plan_request_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
+#include "rbcp_msgs/robot_state_t.hpp"
 
 namespace rbcp::sim {
 
@@ -113,11 +114,11 @@ class SimNode {
   void PublishTerrain();
   void TakePlan(const rbcp_msgs::contact_plan_t& msg);
   void UpdateWait();
-  /// Publishes CONTROLLER_STATUS and ROBOT_STATE.
+  /// Publishes the tick's POINT_CLOUD captures (when due), then CONTROLLER_STATUS and ROBOT_STATE.
   void PublishState();
-  /// The depth sensors' captures due at `state` (the tick's state), on POINT_CLOUD, just before
-  /// the tick's ROBOT_STATE: a mapper that hears of a wait has every cloud up to it.
-  void PublishClouds(const RobotState& state);
+  /// The depth sensors' captures due at `state` (the tick's state, `state_msg` its ROBOT_STATE),
+  /// on POINT_CLOUD with that message's utime and base pose.
+  void PublishClouds(const RobotState& state, const rbcp_msgs::robot_state_t& state_msg);
   /// Applies the events due by now; ends a push that is over.
   void ApplyEvents();
   /// The terrain as the events due at one tick change it: applied once, after all of them.
