@@ -15,11 +15,21 @@ namespace {
 
 double Seconds(int64_t utime) { return static_cast<double>(utime) * 1e-6; }
 
-bool Finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i) {
-    if (!std::isfinite(v[i])) return false;
-  }
-  return true;
+/// Why a (w, x, y, z) orientation [4] of a message is no rotation: not a unit quaternion.
+std::optional<std::string> NotAUnitQuaternion(const double* q) {
+  const double norm = Eigen::Vector4d(q[0], q[1], q[2], q[3]).norm();
+  if (std::abs(norm - 1.0) <= transport::kUnitTolerance) return std::nullopt;
+  return "is not a unit quaternion (norm " + FixedNumber(norm, 4) + ")";
+}
+
+/// The rigid pose of a position [3] and a (w, x, y, z) orientation [4], as the messages carry them.
+Eigen::Isometry3d PoseOf(const double* position, const double* orientation) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::Quaterniond(orientation[0], orientation[1], orientation[2], orientation[3])
+                      .normalized()
+                      .toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(position[0], position[1], position[2]);
+  return pose;
 }
 
 }  // namespace
@@ -33,26 +43,22 @@ std::optional<std::string> CheckCloud(const rbcp_msgs::point_cloud_t& msg, int m
     return what + std::to_string(msg.num_points) + " points, more than the map takes in one cloud (" +
            std::to_string(max_points) + ", mapper.yaml max_points_per_cloud)";
   }
-  if (!Finite(msg.base_position, 3) || !Finite(msg.base_orientation, 4)) return what + "the base pose is not finite";
-  if (!Finite(msg.mount_position, 3) || !Finite(msg.mount_orientation, 4)) return what + "the sensor's mount is not finite";
+  if (!transport::AllFinite(msg.base_position, 3) || !transport::AllFinite(msg.base_orientation, 4)) {
+    return what + "the base pose is not finite";
+  }
+  if (!transport::AllFinite(msg.mount_position, 3) || !transport::AllFinite(msg.mount_orientation, 4)) {
+    return what + "the sensor's mount is not finite";
+  }
   if (std::abs(msg.base_position[0]) > transport::kMaxCoordinate_m || std::abs(msg.base_position[1]) > transport::kMaxCoordinate_m ||
       std::abs(msg.base_position[2]) > transport::kMaxCoordinate_m) {
     return what + "the base is beyond " + FixedNumber(transport::kMaxCoordinate_m, 0) + " m";
   }
-  const Eigen::Quaterniond base(msg.base_orientation[0], msg.base_orientation[1], msg.base_orientation[2],
-                                msg.base_orientation[3]);
-  if (std::abs(base.norm() - 1.0) > transport::kUnitTolerance) {
-    return what + "the base orientation is not a unit quaternion (norm " + FixedNumber(base.norm(), 4) + ")";
-  }
+  if (auto bad = NotAUnitQuaternion(msg.base_orientation)) return what + "the base orientation " + *bad;
   if (std::abs(msg.mount_position[0]) > 10.0 || std::abs(msg.mount_position[1]) > 10.0 ||
       std::abs(msg.mount_position[2]) > 10.0) {
     return what + "the sensor's mount is more than 10 m from the base";
   }
-  const Eigen::Quaterniond q(msg.mount_orientation[0], msg.mount_orientation[1], msg.mount_orientation[2],
-                             msg.mount_orientation[3]);
-  if (std::abs(q.norm() - 1.0) > transport::kUnitTolerance) {
-    return what + "the sensor's mount orientation is not a unit quaternion (norm " + FixedNumber(q.norm(), 4) + ")";
-  }
+  if (auto bad = NotAUnitQuaternion(msg.mount_orientation)) return what + "the sensor's mount orientation " + *bad;
   if (!std::isfinite(msg.range_noise_std) || msg.range_noise_std < 0.0f || msg.range_noise_std > 1.0f) {
     return what + "range_noise_std expected in [0, 1] m, got " + FixedNumber(msg.range_noise_std, 4);
   }
@@ -204,19 +210,8 @@ bool TerrainMapperNode::IntegratePending() {
 void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg) {
   const auto start = std::chrono::steady_clock::now();
   status_.Busy(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime);
-  Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-  base_W.linear() = Eigen::Quaterniond(msg.base_orientation[0], msg.base_orientation[1], msg.base_orientation[2],
-                                       msg.base_orientation[3])
-                        .normalized()
-                        .toRotationMatrix();
-  base_W.translation() = Eigen::Vector3d(msg.base_position[0], msg.base_position[1], msg.base_position[2]);
-  Eigen::Isometry3d sensor_B = Eigen::Isometry3d::Identity();
-  sensor_B.linear() = Eigen::Quaterniond(msg.mount_orientation[0], msg.mount_orientation[1], msg.mount_orientation[2],
-                                         msg.mount_orientation[3])
-                          .normalized()
-                          .toRotationMatrix();
-  sensor_B.translation() = Eigen::Vector3d(msg.mount_position[0], msg.mount_position[1], msg.mount_position[2]);
-  const Eigen::Isometry3d sensor_W = base_W * sensor_B;
+  const Eigen::Isometry3d base_W = PoseOf(msg.base_position, msg.base_orientation);
+  const Eigen::Isometry3d sensor_W = base_W * PoseOf(msg.mount_position, msg.mount_orientation);
 
   mapping::WorldCloud cloud;
   cloud.origin = sensor_W.translation();

@@ -22,13 +22,11 @@
 
 #include <cstdint>
 #include <deque>
-#include <map>
 #include <optional>
 #include <string>
 
 #include "rbcp/mapping/terrain_map.h"
 #include "rbcp/robot/robot_model.h"
-#include "rbcp/robot/robot_state.h"
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/message_parts.h"
