@@ -159,36 +159,6 @@ std::size_t ElevationMap::MemoryBytes() const {
   return sizeof(*this) + (height_.capacity() + variance_.capacity() + support_.capacity()) * sizeof(float);
 }
 
-std::vector<float> ElevationMap::MeshHeights() const {
-  std::vector<float> out(height_.size(), kUnknown);
-  const double step = config_.mesh_smoothing_step_m;
-  for (int iy = 0; iy < n_; ++iy) {
-    for (int ix = 0; ix < n_; ++ix) {
-      const float h = height_[Flat(ix, iy)];
-      if (std::isnan(h)) continue;
-      if (step <= 0.0) {
-        out[Flat(ix, iy)] = h;
-        continue;
-      }
-      // Edge-preserving: only neighbours of the same surface (within step) count, by their weight.
-      double weight = 0.0, sum = 0.0;
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int jx = ix + dx, jy = iy + dy;
-          if (jx < 0 || jy < 0 || jx >= n_ || jy >= n_) continue;
-          const float hn = height_[Flat(jx, jy)];
-          if (std::isnan(hn) || std::abs(hn - h) > step) continue;
-          const double w = 1.0 / std::max<double>(variance_[Flat(jx, jy)], config_.min_variance_m2);
-          weight += w;
-          sum += w * hn;
-        }
-      }
-      out[Flat(ix, iy)] = static_cast<float>(sum / weight);
-    }
-  }
-  return out;
-}
-
 namespace {
 
 /// Rounds of hole filling: a hole of up to two cells across closes.
@@ -321,11 +291,41 @@ void SnapPlanes(std::vector<float>& heights, int n, const ElevationMapConfig& co
 
 }  // namespace
 
+std::vector<float> ElevationMap::MeshHeights() const {
+  std::vector<float> out(height_.size(), kUnknown);
+  const double step = config_.mesh_smoothing_step_m;
+  for (int iy = 0; iy < n_; ++iy) {
+    for (int ix = 0; ix < n_; ++ix) {
+      const float h = height_[Flat(ix, iy)];
+      if (std::isnan(h)) continue;
+      if (step <= 0.0) {
+        out[Flat(ix, iy)] = h;
+        continue;
+      }
+      // Edge-preserving: only neighbours of the same surface (within step) count, by their weight.
+      double weight = 0.0, sum = 0.0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int jx = ix + dx, jy = iy + dy;
+          if (jx < 0 || jy < 0 || jx >= n_ || jy >= n_) continue;
+          const float hn = height_[Flat(jx, jy)];
+          if (std::isnan(hn) || std::abs(hn - h) > step) continue;
+          const double w = 1.0 / std::max<double>(variance_[Flat(jx, jy)], config_.min_variance_m2);
+          weight += w;
+          sum += w * hn;
+        }
+      }
+      out[Flat(ix, iy)] = static_cast<float>(sum / weight);
+    }
+  }
+  SnapPlanes(out, n_, config_);
+  return out;
+}
+
 TriangleMesh ElevationMap::ToMesh() const {
   TriangleMesh mesh;
   if (!placed_ || known_ == 0) return mesh;
-  std::vector<float> heights = MeshHeights();
-  SnapPlanes(heights, n_, config_);
+  const std::vector<float> heights = MeshHeights();
   const auto known = [&](int ix, int iy) { return !std::isnan(heights[Flat(ix, iy)]); };
   // Vertex of a cell, made the first time a triangle uses it (only used cells become vertices).
   std::vector<int> vertex(height_.size(), -1);
