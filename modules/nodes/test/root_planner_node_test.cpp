@@ -601,152 +601,21 @@ Scenario FloorTo(double end_x) {
   return s;
 }
 
-/// The robot waiting at a step boundary since `utime`, its base at (x, 0).
-void PublishWaiting(lcm::LCM& lcm, int64_t utime, double x) {
-  rbcp_msgs::controller_status_t controller{};
-  rbcp_msgs::robot_state_t state{};
-  controller.utime = state.utime = controller.awaiting_since = utime;
-  controller.awaiting_plan = true;
-  state.base_position[0] = x;
-  state.base_position[2] = 0.45;
-  state.base_orientation[0] = 1.0;
-  lcm.publish(channels::kControllerStatus, &controller);
-  lcm.publish(channels::kRobotState, &state);
-}
-
-TEST(RootPlannerNodePartialMap, PlansTowardsAGoalTheMapDoesNotShowThenToItOnceItDoes) {
-  lcm::LCM lcm("memq://");
-  const RobotModel robot = RobotModel::LoadDefault(kConfig);
-  RootPlannerNodeOptions options;
-  options.partial_map = true;
-  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
-  node.status().set_verbose(false);
-  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
-  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
-  const auto pump = [&] {
-    while (lcm.handleTimeout(0) > 0) {
+/// A root planner on a map that grows (--partial-map), the robot's messages and its answers.
+class RootPlannerNodePartialMapTest : public ::testing::Test {
+ protected:
+  static RootPlannerNodeOptions PartialMap() {
+    RootPlannerNodeOptions options;
+    options.partial_map = true;
+    return options;
+  }
+  void SetUp() override { node_.status().set_verbose(false); }
+  void Pump() {
+    while (lcm_.handleTimeout(0) > 0) {
     }
-  };
-
-  // The map knows the floor to x = 1.5; the goal is at x = 3. The robot waits for its first plan.
-  PublishWaiting(lcm, 100, 0.0);
-  test::PublishWorld(lcm, FloorTo(1.5), kConfig, 100);
-  rbcp_msgs::plan_request_t request{};
-  request.utime = 200;
-  request.request_id = 5;
-  request.use_start = true;
-  request.goal_position[0] = 3.0;
-  request.time_budget = 5.0;
-  request.seed = 3;
-  lcm.publish(channels::kPlanRequest, &request);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  auto path = paths.Take();
-  ASSERT_TRUE(path.has_value()) << status.Latest()->reason;
-  EXPECT_FALSE(path->reaches_goal);
-  const double end_x = path->points.back().position[0];
-  EXPECT_GT(end_x, 0.5) << "towards the goal";
-  EXPECT_LE(end_x, 1.0 + 1e-9) << "on the known terrain, with room for the front feet";
-  EXPECT_NE(status.Latest()->reason.find("towards the goal"), std::string::npos) << status.Latest()->reason;
-
-  // The robot waits at a step boundary on the way; the map now shows the goal: a path to it.
-  rbcp_msgs::controller_status_t controller{};
-  rbcp_msgs::robot_state_t state{};
-  controller.utime = state.utime = controller.awaiting_since = 2000000;
-  controller.awaiting_plan = true;
-  state.base_position[0] = 0.6;
-  state.base_position[2] = 0.45;
-  state.base_orientation[0] = 1.0;
-  lcm.publish(channels::kControllerStatus, &controller);
-  lcm.publish(channels::kRobotState, &state);
-  test::PublishWorld(lcm, FloorTo(4.0), kConfig, 2000000);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  path = paths.Take();
-  ASSERT_TRUE(path.has_value()) << status.Latest()->reason;
-  EXPECT_TRUE(path->reaches_goal);
-  EXPECT_NEAR(path->points.front().position[0], 0.6, 1e-9);
-  EXPECT_NEAR(path->points.back().position[0], 3.0, 1e-9);
-}
-
-TEST(RootPlannerNodePartialMap, ARequestIsPlannedOnTheMapOfAWait) {
-  lcm::LCM lcm("memq://");
-  const RobotModel robot = RobotModel::LoadDefault(kConfig);
-  RootPlannerNodeOptions options;
-  options.partial_map = true;
-  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
-  node.status().set_verbose(false);
-  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
-  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
-  const auto pump = [&] {
-    while (lcm.handleTimeout(0) > 0) {
-    }
-  };
-  test::PublishWorld(lcm, FloorTo(1.5), kConfig, 100);
-  rbcp_msgs::plan_request_t request{};
-  request.utime = 200;
-  request.request_id = 10;
-  request.use_start = true;
-  request.goal_position[0] = 3.0;
-  request.time_budget = 5.0;
-  request.seed = 3;
-  lcm.publish(channels::kPlanRequest, &request);
-  pump();
-  node.Step();
-  pump();
-  EXPECT_FALSE(paths.Take().has_value()) << "the robot does not wait yet: the map may still grow before it does";
-  ASSERT_TRUE(status.Latest().has_value());
-  EXPECT_NE(status.Latest()->reason.find("the map of that wait"), std::string::npos) << status.Latest()->reason;
-  // The robot waits since 1 s; the map it has is older: still no path.
-  PublishWaiting(lcm, 1000000, 0.0);
-  pump();
-  node.Step();
-  pump();
-  EXPECT_FALSE(paths.Take().has_value());
-  // The map of the wait comes: the path, on it.
-  test::PublishWorld(lcm, FloorTo(1.6), kConfig, 1000000);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  const auto path = paths.Take();
-  ASSERT_TRUE(path.has_value()) << status.Latest()->reason;
-  EXPECT_EQ(path->terrain_id, transport::TerrainId(FloorTo(1.6).terrain_mesh));
-}
-
-TEST(RootPlannerNodePartialMap, APathThatHoldsOnANewMapGoesOnAsThePathOnIt) {
-  lcm::LCM lcm("memq://");
-  const RobotModel robot = RobotModel::LoadDefault(kConfig);
-  RootPlannerNodeOptions options;
-  options.partial_map = true;
-  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
-  node.status().set_verbose(false);
-  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
-  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
-  const auto pump = [&] {
-    while (lcm.handleTimeout(0) > 0) {
-    }
-  };
-  PublishWaiting(lcm, 100, 0.0);
-  test::PublishWorld(lcm, FloorTo(3.5), kConfig, 100);
-  rbcp_msgs::plan_request_t request{};
-  request.utime = 200;
-  request.request_id = 8;
-  request.use_start = true;
-  request.goal_position[0] = 2.5;
-  request.time_budget = 5.0;
-  request.seed = 3;
-  lcm.publish(channels::kPlanRequest, &request);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  const auto first = paths.Take();
-  ASSERT_TRUE(first.has_value()) << status.Latest()->reason;
-  ASSERT_TRUE(first->reaches_goal);
-
-  // The robot waits on the path; the map grew a little: the same path, as the path on this map.
-  const auto wait_at = [&](int64_t utime, double x) {
+  }
+  /// The robot waiting at a step boundary since `utime`, its base at (x, 0).
+  void WaitAt(int64_t utime, double x) {
     rbcp_msgs::controller_status_t controller{};
     rbcp_msgs::robot_state_t state{};
     controller.utime = state.utime = controller.awaiting_since = utime;
@@ -754,131 +623,163 @@ TEST(RootPlannerNodePartialMap, APathThatHoldsOnANewMapGoesOnAsThePathOnIt) {
     state.base_position[0] = x;
     state.base_position[2] = 0.45;
     state.base_orientation[0] = 1.0;
-    lcm.publish(channels::kControllerStatus, &controller);
-    lcm.publish(channels::kRobotState, &state);
-  };
-  wait_at(1000000, 0.3);
-  test::PublishWorld(lcm, FloorTo(3.7), kConfig, 1000000);
-  pump();
-  node.Step();
-  pump();
-  const auto kept = paths.Take();
+    lcm_.publish(channels::kControllerStatus, &controller);
+    lcm_.publish(channels::kRobotState, &state);
+  }
+  /// The operator's request from (0, 0) to (goal_x, 0).
+  void Request(int64_t id, double goal_x) {
+    rbcp_msgs::plan_request_t request{};
+    request.utime = 200;
+    request.request_id = id;
+    request.use_start = true;
+    request.goal_position[0] = goal_x;
+    request.time_budget = 5.0;
+    request.seed = 3;
+    lcm_.publish(channels::kPlanRequest, &request);
+  }
+  std::string Reason() const { return status_.Latest() ? status_.Latest()->reason : ""; }
+
+  lcm::LCM lcm_{"memq://"};
+  RobotModel robot_ = RobotModel::LoadDefault(kConfig);
+  RootPlannerNode node_{lcm_, robot_, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), PartialMap()};
+  transport::LatestMessage<rbcp_msgs::root_path_t> paths_{lcm_, channels::kRootPath};
+  transport::LatestMessage<rbcp_msgs::process_status_t> status_{lcm_, channels::kStatus};
+};
+
+TEST_F(RootPlannerNodePartialMapTest, PlansTowardsAGoalTheMapDoesNotShowThenToItOnceItDoes) {
+  // The map knows the floor to x = 1.5; the goal is at x = 3. The robot waits for its first plan.
+  WaitAt(100, 0.0);
+  test::PublishWorld(lcm_, FloorTo(1.5), kConfig, 100);
+  Request(5, 3.0);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  auto path = paths_.Take();
+  ASSERT_TRUE(path.has_value()) << Reason();
+  EXPECT_FALSE(path->reaches_goal);
+  const double end_x = path->points.back().position[0];
+  EXPECT_GT(end_x, 0.5) << "towards the goal";
+  EXPECT_LE(end_x, 1.0 + 1e-9) << "on the known terrain, with room for the front feet";
+  EXPECT_NE(Reason().find("towards the goal"), std::string::npos) << Reason();
+
+  // The robot waits at a step boundary on the way; the map now shows the goal: a path to it.
+  WaitAt(2000000, 0.6);
+  test::PublishWorld(lcm_, FloorTo(4.0), kConfig, 2000000);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  path = paths_.Take();
+  ASSERT_TRUE(path.has_value()) << Reason();
+  EXPECT_TRUE(path->reaches_goal);
+  EXPECT_NEAR(path->points.front().position[0], 0.6, 1e-9);
+  EXPECT_NEAR(path->points.back().position[0], 3.0, 1e-9);
+}
+
+TEST_F(RootPlannerNodePartialMapTest, ARequestIsPlannedOnTheMapOfAWait) {
+  test::PublishWorld(lcm_, FloorTo(1.5), kConfig, 100);
+  Request(10, 3.0);
+  Pump();
+  node_.Step();
+  Pump();
+  EXPECT_FALSE(paths_.Take().has_value()) << "the robot does not wait yet: the map may still grow before it does";
+  ASSERT_TRUE(status_.Latest().has_value());
+  EXPECT_NE(Reason().find("the map of that wait"), std::string::npos) << Reason();
+  // The robot waits since 1 s; the map it has is older: still no path.
+  WaitAt(1000000, 0.0);
+  Pump();
+  node_.Step();
+  Pump();
+  EXPECT_FALSE(paths_.Take().has_value());
+  // The map of the wait comes: the path, on it.
+  test::PublishWorld(lcm_, FloorTo(1.6), kConfig, 1000000);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  const auto path = paths_.Take();
+  ASSERT_TRUE(path.has_value()) << Reason();
+  EXPECT_EQ(path->terrain_id, transport::TerrainId(FloorTo(1.6).terrain_mesh));
+}
+
+TEST_F(RootPlannerNodePartialMapTest, APathThatHoldsOnANewMapGoesOnAsThePathOnIt) {
+  WaitAt(100, 0.0);
+  test::PublishWorld(lcm_, FloorTo(3.5), kConfig, 100);
+  Request(8, 2.5);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  const auto first = paths_.Take();
+  ASSERT_TRUE(first.has_value()) << Reason();
+  ASSERT_TRUE(first->reaches_goal);
+
+  // The robot waits on the path; the map grew a little: the same path, as the path on this map.
+  WaitAt(1000000, 0.3);
+  test::PublishWorld(lcm_, FloorTo(3.7), kConfig, 1000000);
+  Pump();
+  node_.Step();
+  Pump();
+  const auto kept = paths_.Take();
   ASSERT_TRUE(kept.has_value());
   EXPECT_NE(kept->terrain_id, first->terrain_id) << "the path on the new map";
   ASSERT_EQ(kept->num_points, first->num_points) << "the same path";
   for (int i = 0; i < kept->num_points; ++i) EXPECT_EQ(kept->points[i].position[0], first->points[i].position[0]);
 
   // The next map shows the floor ending before the goal: a new path, towards it.
-  wait_at(2000000, 0.6);
-  test::PublishWorld(lcm, FloorTo(1.8), kConfig, 2000000);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  const auto replanned = paths.Take();
-  ASSERT_TRUE(replanned.has_value()) << status.Latest()->reason;
+  WaitAt(2000000, 0.6);
+  test::PublishWorld(lcm_, FloorTo(1.8), kConfig, 2000000);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  const auto replanned = paths_.Take();
+  ASSERT_TRUE(replanned.has_value()) << Reason();
   EXPECT_FALSE(replanned->reaches_goal);
   EXPECT_NEAR(replanned->points.front().position[0], 0.6, 1e-9);
   EXPECT_LE(replanned->points.back().position[0], 1.8 - 0.5 + 1e-9);
 }
 
-TEST(RootPlannerNodePartialMap, AtTheEndOfAPathShortOfTheGoalTheRobotGetsANewOne) {
-  lcm::LCM lcm("memq://");
-  const RobotModel robot = RobotModel::LoadDefault(kConfig);
-  RootPlannerNodeOptions options;
-  options.partial_map = true;
-  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
-  node.status().set_verbose(false);
-  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
-  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
-  const auto pump = [&] {
-    while (lcm.handleTimeout(0) > 0) {
-    }
-  };
-  PublishWaiting(lcm, 100, 0.0);
-  test::PublishWorld(lcm, FloorTo(1.5), kConfig, 100);
-  rbcp_msgs::plan_request_t request{};
-  request.utime = 200;
-  request.request_id = 9;
-  request.use_start = true;
-  request.goal_position[0] = 3.0;
-  request.time_budget = 5.0;
-  request.seed = 3;
-  lcm.publish(channels::kPlanRequest, &request);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  const auto first = paths.Take();
-  ASSERT_TRUE(first.has_value()) << status.Latest()->reason;
+TEST_F(RootPlannerNodePartialMapTest, AtTheEndOfAPathShortOfTheGoalTheRobotGetsANewOne) {
+  WaitAt(100, 0.0);
+  test::PublishWorld(lcm_, FloorTo(1.5), kConfig, 100);
+  Request(9, 3.0);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  const auto first = paths_.Take();
+  ASSERT_TRUE(first.has_value()) << Reason();
   const double end_x = first->points.back().position[0];
 
   // The robot waits at the path's end; the map shows a little more (less than the 0.5 m gain that
   // replans a path on the way): a new path from there all the same.
-  rbcp_msgs::controller_status_t controller{};
-  rbcp_msgs::robot_state_t state{};
-  controller.utime = state.utime = controller.awaiting_since = 3000000;
-  controller.awaiting_plan = true;
-  state.base_position[0] = end_x;
-  state.base_position[2] = 0.45;
-  state.base_orientation[0] = 1.0;
-  lcm.publish(channels::kControllerStatus, &controller);
-  lcm.publish(channels::kRobotState, &state);
-  test::PublishWorld(lcm, FloorTo(1.5 + 0.3), kConfig, 3000000);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  const auto next = paths.Take();
-  ASSERT_TRUE(next.has_value()) << status.Latest()->reason;
+  WaitAt(3000000, end_x);
+  test::PublishWorld(lcm_, FloorTo(1.5 + 0.3), kConfig, 3000000);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  const auto next = paths_.Take();
+  ASSERT_TRUE(next.has_value()) << Reason();
   EXPECT_NEAR(next->points.front().position[0], end_x, 1e-9) << "from where the robot stands";
   EXPECT_GT(next->points.back().position[0], end_x + 0.2);
 }
 
-TEST(RootPlannerNodePartialMap, ARequestTheMapShowsNoWayForIsPlannedAgainOnTheNextMap) {
-  lcm::LCM lcm("memq://");
-  const RobotModel robot = RobotModel::LoadDefault(kConfig);
-  RootPlannerNodeOptions options;
-  options.partial_map = true;
-  RootPlannerNode node(lcm, robot, RootPlannerConfig::LoadFile(kConfig + "/root_planner.yaml", kConfig), options);
-  node.status().set_verbose(false);
-  transport::LatestMessage<rbcp_msgs::root_path_t> paths(lcm, channels::kRootPath);
-  transport::LatestMessage<rbcp_msgs::process_status_t> status(lcm, channels::kStatus);
-  const auto pump = [&] {
-    while (lcm.handleTimeout(0) > 0) {
-    }
-  };
+TEST_F(RootPlannerNodePartialMapTest, ARequestTheMapShowsNoWayForIsPlannedAgainOnTheNextMap) {
   // The map knows only the floor under the robot: no standing position nearer the goal.
-  PublishWaiting(lcm, 100, 0.0);
-  test::PublishWorld(lcm, FloorTo(0.3), kConfig, 100);
-  rbcp_msgs::plan_request_t request{};
-  request.utime = 200;
-  request.request_id = 6;
-  request.use_start = true;
-  request.goal_position[0] = 3.0;
-  request.time_budget = 5.0;
-  request.seed = 3;
-  lcm.publish(channels::kPlanRequest, &request);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  EXPECT_FALSE(paths.Take().has_value());
-  ASSERT_EQ(status.Latest()->state, rbcp_msgs::process_status_t::FAILED);
-  EXPECT_NE(status.Latest()->reason.find("no standing position nearer the goal"), std::string::npos)
-      << status.Latest()->reason;
+  WaitAt(100, 0.0);
+  test::PublishWorld(lcm_, FloorTo(0.3), kConfig, 100);
+  Request(6, 3.0);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  EXPECT_FALSE(paths_.Take().has_value());
+  ASSERT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(Reason().find("no standing position nearer the goal"), std::string::npos) << Reason();
 
   // The robot waits where it stands; the next map shows more: a path towards the goal.
-  rbcp_msgs::controller_status_t controller{};
-  rbcp_msgs::robot_state_t state{};
-  controller.utime = state.utime = controller.awaiting_since = 1000000;
-  controller.awaiting_plan = true;
-  state.base_position[2] = 0.45;
-  state.base_orientation[0] = 1.0;
-  lcm.publish(channels::kControllerStatus, &controller);
-  lcm.publish(channels::kRobotState, &state);
-  test::PublishWorld(lcm, FloorTo(2.0), kConfig, 1000000);
-  pump();
-  ASSERT_TRUE(node.Step());
-  pump();
-  const auto path = paths.Take();
-  ASSERT_TRUE(path.has_value()) << status.Latest()->reason;
+  WaitAt(1000000, 0.0);
+  test::PublishWorld(lcm_, FloorTo(2.0), kConfig, 1000000);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  const auto path = paths_.Take();
+  ASSERT_TRUE(path.has_value()) << Reason();
   EXPECT_FALSE(path->reaches_goal);
 }
 
