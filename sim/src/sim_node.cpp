@@ -91,6 +91,8 @@ SimNode::SimNode(lcm::LCM& lcm, PlanExecution& execution, const Scenario& scenar
       planner_failures_(lcm, channels::kStatus, [this](const rbcp_msgs::process_status_t& s) {
         return s.process == options_.contact_planner && s.state == rbcp_msgs::process_status_t::FAILED;
       }),
+      mapper_status_(lcm, channels::kStatus,
+                     [this](const rbcp_msgs::process_status_t& s) { return s.process == options_.mapper; }),
       requests_(lcm, channels::kPlanRequest) {
   if (!(options_.await_timeout_s > 0.0) || !(options_.retry_hold_s >= 0.0) || options_.max_failed_waits < 1) {
     throw InputError("simulator: await_timeout_s expected > 0, retry_hold_s >= 0 and max_failed_waits >= 1");
@@ -328,6 +330,12 @@ void SimNode::Tick() {
     if (!requests_taken_.Superseded(*request)) requests_taken_.Take(*request);
   }
   if (auto msg = plans_in_.Take()) TakePlan(*msg);
+  if (options_.terrain == TerrainSource::kPerceived && !mapper_heard_) {
+    // Nothing starts before the mapper listens: the robot's first look would be lost on it.
+    mapper_heard_ = mapper_status_.Latest().has_value();
+    if (!mapper_heard_) return;
+    if (status_.verbose()) std::fprintf(stderr, "[%s] %s is up: the world starts\n", kProcessName, options_.mapper.c_str());
+  }
   UpdateWait();
   if (Paused()) {
     // The world stands still while the robot waits; the state goes out every few milliseconds.

@@ -118,10 +118,28 @@ SimNodeOptions Perceived(bool replan = false) {
   return o;
 }
 
+/// The terrain mapper's STATUS: a perceived world starts once it is heard.
+void PublishMapperUp(lcm::LCM& lcm) {
+  rbcp_msgs::process_status_t up{};
+  up.process = "terrain_mapper";
+  up.state = rbcp_msgs::process_status_t::ALIVE;
+  lcm.publish(channels::kStatus, &up);
+}
+
 TEST_F(SimWorld, OnAPerceivedTerrainPointCloudsGoOutAtTheSensingRateWithTheStatesUtimes) {
   SimNode node(lcm_, execution_, scenario_, config_, Perceived());
   node.status().set_verbose(false);
   transport::LatestMessage<rbcp_msgs::terrain_mesh_t> truth(lcm_, channels::kTerrainTruth);
+  // Before the mapper listens nothing goes out and the world stands still.
+  for (int k = 0; k < 20; ++k) {
+    node.Tick();
+    Pump();
+  }
+  EXPECT_EQ(node.SimTime(), 0.0);
+  EXPECT_TRUE(clouds_.messages.empty());
+  EXPECT_TRUE(all_states_.messages.empty());
+  PublishMapperUp(lcm_);
+  Pump();
   for (int k = 0; k < 220; ++k) {  // 0.55 s
     node.Tick();
     Pump();
@@ -308,6 +326,8 @@ TEST_F(SimWorld, ARobotOnAPerceivedTerrainLooksAroundBeforeItsFirstWait) {
   ASSERT_EQ(config_.sensing.look_before_walking_s, 1.0);
   SimNode node(lcm_, execution_, scenario_, config_, Perceived(/*replan=*/true));
   node.status().set_verbose(false);
+  PublishMapperUp(lcm_);
+  Pump();
   for (int k = 0; k < 1000 && !node.Paused(); ++k) {
     node.Tick();
     Pump();
@@ -322,6 +342,8 @@ TEST_F(SimWorld, WhileTheWorldStandsStillTheStanceOfTheWaitIsCapturedOnce) {
   config.sensing.look_before_walking_s = 0.0;  // it waits at once
   SimNode node(lcm_, execution_, scenario_, config, Perceived(/*replan=*/true));
   node.status().set_verbose(false);
+  PublishMapperUp(lcm_);
+  Pump();
   const auto tick = [&] {
     node.Tick();
     Pump();

@@ -1,7 +1,8 @@
 // map_replay: a perceived run's LCM log (tools/launch --terrain perceived records it) replayed into
 // a terrain mapper of its own, in this process: every map the run's terrain_mapper sent (TERRAIN,
-// its utime and terrain_id) up to the simulator's verdict must come again, in the same order (after
-// it the pipeline stops, and a mapper stopped with clouds on their way sends less). The mapper's
+// its utime and terrain_id) up to the simulator's verdict must come again, in the same order (the
+// replayed mapper may send more before the verdict: the run's was stopped with the pipeline while
+// clouds were on their way). The mapper's
 // inputs (POINT_CLOUD, ROBOT_STATE, CONTROLLER_STATUS) go in in the log's order, one at a time, as
 // they reached it.
 #include <iostream>
@@ -114,7 +115,9 @@ int Run(const Options& o) {
   };
   until_verdict(recorded);
   until_verdict(replayed);
-  for (std::size_t i = 0; i < std::max(recorded.size(), replayed.size()); ++i) {
+  // Every map the run's mapper sent, again. The replayed mapper may have more before the verdict:
+  // the run's was stopped with the pipeline while clouds before the verdict were on their way.
+  for (std::size_t i = 0; i < recorded.size(); ++i) {
     if (i < recorded.size() && i < replayed.size() && recorded[i] == replayed[i]) continue;
     const auto describe = [](const std::vector<Map>& maps, std::size_t k) {
       return k < maps.size() ? "utime " + std::to_string(maps[k].first) + " terrain_id " + std::to_string(maps[k].second)
@@ -124,7 +127,7 @@ int Run(const Options& o) {
               << describe(replayed, i) << "\n";
     return 1;
   }
-  std::cout << "map_replay: the replayed mapper sent the same " << replayed.size() << " maps"
+  std::cout << "map_replay: the replayed mapper sent the same " << recorded.size() << " maps"
             << (verdict_utime >= 0 ? " up to the simulator's verdict" : "") << std::endl;
   return 0;
 }

@@ -24,7 +24,8 @@
 /// ROBOT_STATE carries, and POINT_CLOUD goes out just before it with the same utime (terrain_mapper
 /// maps them onto TERRAIN); the true terrain goes out on TERRAIN_TRUTH, and plans are not judged
 /// stale by the true terrain they cannot know. While the world stands still (Paused) the state of
-/// the wait is captured once, when a capture is due then (the robot's first stance, at 0 s).
+/// the wait is captured once, when a capture is due then (the robot's first stance, at 0 s). The world
+/// starts once the mapper's STATUS is heard (SimNodeOptions::mapper).
 ///
 /// The world changes at the events' simulated times (SimNodeOptions::events): a box added or
 /// removed is in the physics, the judge's and the controller's terrain at once and TERRAIN goes
@@ -78,6 +79,9 @@ struct SimNodeOptions {
   double retry_hold_s = 0.5;         ///< [s, simulated] replan: hold before asking again, nothing left to walk
   int max_failed_waits = 20;         ///< replan: waits in a row with no plan and nothing left to walk before the run fails
   std::string contact_planner = "contact_planner";  ///< process whose FAILED status ends a wait
+  /// Perceived terrain: the process the clouds are for. The world starts once its STATUS is heard,
+  /// so that no cloud of the robot's first look goes out before it listens.
+  std::string mapper = "terrain_mapper";
   /// Scripted changes of the world (world_events.h), applied at their simulated times.
   std::vector<WorldEvent> events;
 };
@@ -141,6 +145,8 @@ class SimNode {
   SimNodeOptions options_;
   transport::LatestMessage<rbcp_msgs::contact_plan_t> plans_in_;
   transport::LatestMessage<rbcp_msgs::process_status_t> planner_failures_;
+  transport::LatestMessage<rbcp_msgs::process_status_t> mapper_status_;  ///< perceived: the mapper's STATUS
+  bool mapper_heard_ = false;
   transport::LatestMessage<rbcp_msgs::plan_request_t> requests_;
   transport::RequestHistory requests_taken_;  ///< the goal requests seen (or sent), the goal last
   std::optional<rbcp_msgs::plan_request_t> own_request_;     ///< the latest goal an event sent, repeated
