@@ -83,14 +83,16 @@ bool RootPlannerNode::Step() {
     status_.Failed(Now(), Now(), 0.0, rejected->Describe());
     return true;
   }
-  const bool world_changed = world_.TakeChanged();
+  // A change is kept until a replan check or a plan sees it: a repeated request answered first
+  // must not hide it.
+  if (world_.TakeChanged()) world_changed_ = true;
   if (std::exchange(repeat_due_, false)) {
     AnswerAgain();
     return true;
   }
   if (!world_.Ready()) return ReportWaiting("waiting for " + world_.terrain_channel() + " and " + world_.affordances_channel());
   if (!pending_) {
-    const std::optional<std::string> why = ReplanReason(world_changed);
+    const std::optional<std::string> why = ReplanReason(std::exchange(world_changed_, false));
     if (!why) return false;
     rbcp_msgs::plan_request_t again = *active_;
     // Before its first step the robot stands at the request's start (within
@@ -281,7 +283,7 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     }
     status_.Failed(Now(), request.utime, ms, reason + (keep ? " (the robot goes on along the previous path)" : ""));
   };
-  terrain_replan_due_ = false;  // planned on the terrain as it is now
+  terrain_replan_due_ = world_changed_ = false;  // planned on the terrain as it is now
   Eigen::Vector2d start_xy(request.start_position[0], request.start_position[1]);
   double start_yaw = request.start_yaw;
   if (!request.use_start) {

@@ -700,6 +700,33 @@ TEST_F(RootPlannerNodePartialMapTest, ARequestIsPlannedOnTheMapOfAWait) {
   EXPECT_EQ(path->terrain_id, transport::TerrainId(FloorTo(1.6).terrain_mesh));
 }
 
+TEST_F(RootPlannerNodePartialMapTest, ANewMapIsPlannedOnEvenWhenARepeatedRequestCameWithIt) {
+  // A second map of the same wait comes while the path on the first is being planned, and so
+  // does the operator's repeat of the request: the repeat is answered, and the path goes on as
+  // the path on the newer map, the one the contact planner holds.
+  WaitAt(1000000, 0.0);
+  test::PublishWorld(lcm_, FloorTo(3.5), kConfig, 1000000);
+  Request(9, 2.5);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  const auto first = paths_.Take();
+  ASSERT_TRUE(first.has_value()) << Reason();
+  test::PublishWorld(lcm_, FloorTo(3.7), kConfig, 1000000);
+  Request(9, 2.5);
+  Pump();
+  ASSERT_TRUE(node_.Step());  // the repeat, answered with the path it has
+  Pump();
+  const auto repeated = paths_.Take();
+  ASSERT_TRUE(repeated.has_value());
+  EXPECT_EQ(repeated->terrain_id, first->terrain_id);
+  node_.Step();  // the new map
+  Pump();
+  const auto on_new_map = paths_.Take();
+  ASSERT_TRUE(on_new_map.has_value()) << Reason();
+  EXPECT_EQ(on_new_map->terrain_id, transport::TerrainId(FloorTo(3.7).terrain_mesh));
+}
+
 TEST_F(RootPlannerNodePartialMapTest, APathThatHoldsOnANewMapGoesOnAsThePathOnIt) {
   WaitAt(100, 0.0);
   test::PublishWorld(lcm_, FloorTo(3.5), kConfig, 100);

@@ -137,6 +137,7 @@ class RootPlannerNode {
   std::optional<rbcp_msgs::plan_request_t> active_;  ///< the request of the current path
   std::optional<rbcp_msgs::root_path_t> published_;  ///< the current path, republished by Heartbeat()
   std::optional<int64_t> checked_wait_;              ///< awaiting_since of the last wait checked
+  bool world_changed_ = false;                       ///< a new terrain or surfaces no replan check has seen
   bool terrain_replan_due_ = false;                  ///< the terrain changed: replan at the next wait
   std::optional<RootPlanResult> last_result_;
   bool last_reaches_goal_ = true;  ///< partial_map: the current path ends at the request's goal
