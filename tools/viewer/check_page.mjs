@@ -243,15 +243,13 @@ try {
       Math.abs(r - without.pixels[i]) + Math.abs(g - without.pixels[i + 1]) + Math.abs(b - without.pixels[i + 2]) > 40);
   };
   // The terrain covers a good part of the view (a perceived run's elevation map, which lies over
-  // it, hidden meanwhile).
+  // it, and true terrain, which shows where it is not, hidden meanwhile).
   const pageLayers = await page.evaluate(() => window.rbcpViewer.layers);
-  const overTerrain = pageLayers.includes('elevation');
-  if (overTerrain) {
-    await page.evaluate(() => window.rbcpViewer.setLayer('elevation', false));
-    await nextFrames();
-  }
-  const terrainPixels = await layerPixels('terrain', overTerrain ? decodePng(await page.screenshot()) : image);
-  if (overTerrain) await page.evaluate(() => window.rbcpViewer.setLayer('elevation', true));
+  const aside = ['elevation', 'truth'].filter((name) => pageLayers.includes(name));
+  for (const name of aside) await page.evaluate((layer) => window.rbcpViewer.setLayer(layer, false), name);
+  if (aside.length) await nextFrames();
+  const terrainPixels = await layerPixels('terrain', aside.length ? decodePng(await page.screenshot()) : image);
+  for (const name of aside) await page.evaluate((layer) => window.rbcpViewer.setLayer(layer, true), name);
   check(terrainPixels > area * 0.1, `the terrain is drawn (${((100 * terrainPixels) / area).toFixed(0)}% of the 3D view)`);
   if (info.tracks.includes('plan') || info.tracks.includes('sim')) {
     const robotPixels = await layerPixels('robot');
