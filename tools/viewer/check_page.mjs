@@ -3,11 +3,13 @@
 // bridge), logs no console error, draws with WebGL, and its screenshot shows the terrain, the
 // footholds in the four leg colours and the robot. A live page must first have received the terrain, the walked
 // steps and the robot's states, and the robot's time must move on. --expect-layer: the layer is
-// drawn (hiding it changes pixels of the 3D view); --no-layer: the page has no such layer.
+// drawn (hiding it changes pixels of the 3D view); --no-layer: the page has no such layer;
+// --expect-perception: the perception panel (a run on the mapped terrain) is shown and says TEXT.
 //
 //   node check_page.mjs (--page PAGE.html | --url URL) --screenshot OUT.png [--expect-status TEXT]
 //                       [--expect-plot TEXT]... [--expect-legend TEXT]... [--expect-layer NAME]...
-//                       [--no-layer NAME]... [--no-footholds] [--live] [--allow-host HOST:PORT]
+//                       [--no-layer NAME]... [--expect-perception TEXT]... [--no-footholds] [--live]
+//                       [--allow-host HOST:PORT]
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -23,7 +25,8 @@ const CHROMIUM_FLAGS = [
 ];
 const USAGE = 'usage: node check_page.mjs (--page PAGE.html | --url URL) --screenshot OUT.png [--expect-status TEXT]\n' +
   '                           [--expect-plot TEXT]... [--expect-legend TEXT]... [--expect-layer NAME]...\n' +
-  '                           [--no-layer NAME]... [--no-footholds] [--live] [--allow-host HOST:PORT]';
+  '                           [--no-layer NAME]... [--expect-perception TEXT]... [--no-footholds] [--live]\n' +
+  '                           [--allow-host HOST:PORT]';
 
 let args;
 try {
@@ -37,6 +40,7 @@ try {
       'expect-legend': { type: 'string', multiple: true, default: [] },
       'expect-layer': { type: 'string', multiple: true, default: [] },
       'no-layer': { type: 'string', multiple: true, default: [] },
+      'expect-perception': { type: 'string', multiple: true, default: [] },
       'no-footholds': { type: 'boolean', default: false },
       live: { type: 'boolean', default: false },
       'allow-host': { type: 'string' },
@@ -185,6 +189,7 @@ try {
     plots: document.querySelectorAll('#plots svg').length,
     plotTitles: [...document.querySelectorAll('#plots .plot-title')].map((t) => t.textContent),
     legend: document.getElementById('legend').textContent,
+    perception: document.getElementById('perception')?.hidden === false ? document.getElementById('perception').textContent : null,
   }));
   check(info.webgl, 'the page draws with WebGL');
   console.log(`     status: ${info.status}; tracks: ${info.tracks.join(', ') || 'none'}; ${info.plots} plots`);
@@ -193,6 +198,10 @@ try {
   }
   check(['LF', 'RF', 'LH', 'RH'].every((leg) => info.legend.includes(leg)), 'the legend names the four legs');
   for (const text of args['expect-legend']) check(info.legend.includes(text), `the legend says '${text}'`);
+  if (info.perception !== null) console.log(`     perception: ${info.perception}`);
+  for (const text of args['expect-perception']) {
+    check(info.perception !== null && info.perception.includes(text), `the perception panel says '${text}'`);
+  }
 
   const canvas = await page.locator('#view').boundingBox();
   const shot = await page.screenshot({ path: args.screenshot });
@@ -233,14 +242,19 @@ try {
     return count(shown, canvas, (r, g, b, i) =>
       Math.abs(r - without.pixels[i]) + Math.abs(g - without.pixels[i + 1]) + Math.abs(b - without.pixels[i + 2]) > 40);
   };
-  // The terrain covers a good part of the view.
-  const terrainPixels = await layerPixels('terrain');
+  // The terrain covers a good part of the view (a perceived run's elevation map, which lies over
+  // it, and true terrain, which shows where it is not, hidden meanwhile).
+  const pageLayers = await page.evaluate(() => window.rbcpViewer.layers);
+  const aside = ['elevation', 'truth'].filter((name) => pageLayers.includes(name));
+  for (const name of aside) await page.evaluate((layer) => window.rbcpViewer.setLayer(layer, false), name);
+  if (aside.length) await nextFrames();
+  const terrainPixels = await layerPixels('terrain', aside.length ? decodePng(await page.screenshot()) : image);
+  for (const name of aside) await page.evaluate((layer) => window.rbcpViewer.setLayer(layer, true), name);
   check(terrainPixels > area * 0.1, `the terrain is drawn (${((100 * terrainPixels) / area).toFixed(0)}% of the 3D view)`);
   if (info.tracks.includes('plan') || info.tracks.includes('sim')) {
     const robotPixels = await layerPixels('robot');
     check(robotPixels > area * 0.002, `the robot is drawn (${robotPixels} px)`);
   }
-  const pageLayers = await page.evaluate(() => window.rbcpViewer.layers);
   if (args['expect-layer'].length) {
     // Halfway through the run, with feet down (at its start the robot may be dropping onto the ground).
     const middle = await page.evaluate(() => {

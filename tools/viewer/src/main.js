@@ -1,7 +1,8 @@
 // The viewer page: terrain, contact surfaces, root path, footholds and the robot walking through
 // the plan's states or the run's trace, with a timeline and plots. From a file (a plan, a
 // simulated run, a run's log) everything is in the page; live, the run grows as live_bridge
-// forwards the processes' messages (viewer/live.js).
+// forwards the processes' messages (viewer/live.js). A run on the mapped terrain (run_log's
+// `perception`) adds its elevation map, the true terrain and the map's metrics.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { baseMatrix, hipPositions, linkPoses } from 'viewer/kinematics.js';
@@ -27,13 +28,19 @@ const COLORS = {
   zmpReference: '#17becf',
   cop: '#ff00ff',
   support: '#3f6ea8',
+  truth: '#4a5a78',
+  truthEdges: '#1f2a3d',
 };
+// The elevation map's colours from its lowest to its highest cells (viridis).
+const HEIGHT_SCALE = ['#440154', '#3b528b', '#21918c', '#5ec962', '#fde725'];
 
 const data = JSON.parse(document.getElementById('rbcp-data').textContent);
 const run = data.run;
 const sceneData = data.scene;
 const robot = sceneData.robot;
 const liveUrl = data.live ? liveSocketUrl(data.live) : null;
+// What the robot mapped, for a run on the mapped terrain (run_log's `perception`); else null.
+const perception = run.perception && typeof run.perception === 'object' ? run.perception : null;
 const $ = (id) => document.getElementById(id);
 const v3 = (a) => new THREE.Vector3(a[0], a[1], a[2]);
 
@@ -194,6 +201,7 @@ function renderSummary() {
     'early_touchdowns', 'late_touchdowns'];
   const skip = new Set(['states', 'root_path', 'sim_trace', 'failure', 'joint_names', 'replans', 'terrain',
     'contact_surfaces', 'start', 'goal', 'sim_failure', 'schema_version']);
+  if (perception) skip.add('perception');  // its own panel
   const keys = [...first.filter((k) => k in run), ...Object.keys(run).filter((k) => !first.includes(k) && !skip.has(k))];
   const rows = keys
     .filter((k) => !Array.isArray(run[k]) && !(k === 'collision_links' && !Object.keys(run[k] ?? {}).length))
@@ -208,6 +216,32 @@ function renderSummary() {
     rows.push(`<tr><th>FK check</th><td>plan feet within ${data.checks.feet_error_m.toExponential(1)} m of the viewer's kinematics</td></tr>`);
   }
   $('summary').innerHTML = rows.join('');
+}
+
+/** The perception panel: how well the map matches the true terrain, how much of the walk it
+ *  covered, how late maps came; the elevation map's colour scale. */
+function renderPerception() {
+  if (!perception) return;
+  const mm = (m) => (Number.isFinite(m) ? `${(m * 1000).toFixed(1)} mm` : '—');
+  const ms = (m) => (Number.isFinite(m) ? `${m.toFixed(1)} ms` : '—');
+  const e = perception.height_error_m;
+  const latency = perception.cloud_to_terrain_ms;
+  const map = perception.elevation_map;
+  const rows = [
+    ['height error', e ? `RMS ${mm(e.rms)} · p95 ${mm(e.p95)} · max ${mm(e.max)} (${e.cells} cells)` : '—'],
+    ['path coverage', Number.isFinite(perception.path_coverage) ? `${(perception.path_coverage * 100).toFixed(1)} % of the walked path` : '—'],
+    ['cloud → terrain', latency ? `median ${ms(latency.median)} · p95 ${ms(latency.p95)} (${latency.count} measured)` : '—'],
+    ['known cells', `${formatValue(perception.known_cells ?? null)}${map ? ` (${(map.resolution * 100).toFixed(0)} cm cells)` : ''}`],
+    ['clouds, maps', `${formatValue(perception.clouds ?? null)} clouds, ${formatValue(perception.maps ?? null)} maps`],
+  ].map(([k, v]) => `<tr><th>${escapeHtml(k)}</th><td>${escapeHtml(v)}</td></tr>`);
+  const range = map && heightRange(map);
+  if (range) {
+    rows.push(`<tr><th>map height</th><td><span class="scale" style="background:${heightGradient()}"></span>` +
+      `${range[0].toFixed(3)} to ${range[1].toFixed(3)} m</td></tr>`);
+  }
+  if (perception.problem) rows.push(`<tr><th>problem</th><td>${escapeHtml(perception.problem)}</td></tr>`);
+  $('perception').innerHTML = rows.join('');
+  $('perception').hidden = $('perception-title').hidden = false;
 }
 
 function escapeHtml(s) {
@@ -232,6 +266,8 @@ function renderLegend() {
     items.push([COLORS.support, 'support polygon (feet in contact)', 'box']);
     items.push([COLORS.cop, 'centre of pressure', 'disc']);
   }
+  if (perception && perception.elevation_map) items.push([heightGradient(), 'elevation map (by height)', 'box']);
+  if (perception && perception.true_terrain) items.push([COLORS.truth, 'true terrain (shows where the map is 1 cm lower or unknown)', 'box']);
   $('legend').innerHTML = items
     .map(([color, label, shape]) => `<li><span class="swatch ${shape}" style="background:${color}"></span>${label}</li>`)
     .join('');
@@ -265,19 +301,101 @@ function setLayerObject(name, object) {
   return object;
 }
 
-function terrainMesh() {
-  const group = new THREE.Group();
-  if (!sceneData.terrain) return group;
-  const { vertices, triangles } = sceneData.terrain;
+/** An indexed geometry of a terrain piece ({vertices, triangles}). */
+function terrainGeometry({ vertices, triangles }) {
   const indexed = new THREE.BufferGeometry();
   indexed.setAttribute('position', new THREE.Float32BufferAttribute(vertices.flat(), 3));
   indexed.setIndex(triangles.flat());
+  return indexed;
+}
+
+function terrainMesh() {
+  const group = new THREE.Group();
+  if (!sceneData.terrain) return group;
+  const indexed = terrainGeometry(sceneData.terrain);
   const geometry = indexed.toNonIndexed();
   geometry.computeVertexNormals();
   const mesh = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: COLORS.terrain, roughness: 0.95 }));
   mesh.receiveShadow = true;
   group.add(mesh);
   group.add(new THREE.LineSegments(new THREE.EdgesGeometry(indexed, 20), new THREE.LineBasicMaterial({ color: COLORS.terrainEdges })));
+  return group;
+}
+
+/** The elevation map's known heights' range [m] the colours span: the 1st to the 99th
+ *  percentile, widened to 5 cm at least (the noise of flat ground keeps one colour); null when
+ *  no cell is known. */
+function heightRange(map) {
+  const known = map.height.filter(Number.isFinite).sort((a, b) => a - b);
+  if (!known.length) return null;
+  const at = (q) => known[Math.min(known.length - 1, Math.floor(q * known.length))];
+  const [lo, hi] = [at(0.01), at(0.99)];
+  const widen = Math.max(0, 0.05 - (hi - lo)) / 2;
+  return [lo - widen, hi + widen];
+}
+
+/** The colour of f in [0, 1] on HEIGHT_SCALE (linear working colour space). */
+function scaleColor(f, out = new THREE.Color()) {
+  const x = Math.min(Math.max(f, 0), 1) * (HEIGHT_SCALE.length - 1);
+  const i = Math.min(Math.floor(x), HEIGHT_SCALE.length - 2);
+  return out.set(HEIGHT_SCALE[i]).lerp(new THREE.Color(HEIGHT_SCALE[i + 1]), x - i);
+}
+
+/** HEIGHT_SCALE as a CSS gradient, for the legend and the perception panel. */
+function heightGradient() {
+  return `linear-gradient(90deg, ${HEIGHT_SCALE.join(', ')})`;
+}
+
+/** The elevation map: one square tile per known cell, coloured by height, 2 mm above the cell's
+ *  height: over the mapped terrain, under the contact surfaces (4 mm) and the footholds. */
+function elevationTiles() {
+  const map = perception.elevation_map;
+  const range = heightRange(map);
+  if (!range) return new THREE.Group();
+  const { num_x: nx, num_y: ny, resolution: r } = map;
+  const [x0, y0] = map.origin;
+  const positions = [];
+  const colors = [];
+  const index = [];
+  const color = new THREE.Color();
+  for (let iy = 0; iy < ny; iy++) {
+    for (let ix = 0; ix < nx; ix++) {
+      const h = map.height[iy * nx + ix];
+      if (!Number.isFinite(h)) continue;
+      const z = h + 0.002;
+      const x = x0 + ix * r;
+      const y = y0 + iy * r;
+      const k = positions.length / 3;
+      positions.push(x, y, z, x + r, y, z, x + r, y + r, z, x, y + r, z);
+      scaleColor((h - range[0]) / (range[1] - range[0]), color);
+      for (let c = 0; c < 4; c++) colors.push(color.r, color.g, color.b);
+      index.push(k, k + 1, k + 2, k, k + 2, k + 3);
+    }
+  }
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.Float32BufferAttribute(positions, 3));
+  geometry.setAttribute('color', new THREE.Float32BufferAttribute(colors, 3));
+  geometry.setIndex(index);
+  geometry.computeVertexNormals();
+  const mesh = new THREE.Mesh(geometry, new THREE.MeshLambertMaterial({ vertexColors: true }));
+  mesh.receiveShadow = true;
+  return mesh;
+}
+
+/** The true terrain (the simulator's), translucent, 1 cm under its place: it shows through where
+ *  the map lies more than 1 cm below it or knows nothing. Its edges in place, just above it,
+ *  drawn after its faces so that those behind them stay hidden. */
+function trueTerrain() {
+  const group = new THREE.Group();
+  const indexed = terrainGeometry(perception.true_terrain);
+  const surface = new THREE.Mesh(indexed, new THREE.MeshBasicMaterial({ color: COLORS.truth, transparent: true, opacity: 0.3 }));
+  surface.position.z = -0.01;
+  surface.renderOrder = 1;
+  const edges = new THREE.LineSegments(new THREE.EdgesGeometry(indexed, 20),
+    new THREE.LineBasicMaterial({ color: COLORS.truthEdges, transparent: true }));
+  edges.position.z = 0.004;
+  edges.renderOrder = 2;
+  group.add(surface, edges);
   return group;
 }
 
@@ -526,11 +644,14 @@ function groundBelow(x, y) {
   return hit ? hit.point.z : 0;
 }
 
-/** The layers made from the world (terrain, surfaces, start and goal). */
+/** The layers made from the world (terrain, surfaces, start and goal; a perceived run's
+ *  elevation map and true terrain). */
 function buildWorldLayers() {
   setLayerObject('terrain', terrainMesh());
   setLayerObject('surfaces', surfaceMeshes());
   setLayerObject('markers', startGoalMarkers());
+  if (perception && perception.elevation_map) setLayerObject('elevation', elevationTiles());
+  if (perception && perception.true_terrain) setLayerObject('truth', trueTerrain());
 }
 
 /** The layers made from the run (root path, footholds, and those of the trace). */
@@ -575,9 +696,11 @@ function setupScene() {
   scene.add(sun, sun.target);
 
   // What the camera frames: the path, the footholds and the trace with a margin for the robot,
-  // within the terrain's extent (the whole terrain when there is no path).
+  // within the terrain's extent (the whole terrain when there is no path; for a perceived run
+  // the true terrain's too: its map is the last one, which may no longer hold the start).
   const home = () => {
     const terrainBox = layers.terrain ? new THREE.Box3().setFromObject(layers.terrain) : new THREE.Box3();
+    if (layers.truth) terrainBox.union(new THREE.Box3().setFromObject(layers.truth));
     const focus = new THREE.Box3();
     for (const p of run.root_path || []) focus.expandByPoint(v3(p.position));
     for (const s of drawnStates()) for (const f of s.feet) focus.expandByPoint(v3(f.position));
@@ -917,6 +1040,7 @@ if (view) {
 renderHeader();
 renderLegend();
 renderSummary();
+renderPerception();
 setupControls();
 refreshTracks();
 
