@@ -20,6 +20,22 @@
 namespace rbcp::nodes {
 namespace {
 
+/// The first samples of `samples` up to the first one at which the map shows no terrain under
+/// one of the robot's reference feet (the first sample always).
+std::vector<RootPathSample> AsFarAsTheMapShows(const std::vector<RootPathSample>& samples, const TriangleMesh& terrain,
+                                               const RobotModel& robot) {
+  const TerrainHeightMap heights(terrain);
+  std::size_t n = 1;
+  for (; n < samples.size(); ++n) {
+    const Eigen::Isometry3d base = Eigen::Translation3d(samples[n].p) * Eigen::AngleAxisd(samples[n].yaw, Eigen::Vector3d::UnitZ());
+    const bool seen = std::all_of(kAllLegs.begin(), kAllLegs.end(), [&](Leg leg) {
+      return heights.At((base * robot.ReferenceFootPosition(leg)).head<2>()).has_value();
+    });
+    if (!seen) break;
+  }
+  return std::vector<RootPathSample>(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(std::min(n, samples.size())));
+}
+
 /// The feet where forward kinematics of the measured joints puts them, in the world frame.
 std::array<Eigen::Vector3d, kNumLegs> MeasuredFeetW(const RobotModel& robot, const RobotState& measured) {
   const Eigen::Isometry3d base_W = Eigen::Translation3d(measured.base_position_W) * measured.base_orientation_W;
@@ -479,6 +495,24 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
     }
     try {
       last_result_ = planner_.PlanHorizon(stance, remaining, SearchSteps());
+      const ContactPlanStatus status = last_result_->status;
+      if (options_.partial_map && path_reaches_goal_ &&
+          (status == ContactPlanStatus::kNoFoothold || status == ContactPlanStatus::kGoalUnreachable)) {
+        // On a map that grows, the way to the goal may cross cells not seen yet (in the shadow
+        // of a block): the steps the map shows, along the path as far as the map shows terrain
+        // under the feet, searched as along a path short of the goal.
+        const std::vector<RootPathSample> seen = AsFarAsTheMapShows(remaining, *world_.terrain(), robot_);
+        ContactPlanResult shorter = planner_.PlanHorizon(stance, seen, PartialSearchSteps());
+        shorter.planning_time_s += last_result_->planning_time_s;
+        shorter.reached_goal = shorter.reached_goal && seen.size() == remaining.size();
+        if (shorter.ok && shorter.steps > 0) {
+          last_result_ = std::move(shorter);
+        } else {
+          last_result_->planning_time_s = shorter.planning_time_s;
+          last_result_->reason += " (nor along the path as far as the map shows it: " +
+                                  (shorter.ok ? std::string("no step") : shorter.reason) + ")";
+        }
+      }
     } catch (const std::exception& e) {
       return fail(std::string("internal error: ") + e.what());
     }
@@ -543,10 +577,12 @@ bool ContactPlannerNode::ResendIfStillAwaited(const rbcp_msgs::controller_status
   return true;
 }
 
-int ContactPlannerNode::SearchSteps() const {
-  const int lookahead =
-      path_reaches_goal_ ? options_.lookahead_steps : std::min(options_.lookahead_steps, options_.partial_lookahead_steps);
-  return options_.horizon_steps + lookahead;
+int ContactPlannerNode::SearchSteps() const { return path_reaches_goal_ ? WholeSearchSteps() : PartialSearchSteps(); }
+
+int ContactPlannerNode::WholeSearchSteps() const { return options_.horizon_steps + options_.lookahead_steps; }
+
+int ContactPlannerNode::PartialSearchSteps() const {
+  return options_.horizon_steps + std::min(options_.lookahead_steps, options_.partial_lookahead_steps);
 }
 
 void ContactPlannerNode::DropPlanAhead() {

@@ -77,10 +77,11 @@ class ContactPlannerNodeTest : public ::testing::Test {
     node_ = MakeNode(0);
   }
   /// resend_period_s 0: a plan is never sent again (the tests answer each wait once).
-  std::unique_ptr<ContactPlannerNode> MakeNode(int horizon_steps, double resend_period_s = 0.0) {
+  std::unique_ptr<ContactPlannerNode> MakeNode(int horizon_steps, double resend_period_s = 0.0, bool partial_map = false) {
     ContactPlannerNodeOptions options;
     options.horizon_steps = horizon_steps;
     options.resend_period_s = resend_period_s;
+    options.partial_map = partial_map;
     auto node = std::make_unique<ContactPlannerNode>(
         lcm_, Robot(), Database(), EquilibriumConfig::LoadFile(kConfig + "/equilibrium.yaml"),
         ContactPlannerConfig::LoadFile(kConfig + "/contact_planner.yaml"), StanceConfig::LoadFile(kConfig + "/stance.yaml"),
@@ -367,6 +368,38 @@ TEST_F(ContactPlannerNodeTest, HorizonModeAnswersEachWaitWithKStepsFromTheMeasur
   state.state.joint_position[1] += 0.6;  // LF_HFE: the foot swings forward and up
   reason = ExpectFailed(state);
   EXPECT_NE(reason.find("measured stance: LF foot"), std::string::npos) << reason;
+}
+
+TEST_F(ContactPlannerNodeTest, OnAGrowingMapAPathToTheGoalAcrossUnseenCellsGetsTheStepsTheMapShows) {
+  // The map shows the floor to x = 1 and again from x = 1.8 (the cells between are not seen
+  // yet); the path goes on to the goal at x = 5. No plan reaches it, but the steps the map shows
+  // are walked: the robot then sees more.
+  constexpr int kSteps = 3;
+  node_ = MakeNode(kSteps, 0.0, /*partial_map=*/true);
+  Scenario seen;
+  seen.name = "seen";
+  for (const auto& [from, to] : {std::pair{-1.0, 1.0}, std::pair{1.8, 6.0}}) {
+    TerrainBox box;
+    box.size = Eigen::Vector3d(to - from, 1.0, 0.5);
+    box.position = Eigen::Vector3d(0.5 * (from + to), 0.0, -0.25);
+    seen.terrain.push_back(box);
+  }
+  seen.terrain_mesh = BuildTerrainMesh(seen.terrain);
+  test::PublishWorld(lcm_, seen, kConfig, 300);
+  rbcp_msgs::root_path_t path = FlatGroundRootPath();
+  path.terrain_id = transport::TerrainId(seen.terrain_mesh);
+  path.reaches_goal = true;
+  lcm_.publish(channels::kRootPath, &path);
+  Pump();
+  ASSERT_TRUE(node_->Step());  // takes the path
+  const auto msg = Answer(WaitingState(300, 0.02, 0.01));
+  ASSERT_TRUE(msg.has_value()) << status_.Latest()->reason;
+  EXPECT_FALSE(msg->reaches_goal);
+  const ContactPlan plan = transport::FromContactPlanMsg(*msg);
+  ASSERT_EQ(plan.states.size(), static_cast<std::size_t>(kSteps + 1));
+  for (const WholeBodyState& state : plan.states) {
+    for (const auto& foot : state.feet) EXPECT_LT(foot.position.x(), 1.0) << "on the floor the map shows";
+  }
 }
 
 TEST_F(ContactPlannerNodeTest, APlanIsSentAgainWhileTheRobotStillWaitsForIt) {

@@ -67,7 +67,10 @@ struct ContactPlannerNodeOptions {
   int lookahead_steps = 1000;
   /// Horizon mode, along a path short of the goal (partial_map): steps searched beyond the K
   /// published at most, so that the search need not end in a standing stance at the edge of what
-  /// the map shows (the path's end is no goal; the next map carries the path on).
+  /// the map shows (the path's end is no goal; the next map carries the path on). Along a path
+  /// to the goal that finds no plan, the look-ahead of a second search along the path as far as
+  /// the map shows terrain under the feet: the way may cross cells not seen yet (in the shadow
+  /// of a block).
   int partial_lookahead_steps = 4;
   /// Horizon mode: largest horizontal distance from the measured base to the path [m].
   double max_path_offset_m = 0.5;
@@ -207,6 +210,8 @@ class ContactPlannerNode {
   /// Steps a search plans at most: K and the look-ahead (partial_lookahead_steps along a path
   /// short of the goal).
   int SearchSteps() const;
+  int WholeSearchSteps() const;    ///< K and lookahead_steps
+  int PartialSearchSteps() const;  ///< K and partial_lookahead_steps (at most lookahead_steps)
   /// partial_map: whether the plan made ahead, searched on an earlier map, holds on this one
   /// (ContactPlanner::OnThisTerrain); if so `ahead` takes that plan.
   bool HoldsOnThisMap(PlanMadeAhead& ahead);
