@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "rbcp/core/error.h"
 #include "rbcp/mapping/terrain_map.h"
@@ -165,7 +166,7 @@ namespace {
 constexpr int kFillPasses = 2;
 
 /// Snaps the regions of `heights` (an n x n grid, NaN unknown) that are planes within the noise
-/// onto their least-squares planes, seeded in cell order (deterministic) at flat patches.
+/// onto their least-squares planes, seeded in cell order (deterministic) at planar patches.
 void SnapPlanes(std::vector<float>& heights, int n, const ElevationMapConfig& config) {
   if (config.plane_step_m <= 0.0) return;
   struct Plane {
@@ -176,32 +177,47 @@ void SnapPlanes(std::vector<float>& heights, int n, const ElevationMapConfig& co
   std::vector<int> plane_of;  ///< per region: its plane in `planes`, or -1
   const auto flat = [n](int ix, int iy) { return static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix); };
   const double step = config.plane_step_m;
-  // A seed is a cell in the middle of a flat patch: its 8 neighbours known and within half a step.
-  const auto flat_patch = [&](int cx, int cy) {
-    const float h = heights[flat(cx, cy)];
+  // A seed is a cell in the middle of a planar patch: its 8 neighbours known and within half a
+  // step of the patch's least-squares plane (level or tilted: a block lying at 15 degrees rises
+  // about a centimetre per cell). Returns that plane, z = a dx + b dy + c about the seed.
+  const auto planar_patch = [&](int cx, int cy) -> std::optional<Eigen::Vector3d> {
+    double sum = 0.0, sum_x = 0.0, sum_y = 0.0;
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         const int jx = cx + dx, jy = cy + dy;
-        if (jx < 0 || jy < 0 || jx >= n || jy >= n) return false;
-        const float hn = heights[flat(jx, jy)];
-        if (std::isnan(hn) || std::abs(hn - h) > 0.5 * step) return false;
+        if (jx < 0 || jy < 0 || jx >= n || jy >= n) return std::nullopt;
+        const float h = heights[flat(jx, jy)];
+        if (std::isnan(h)) return std::nullopt;
+        sum += h;
+        sum_x += dx * h;
+        sum_y += dy * h;
       }
     }
-    return true;
+    // On the 3 x 3 grid the least-squares plane has these closed forms (sum of dx^2 is 6).
+    const Eigen::Vector3d plane(sum_x / 6.0, sum_y / 6.0, sum / 9.0);
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const double on = plane.x() * dx + plane.y() * dy + plane.z();
+        if (std::abs(heights[flat(cx + dx, cy + dy)] - on) > 0.5 * step) return std::nullopt;
+      }
+    }
+    return plane;
   };
   std::vector<int> region(heights.size(), -1);
   std::vector<int> cells;
   int next = 0;
   for (std::size_t seed = 0; seed < heights.size(); ++seed) {
     const int sx = static_cast<int>(seed % static_cast<std::size_t>(n)), sy = static_cast<int>(seed / static_cast<std::size_t>(n));
-    if (region[seed] >= 0 || std::isnan(heights[seed]) || !flat_patch(sx, sy)) continue;
+    if (region[seed] >= 0 || std::isnan(heights[seed])) continue;
+    const std::optional<Eigen::Vector3d> patch = planar_patch(sx, sy);
+    if (!patch) continue;
     // Grow over 8-neighbours (far from the sensor the returns of one surface may touch only at
-    // corners) that step at most `step` from the cell they join from and lie within `step` of the
-    // region's plane so far (refitted as the region doubles), so that blocks of nearly the same
-    // height, side by side, stay apart.
+    // corners) that step at most `step` off the plane's rise from the cell they join from and
+    // lie within `step` of the region's plane so far (refitted as the region doubles), so that
+    // blocks of nearly the same height, side by side, stay apart.
     Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
     Eigen::Vector3d atz = Eigen::Vector3d::Zero();
-    Eigen::Vector3d fit(0.0, 0.0, heights[seed]);  // z = a (ix - sx) + b (iy - sy) + c
+    Eigen::Vector3d fit = *patch;  // z = a (ix - sx) + b (iy - sy) + c
     std::size_t refit_at = 8;
     const auto add = [&](int c) {
       const Eigen::Vector3d row((c % n) - sx, (c / n) - sy, 1.0);
@@ -220,7 +236,8 @@ void SnapPlanes(std::vector<float>& heights, int n, const ElevationMapConfig& co
         if (nx[k] < 0 || ny[k] < 0 || nx[k] >= n || ny[k] >= n) continue;
         const std::size_t j = flat(nx[k], ny[k]);
         if (region[j] >= 0 || std::isnan(heights[j])) continue;
-        if (std::abs(heights[j] - heights[static_cast<std::size_t>(c)]) > step) continue;
+        const double rise = fit.x() * (nx[k] - cx) + fit.y() * (ny[k] - cy);
+        if (std::abs(heights[j] - heights[static_cast<std::size_t>(c)] - rise) > step) continue;
         const double on_fit = fit.x() * (nx[k] - sx) + fit.y() * (ny[k] - sy) + fit.z();
         if (std::abs(heights[j] - on_fit) > step) continue;
         region[j] = next;
