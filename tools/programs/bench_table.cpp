@@ -107,6 +107,7 @@ struct Row {
 nlohmann::json Summarise(const Row& row) {
   std::vector<double> affordance_ms, root_s, contact_total_s, contact_plan_ms, steps, goal_s, wall_s, latencies;
   std::vector<double> step_period_s, speed_mps;
+  std::vector<double> map_rms_m, map_p95_m, coverage, map_latency_ms;  // runs planning on a mapped terrain
   int successes = 0;
   nlohmann::json per_run = nlohmann::json::array();
   for (const Run& r : row.runs) {
@@ -148,6 +149,19 @@ nlohmann::json Summarise(const Row& row) {
           speed_mps.push_back(RunSpeedMps(base_xy(trace.front()), base_xy(trace.back()), goal_s.back()));
         }
       }
+      if (j.contains("perception") && j["perception"].is_object()) {
+        const nlohmann::json& m = j["perception"];
+        one["perception"] = {{"height_error_m", m.value("height_error_m", nlohmann::json())},
+                             {"path_coverage", m.value("path_coverage", nlohmann::json())},
+                             {"cloud_to_terrain_ms", m.value("cloud_to_terrain_ms", nlohmann::json())},
+                             {"known_cells", m.value("known_cells", nlohmann::json())}};
+        if (Number(m, "/height_error_m/cells") > 0) {
+          map_rms_m.push_back(Number(m, "/height_error_m/rms"));
+          map_p95_m.push_back(Number(m, "/height_error_m/p95"));
+        }
+        if (m.contains("path_coverage") && m["path_coverage"].is_number()) coverage.push_back(m["path_coverage"]);
+        if (Number(m, "/cloud_to_terrain_ms/count") > 0) map_latency_ms.push_back(Number(m, "/cloud_to_terrain_ms/median"));
+      }
       for (const auto& replan : j.value("replans", nlohmann::json::array())) {
         if (replan.contains("latency_ms") && replan["latency_ms"].is_number()) latencies.push_back(replan["latency_ms"]);
       }
@@ -176,6 +190,21 @@ nlohmann::json Summarise(const Row& row) {
         {"p95", latencies.empty() ? nlohmann::json() : nlohmann::json(nodes::Percentile(latencies, 0.95))}}},
       {"per_run", per_run},
   };
+  if (!map_rms_m.empty() || !coverage.empty() || !map_latency_ms.empty()) {
+    // The map's quality over the runs: the worst run's height error (the bar is on every run),
+    // the mean coverage of the walked path, the median of the runs' median latencies.
+    const auto largest = [](const std::vector<double>& v) {
+      return v.empty() ? nlohmann::json() : nlohmann::json(*std::max_element(v.begin(), v.end()));
+    };
+    s["perception"] = {
+        {"runs", std::max({map_rms_m.size(), coverage.size(), map_latency_ms.size()})},
+        {"height_error_rms_m", {{"mean", Mean(map_rms_m)}, {"max", largest(map_rms_m)}}},
+        {"height_error_p95_m", {{"mean", Mean(map_p95_m)}, {"max", largest(map_p95_m)}}},
+        {"path_coverage", Mean(coverage)},
+        {"cloud_to_terrain_ms_median",
+         map_latency_ms.empty() ? nlohmann::json() : nlohmann::json(nodes::Percentile(map_latency_ms, 0.5))},
+    };
+  }
   if (const PaperRow* p = PaperFor(row.scenario)) {
     s["paper"] = {{"environment", p->environment}, {"affordance_ms", p->affordance_ms}, {"root_s", p->root_s},
                   {"contact_s", p->contact_s},     {"steps", p->steps},                 {"successes", p->successes},
@@ -210,6 +239,22 @@ std::string Markdown(const nlohmann::json& table) {
        << f(s["step_period_s"], 2, " s") << " | " << f(s["replan_latency_ms"]["median"], 1) << " / "
        << f(s["replan_latency_ms"]["p95"], 1, " ms") << " (" << s["replan_latency_ms"]["count"].get<int>()
        << " replans) | " << f(s["wall_s"], 0, " s") << " |\n";
+  }
+  bool perceived = false;
+  for (const auto& s : table["scenarios"]) perceived = perceived || s.contains("perception");
+  if (perceived) {
+    md << "\n| environment | map height error RMS, mean / worst run | 95th percentile, mean / worst run "
+          "| walked path covered by the map | cloud-to-TERRAIN latency (median of the runs' medians) |\n"
+       << "|---|---|---|---|---|\n";
+    for (const auto& s : table["scenarios"]) {
+      if (!s.contains("perception")) continue;
+      const nlohmann::json& m = s["perception"];
+      const auto cm = [&](const nlohmann::json& x) { return x.is_number() ? f(100.0 * x.get<double>(), 1) : f(x, 1); };
+      md << "| " << s["scenario"].get<std::string>() << " | " << cm(m["height_error_rms_m"]["mean"]) << " / "
+         << cm(m["height_error_rms_m"]["max"]) << " cm | " << cm(m["height_error_p95_m"]["mean"]) << " / "
+         << cm(m["height_error_p95_m"]["max"]) << " cm | " << cm(m["path_coverage"]) << " % | "
+         << f(m["cloud_to_terrain_ms_median"], 1, " ms") << " |\n";
+    }
   }
   return md.str();
 }
