@@ -346,9 +346,9 @@ const WholeBodyState* ContactPlannerNode::ReachedPlanState(const rbcp_msgs::cont
   return &last_plan_->states[static_cast<std::size_t>(walked)];
 }
 
-void ContactPlannerNode::SnapToLastPlan(const rbcp_msgs::controller_status_t& controller,
-                                        WholeBodyState* stance) const {
-  if (!last_plan_) return;
+int ContactPlannerNode::SnapToLastPlan(const rbcp_msgs::controller_status_t& controller,
+                                       WholeBodyState* stance) const {
+  if (!last_plan_) return 0;
   // A foot still on a foothold of the previous plan stands exactly there: the one of the state
   // the robot should have reached, else the nearest.
   const WholeBodyState* reached = ReachedPlanState(controller);
@@ -372,7 +372,7 @@ void ContactPlannerNode::SnapToLastPlan(const rbcp_msgs::controller_status_t& co
       ++on_plan;
     }
   }
-  if (!reached) return;
+  if (!reached) return on_plan;
   // The crawl goes on from the last step the robot walked of that plan.
   stance->moving_leg = reached->moving_leg;
   // On the planned footholds, with the base on the reference the controller tracks, the base
@@ -383,6 +383,7 @@ void ContactPlannerNode::SnapToLastPlan(const rbcp_msgs::controller_status_t& co
     stance->base_position = reached->base_position;
     stance->base_rpy = reached->base_rpy;
   }
+  return on_plan;
 }
 
 std::optional<PlanAheadMissed> ContactPlannerNode::WhyNotPlannedAhead(
@@ -454,6 +455,19 @@ void ContactPlannerNode::Replan(const rbcp_msgs::robot_state_t& msg, const rbcp_
   const std::array<Eigen::Vector3d, kNumLegs> feet_W = MeasuredFeetW(robot_, measured);
   StanceResult measured_stance =
       planner_.MeasuredStance(measured.base_position_W, rpy, feet_W, options_.max_foot_offset_m);
+  if (!measured_stance.ok() && measured_stance.status == ContactPlanStatus::kNoStartStance && options_.partial_map) {
+    // The map changed under the robot: a foot may stand where the new map has no contact surface
+    // (a block's surface shrank by a cell). Feet still on footholds of the previous plan stand
+    // there, as they do on a map that still shows them.
+    WholeBodyState on_plan;
+    on_plan.base_position = measured.base_position_W;
+    on_plan.base_rpy = rpy;
+    for (std::size_t i = 0; i < feet_W.size(); ++i) on_plan.feet[i].position = feet_W[i];
+    if (SnapToLastPlan(controller, &on_plan) == kNumLegs) {
+      measured_stance.status = ContactPlanStatus::kOk;
+      measured_stance.state = on_plan;
+    }
+  }
   if (!measured_stance.ok()) return fail("measured stance: " + measured_stance.reason);
   WholeBodyState& stance = *measured_stance.state;
   SnapToLastPlan(controller, &stance);

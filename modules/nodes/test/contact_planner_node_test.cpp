@@ -402,6 +402,44 @@ TEST_F(ContactPlannerNodeTest, OnAGrowingMapAPathToTheGoalAcrossUnseenCellsGetsT
   }
 }
 
+TEST_F(ContactPlannerNodeTest, OnAGrowingMapFeetOnThePlansFootholdsStandThereWhenTheNewMapLostTheirSurface) {
+  // The map of the next wait shows no contact surface under the hind feet any more (the floor
+  // there left the map's window): they still stand on the footholds the last plan gave them, and
+  // the wait is answered.
+  constexpr int kSteps = 2;
+  node_ = MakeNode(kSteps, 0.0, /*partial_map=*/true);
+  const auto floor = [](double from, double to) {
+    Scenario s;
+    s.name = "floor";
+    TerrainBox box;
+    box.size = Eigen::Vector3d(to - from, 1.0, 0.5);
+    box.position = Eigen::Vector3d(0.5 * (from + to), 0.0, -0.25);
+    s.terrain = {box};
+    s.terrain_mesh = BuildTerrainMesh(s.terrain);
+    return s;
+  };
+  const Scenario before = floor(-1.0, 6.0), after = floor(-0.15, 6.0);
+  test::PublishWorld(lcm_, before, kConfig, 300);
+  rbcp_msgs::root_path_t path = FlatGroundRootPath();
+  path.terrain_id = transport::TerrainId(before.terrain_mesh);
+  lcm_.publish(channels::kRootPath, &path);
+  Pump();
+  ASSERT_TRUE(node_->Step());
+  ASSERT_TRUE(Answer(WaitingState(300, 0.02, 0.01)).has_value()) << status_.Latest()->reason;
+
+  test::PublishWorld(lcm_, after, kConfig, 400);
+  path.terrain_id = transport::TerrainId(after.terrain_mesh);
+  lcm_.publish(channels::kRootPath, &path);
+  Pump();
+  node_->Step();
+  const auto msg = Answer(WaitingState(400, 0.02, 0.01));
+  ASSERT_TRUE(msg.has_value()) << status_.Latest()->reason;
+  const ContactPlan plan = transport::FromContactPlanMsg(*msg);
+  for (Leg leg : {Leg::kLH, Leg::kRH}) {
+    EXPECT_LT(plan.states.front().feet[static_cast<std::size_t>(Index(leg))].position.x(), -0.15) << LegName(leg);
+  }
+}
+
 TEST_F(ContactPlannerNodeTest, APlanIsSentAgainWhileTheRobotStillWaitsForIt) {
   // A lossy link lost the plan: the robot goes on waiting at the same stance, and gets the same
   // plan again instead of waiting out its timeout.

@@ -237,8 +237,8 @@ class ContactPlannerNode {
   /// there (the one of the state the robot should have reached, else the nearest); on the
   /// reached state's footholds, a base on the controller's reference (base_match_m) and within
   /// base_match_rad of the reached state's orientation stands in its pose too, and the crawl goes
-  /// on from its moving leg.
-  void SnapToLastPlan(const rbcp_msgs::controller_status_t& controller, WholeBodyState* stance) const;
+  /// on from its moving leg. Returns the number of feet on footholds of the last plan.
+  int SnapToLastPlan(const rbcp_msgs::controller_status_t& controller, WholeBodyState* stance) const;
   /// Horizon mode: why the plan made ahead, `ahead`, does not answer the wait of a robot in
   /// `stance` whose controller reports `controller`; nullopt when it does.
   std::optional<PlanAheadMissed> WhyNotPlannedAhead(const std::optional<PlanMadeAhead>& ahead,
