@@ -111,6 +111,10 @@ bool RootPlannerNode::Step() {
   }
   rbcp_msgs::plan_request_t request = *pending_;
   pending_.reset();
+  if (!active_ || active_->request_id != request.request_id) {  // a new goal
+    visited_.clear();
+    dead_ends_.clear();
+  }
   waiting_for_.clear();
   handled_ = request;
   guide_ = 0;
@@ -190,7 +194,7 @@ bool RootPlannerNode::KeepPathOnNewMap(const rbcp_msgs::robot_state_t& state) {
       // A path short of the goal is planned again when the map shows a way much nearer it.
       const Eigen::Vector2d goal(active_->goal_position[0], active_->goal_position[1]);
       const std::vector<Eigen::Vector3d> goals =
-          planner_.GoalsToward(terrain, surfaces, base, goal, active_->goal_yaw, options_.partial_goals);
+          planner_.GoalsToward(terrain, surfaces, base, goal, active_->goal_yaw, options_.partial_goals, dead_ends_);
       const double now_left = (samples.back().p.head<2>() - goal).norm();
       if (!goals.empty()) {
         const double then_left = (goals.front().head<2>() - goal).norm();
@@ -313,10 +317,20 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     if (options_.partial_map) {
       if (!start) return failed(0.0, "no terrain under the start on the map");
       // The goal, or the standing positions nearest it on the known terrain, until one has a path.
-      const std::vector<Eigen::Vector3d> goals =
+      std::vector<Eigen::Vector3d> goals =
           planner_.GoalsToward(*world_.terrain(), *world_.surfaces(), start_xy, goal_xy, request.goal_yaw,
-                               options_.partial_goals);
-      if (goals.empty()) return failed(0.0, "the map shows no standing position nearer the goal yet");
+                               options_.partial_goals, dead_ends_);
+      // None nearer the goal (a wall, a dead end): the edge of the map where the robot has not
+      // stood yet, for its cameras to see the way on; and this place is no way nearer the goal.
+      if (visited_.size() >= kMaxVisited) visited_.erase(visited_.begin());
+      visited_.push_back(start_xy);
+      exploring_ = goals.empty();
+      if (exploring_) {
+        goals = planner_.FrontierGoals(*world_.terrain(), *world_.surfaces(), goal_xy, visited_, options_.partial_goals);
+        if (dead_ends_.size() >= kMaxVisited) dead_ends_.erase(dead_ends_.begin());
+        dead_ends_.push_back(start_xy);
+      }
+      if (goals.empty()) return failed(0.0, "the map shows no standing position nearer the goal yet, nor an edge of the map the robot has not stood at");
       for (std::size_t i = 0; i < goals.size(); ++i) {
         last_reaches_goal_ = (goals[i].head<2>() - goal_xy).norm() < 1e-9;
         const Eigen::Vector2d way = goal_xy - goals[i].head<2>();  // at a partial goal the robot faces the goal
@@ -350,7 +364,9 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
   if (!last_reaches_goal_) {
     const Eigen::Vector3d end = last_result_->samples.back().p;
     summary += std::string(summary.empty() ? "" : "; ") + "towards the goal, to (" + FixedNumber(end.x(), 2) + ", " +
-               FixedNumber(end.y(), 2) + "), the known terrain's nearest standing position";
+               FixedNumber(end.y(), 2) + "), " +
+               (exploring_ ? "an edge of the map (the known terrain shows no way nearer the goal)"
+                           : "the known terrain's nearest standing position");
   }
   status_.Ok(Now(), request.utime, ms, summary);
 }

@@ -589,17 +589,20 @@ TEST_F(RootPlannerNodeTest, AMessageWithAWrongTimeIsRejectedAndDoesNotStopTheClo
 namespace rbcp::nodes {
 namespace {
 
-/// A floor from x = -1 to `end_x` (1 m wide): the terrain a map knows after seeing that far.
-Scenario FloorTo(double end_x) {
+/// A floor from x = `begin_x` to `end_x`, `width` wide.
+Scenario FloorFrom(double begin_x, double end_x, double width = 1.0) {
   Scenario s;
   s.name = "floor";
   TerrainBox box;
-  box.size = Eigen::Vector3d(end_x + 1.0, 1.0, 0.5);
-  box.position = Eigen::Vector3d(0.5 * (end_x - 1.0), 0.0, -0.25);
+  box.size = Eigen::Vector3d(end_x - begin_x, width, 0.5);
+  box.position = Eigen::Vector3d(0.5 * (end_x + begin_x), 0.0, -0.25);
   s.terrain = {box};
   s.terrain_mesh = BuildTerrainMesh(s.terrain);
   return s;
 }
+
+/// A floor from x = -1 to `end_x` (1 m wide): the terrain a map knows after seeing that far.
+Scenario FloorTo(double end_x) { return FloorFrom(-1.0, end_x); }
 
 /// A root planner on a map that grows (--partial-map), the robot's messages and its answers.
 class RootPlannerNodePartialMapTest : public ::testing::Test {
@@ -614,13 +617,14 @@ class RootPlannerNodePartialMapTest : public ::testing::Test {
     while (lcm_.handleTimeout(0) > 0) {
     }
   }
-  /// The robot waiting at a step boundary since `utime`, its base at (x, 0).
-  void WaitAt(int64_t utime, double x) {
+  /// The robot waiting at a step boundary since `utime`, its base at (x, y).
+  void WaitAt(int64_t utime, double x, double y = 0.0) {
     rbcp_msgs::controller_status_t controller{};
     rbcp_msgs::robot_state_t state{};
     controller.utime = state.utime = controller.awaiting_since = utime;
     controller.awaiting_plan = true;
     state.base_position[0] = x;
+    state.base_position[1] = y;
     state.base_position[2] = 0.45;
     state.base_orientation[0] = 1.0;
     lcm_.publish(channels::kControllerStatus, &controller);
@@ -787,10 +791,39 @@ TEST_F(RootPlannerNodePartialMapTest, AtTheEndOfAPathShortOfTheGoalTheRobotGetsA
   EXPECT_GT(next->points.back().position[0], end_x + 0.2);
 }
 
-TEST_F(RootPlannerNodePartialMapTest, ARequestTheMapShowsNoWayForIsPlannedAgainOnTheNextMap) {
-  // The map knows only the floor under the robot: no standing position nearer the goal.
+TEST_F(RootPlannerNodePartialMapTest, WhereTheMapShowsNoWayTheRobotGoesToAnEdgeItHasNotStoodAt) {
+  // The map knows the floor from x = -1 to 0.3 only; the robot at x = 0 sees no standing position
+  // nearer the goal at x = 3: it goes to an edge of the map at least 0.5 m away (the floor's far
+  // end: at its sides the feet would stand off it), facing the goal.
   WaitAt(100, 0.0);
   test::PublishWorld(lcm_, FloorTo(0.3), kConfig, 100);
+  Request(6, 3.0);
+  Pump();
+  ASSERT_TRUE(node_.Step());
+  Pump();
+  auto path = paths_.Take();
+  ASSERT_TRUE(path.has_value()) << Reason();
+  EXPECT_FALSE(path->reaches_goal);
+  EXPECT_NE(Reason().find("an edge of the map"), std::string::npos) << Reason();
+  const Eigen::Vector2d end(path->points.back().position[0], path->points.back().position[1]);
+  EXPECT_GE(end.norm(), 0.5) << "not where the robot stood";
+
+  // It waits there; the map still shows no way, and no edge it can stand at is 0.5 m from both
+  // places it stood at: the replan fails and says so.
+  WaitAt(1000000, end.x(), end.y());
+  test::PublishWorld(lcm_, FloorTo(0.32), kConfig, 1000000);
+  Pump();
+  node_.Step();
+  Pump();
+  ASSERT_EQ(status_.Latest()->state, rbcp_msgs::process_status_t::FAILED);
+  EXPECT_NE(Reason().find("nor an edge of the map the robot has not stood at"), std::string::npos) << Reason();
+}
+
+TEST_F(RootPlannerNodePartialMapTest, ARequestTheMapShowsNoWayForIsPlannedAgainOnTheNextMap) {
+  // The map knows only the floor under the robot: no standing position nearer the goal, and no
+  // edge of the map away from where it stands.
+  WaitAt(100, 0.0);
+  test::PublishWorld(lcm_, FloorFrom(-0.35, 0.3, 0.6), kConfig, 100);
   Request(6, 3.0);
   Pump();
   ASSERT_TRUE(node_.Step());

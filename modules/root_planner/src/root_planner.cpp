@@ -512,10 +512,49 @@ std::optional<MeasuredBaseProblem> RootPlanner::CheckMeasuredBase(const Triangle
   return MeasuredBaseProblem{MeasuredBaseProblem::Kind::kInsideTerrain, base_W, *height};
 }
 
+namespace {
+
+/// Points on a grid of `spacing` over the contact surfaces' bounding box, with their distance to
+/// `goal_xy`, the nearest first (ties in x, then y order: deterministic).
+std::vector<std::pair<double, Eigen::Vector2d>> GridNearestTo(const std::vector<AffordanceSurface>& surfaces,
+                                                              double spacing, const Eigen::Vector2d& goal_xy) {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const AffordanceSurface& surface : surfaces) {
+    for (const Eigen::Vector3d& v : surface.vertices) {
+      lo = lo.cwiseMin(v.head<2>());
+      hi = hi.cwiseMax(v.head<2>());
+    }
+  }
+  std::vector<std::pair<double, Eigen::Vector2d>> points;
+  for (double y = std::ceil(lo.y() / spacing) * spacing; y <= hi.y(); y += spacing) {
+    for (double x = std::ceil(lo.x() / spacing) * spacing; x <= hi.x(); x += spacing) {
+      const Eigen::Vector2d xy(x, y);
+      points.emplace_back((goal_xy - xy).norm(), xy);
+    }
+  }
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : std::tie(a.second.x(), a.second.y()) < std::tie(b.second.x(), b.second.y());
+  });
+  return points;
+}
+
+bool NearAny(const Eigen::Vector2d& xy, const std::vector<Eigen::Vector2d>& places, double distance) {
+  return std::any_of(places.begin(), places.end(), [&](const Eigen::Vector2d& p) { return (p - xy).norm() < distance; });
+}
+
+std::vector<Eigen::Vector2d> Xy(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<Eigen::Vector2d> xy;
+  for (const Eigen::Vector3d& p : points) xy.push_back(p.head<2>());
+  return xy;
+}
+
+}  // namespace
+
 std::vector<Eigen::Vector3d> RootPlanner::GoalsToward(const TriangleMesh& terrain,
                                                      const std::vector<AffordanceSurface>& surfaces,
                                                      const Eigen::Vector2d& start_xy, const Eigen::Vector2d& goal_xy,
-                                                     double goal_yaw, const GoalsTowardOptions& options) const {
+                                                     double goal_yaw, const GoalsTowardOptions& options,
+                                                     const std::vector<Eigen::Vector2d>& dead_ends) const {
   if (!(options.spacing_m > 0.0) || !start_xy.allFinite() || !goal_xy.allFinite() || options.max_goals < 1) {
     throw InputError("GoalsToward: expected finite ends, a positive spacing and max_goals >= 1");
   }
@@ -533,38 +572,52 @@ std::vector<Eigen::Vector3d> RootPlanner::GoalsToward(const TriangleMesh& terrai
   }
   // Candidates on a grid over the contact surfaces, the nearest to the goal first, each facing the
   // goal with known terrain ahead of it for the front feet.
-  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const AffordanceSurface& surface : surfaces) {
-    for (const Eigen::Vector3d& v : surface.vertices) {
-      lo = lo.cwiseMin(v.head<2>());
-      hi = hi.cwiseMax(v.head<2>());
-    }
-  }
   const double from_start = (goal_xy - start_xy).norm();
-  std::vector<std::pair<double, Eigen::Vector2d>> candidates;
-  const double r = options.spacing_m;
-  for (double y = std::ceil(lo.y() / r) * r; y <= hi.y(); y += r) {
-    for (double x = std::ceil(lo.x() / r) * r; x <= hi.x(); x += r) {
-      const Eigen::Vector2d xy(x, y);
-      const double left = (goal_xy - xy).norm();
-      if (from_start - left >= options.min_progress_m && left > 1e-9) candidates.emplace_back(left, xy);
-    }
-  }
-  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first < b.first : std::tie(a.second.x(), a.second.y()) < std::tie(b.second.x(), b.second.y());
-  });
   int evaluated = 0;
-  for (const auto& [left, xy] : candidates) {
+  for (const auto& [left, xy] : GridNearestTo(surfaces, options.spacing_m, goal_xy)) {
     if (static_cast<int>(goals.size()) >= options.max_goals || evaluated >= options.max_evaluations) break;
+    if (from_start - left < options.min_progress_m || left <= 1e-9 || NearAny(xy, dead_ends, options.visited_m)) continue;
     const Eigen::Vector2d toward = (goal_xy - xy) / left;
     const std::optional<Eigen::Vector3d> p = standing(xy);
     if (!p || !heights.At(xy + options.ahead_m * toward)) continue;
     ++evaluated;
     // Apart from the goals taken already: the next try is somewhere else.
-    bool near_taken = false;
-    for (const Eigen::Vector3d& g : goals) near_taken = near_taken || (g.head<2>() - xy).norm() < options.apart_m;
-    if (near_taken) continue;
+    if (NearAny(xy, Xy(goals), options.apart_m)) continue;
     if (checker.IsValid(*p, std::atan2(toward.y(), toward.x()))) goals.push_back(*p);
+  }
+  return goals;
+}
+
+std::vector<Eigen::Vector3d> RootPlanner::FrontierGoals(const TriangleMesh& terrain,
+                                                       const std::vector<AffordanceSurface>& surfaces,
+                                                       const Eigen::Vector2d& goal_xy,
+                                                       const std::vector<Eigen::Vector2d>& visited,
+                                                       const GoalsTowardOptions& options) const {
+  if (!(options.spacing_m > 0.0) || !(options.frontier_m > 0.0) || !goal_xy.allFinite() || options.max_goals < 1) {
+    throw InputError("FrontierGoals: expected a finite goal, a positive spacing and frontier and max_goals >= 1");
+  }
+  std::vector<Eigen::Vector3d> goals;
+  if (surfaces.empty() || terrain.Empty()) return goals;
+  ReachabilityChecker checker = MakeChecker(terrain, surfaces);
+  const TerrainHeightMap heights(terrain);
+  // Unknown terrain within frontier_m: some of 8 directions finds none there.
+  const auto at_frontier = [&](const Eigen::Vector2d& xy) {
+    for (int k = 0; k < 8; ++k) {
+      const double a = k * M_PI / 4.0;
+      if (!heights.At(xy + options.frontier_m * Eigen::Vector2d(std::cos(a), std::sin(a)))) return true;
+    }
+    return false;
+  };
+  int evaluated = 0;
+  for (const auto& [left, xy] : GridNearestTo(surfaces, options.spacing_m, goal_xy)) {
+    if (static_cast<int>(goals.size()) >= options.max_goals || evaluated >= options.max_evaluations) break;
+    if (left <= 1e-9 || NearAny(xy, visited, options.visited_m) || NearAny(xy, Xy(goals), options.apart_m)) continue;
+    const std::optional<double> z = heights.At(xy);
+    if (!z || !at_frontier(xy)) continue;
+    ++evaluated;
+    const Eigen::Vector2d toward = (goal_xy - xy) / left;
+    const Eigen::Vector3d p(xy.x(), xy.y(), *z + nominal_base_height_);
+    if (checker.IsValid(p, std::atan2(toward.y(), toward.x()))) goals.push_back(p);
   }
   return goals;
 }

@@ -219,6 +219,8 @@ struct GoalsTowardOptions {
   double apart_m = 0.3;         ///< candidates returned at least this far apart [m]
   int max_goals = 4;            ///< candidates returned at most
   int max_evaluations = 2000;   ///< candidates checked at most
+  double frontier_m = 0.3;      ///< FrontierGoals: unknown terrain this near a candidate [m]
+  double visited_m = 0.5;       ///< FrontierGoals: a candidate at least this far from where the robot waited [m]
 };
 
 class RootPlanner {
@@ -250,11 +252,23 @@ class RootPlanner {
   /// goal's yaw, then standing positions on a grid over the contact surfaces, the nearest to the
   /// goal first, that are at least min_progress_m nearer the goal than the start, have known
   /// terrain ahead_m further towards the goal (the front feet stand ahead of the base), lie
-  /// apart_m from those already taken and satisfy the condition facing the goal. At most
+  /// apart_m from those already taken, lie visited_m from every one of `dead_ends` (where the map
+  /// showed no way nearer the goal before) and satisfy the condition facing the goal. At most
   /// max_goals; empty when nothing qualifies: the map shows no way on yet.
   std::vector<Eigen::Vector3d> GoalsToward(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
                                            const Eigen::Vector2d& start_xy, const Eigen::Vector2d& goal_xy,
-                                           double goal_yaw, const GoalsTowardOptions& options) const;
+                                           double goal_yaw, const GoalsTowardOptions& options,
+                                           const std::vector<Eigen::Vector2d>& dead_ends = {}) const;
+
+  /// Where to look on when GoalsToward finds nothing (the known terrain nearer the goal is cut
+  /// off: a wall, a dead end): standing positions on the contact surfaces with unknown terrain
+  /// within frontier_m (the edge of what the map shows, where the cameras see more), at least
+  /// visited_m from every position in `visited` (where the robot has waited already), the
+  /// nearest to the goal first, apart_m apart, that satisfy the condition facing the goal. At
+  /// most max_goals; empty when nothing qualifies.
+  std::vector<Eigen::Vector3d> FrontierGoals(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
+                                             const Eigen::Vector2d& goal_xy, const std::vector<Eigen::Vector2d>& visited,
+                                             const GoalsTowardOptions& options) const;
 
   /// A reachability checker for a terrain with this planner's ROMs and trunk shape.
   ReachabilityChecker MakeChecker(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces) const;
