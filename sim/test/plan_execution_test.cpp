@@ -3,6 +3,7 @@
 #include "rbcp/sim/plan_execution.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,6 @@
 // fuzz_seeds: seed corpora of the LCM message targets and of plan_json from recorded LCM logs.
 #include <lcm/lcm-cpp.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdint>

@@ -1,5 +1,6 @@
 // affordance_extractor: TERRAIN in, AFFORDANCES and STATUS out; or one scenario file with --once.
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "rbcp/cli/cli.h"
 #include "rbcp/core/yaml_reader.h"

@@ -1,5 +1,6 @@
 // check_plan: verifies a contact plan (JSON) against its scenario and prints every violation.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <iostream>
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iomanip>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 

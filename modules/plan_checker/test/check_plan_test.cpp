@@ -1,5 +1,6 @@
 // The check_plan program on plans written to files: exit status, output, error messages.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 

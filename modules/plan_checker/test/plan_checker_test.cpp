@@ -1,6 +1,7 @@
 #include "rbcp/plan_checker/plan_checker.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 

@@ -1,6 +1,7 @@
 #include "rbcp/plan_checker/plan_json.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstring>

@@ -1,5 +1,6 @@
 // plan_scenario: the pipeline's libraries in one process on a scenario file, printing JSON.
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "rbcp/cli/cli.h"
 #include "rbcp/offline_pipeline/offline_pipeline.h"

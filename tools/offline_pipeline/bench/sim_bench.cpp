@@ -7,6 +7,7 @@
 // controller in the loop (median over runs). Markdown on stdout; --json FILE also writes every
 // run. By default the box scenarios and the paper's meshes.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <atomic>

@@ -1,6 +1,7 @@
 #include "rbcp/offline_pipeline/offline_pipeline.h"
 
 #include <chrono>
+#include <nlohmann/json.hpp>
 
 #include "rbcp/core/error.h"
 #include "rbcp/core/format.h"

@@ -1,6 +1,7 @@
 #include "rbcp/offline_pipeline/offline_pipeline.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 

@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "rbcp/controller/plan_controller.h"
 #include "rbcp/core/contact_plan.h"

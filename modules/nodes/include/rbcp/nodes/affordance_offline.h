@@ -1,7 +1,7 @@
 #pragma once
 /// One-shot affordance extraction on a scenario file, for `affordance_extractor --once`.
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <string>
 #include <vector>

@@ -53,7 +53,7 @@
 /// stance torques with the CoM's acceleration within the stance rules' ceiling. Its findings
 /// ("walk") are reported apart: the plan's verdict is about its own states and steps.
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <limits>
 #include <string>

@@ -13,7 +13,7 @@
 /// Numbers are written with the shortest representation that reads back to the same double,
 /// so ContactPlanFromJson(ContactPlanToJson(plan)) reproduces the plan bit for bit.
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <string>
 

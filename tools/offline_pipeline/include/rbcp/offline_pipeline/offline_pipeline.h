@@ -3,7 +3,7 @@
 /// `plan_scenario`, the benchmarks and the tests. Same libraries and configuration as the
 /// processes, no LCM.
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <memory>
 #include <mutex>
