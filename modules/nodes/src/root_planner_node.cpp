@@ -14,6 +14,14 @@
 namespace rbcp::nodes {
 namespace {
 
+/// Places remembered at most (partial_map: where the robot waited, the dead ends); the oldest go.
+constexpr std::size_t kMaxPlaces = 1000;
+
+void Remember(std::vector<Eigen::Vector2d>* places, const Eigen::Vector2d& xy) {
+  if (places->size() >= kMaxPlaces) places->erase(places->begin());
+  places->push_back(xy);
+}
+
 /// A contact planner's answer that no contact plan follows the path: a planning query that failed
 /// along it (FailedAlongPath; its reason starts "<status>:"), not a rejected input.
 bool IsContactPlanningFailure(const rbcp_msgs::process_status_t& s) {
@@ -322,13 +330,11 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
                                options_.partial_goals, dead_ends_);
       // None nearer the goal (a wall, a dead end): the edge of the map where the robot has not
       // stood yet, for its cameras to see the way on; and this place is no way nearer the goal.
-      if (visited_.size() >= kMaxVisited) visited_.erase(visited_.begin());
-      visited_.push_back(start_xy);
+      Remember(&visited_, start_xy);
       exploring_ = goals.empty();
       if (exploring_) {
         goals = planner_.FrontierGoals(*world_.terrain(), *world_.surfaces(), goal_xy, visited_, options_.partial_goals);
-        if (dead_ends_.size() >= kMaxVisited) dead_ends_.erase(dead_ends_.begin());
-        dead_ends_.push_back(start_xy);
+        Remember(&dead_ends_, start_xy);
       }
       if (goals.empty()) return failed(0.0, "the map shows no standing position nearer the goal yet, nor an edge of the map the robot has not stood at");
       for (std::size_t i = 0; i < goals.size(); ++i) {

@@ -538,14 +538,11 @@ std::vector<std::pair<double, Eigen::Vector2d>> GridNearestTo(const std::vector<
   return points;
 }
 
-bool NearAny(const Eigen::Vector2d& xy, const std::vector<Eigen::Vector2d>& places, double distance) {
-  return std::any_of(places.begin(), places.end(), [&](const Eigen::Vector2d& p) { return (p - xy).norm() < distance; });
-}
-
-std::vector<Eigen::Vector2d> Xy(const std::vector<Eigen::Vector3d>& points) {
-  std::vector<Eigen::Vector2d> xy;
-  for (const Eigen::Vector3d& p : points) xy.push_back(p.head<2>());
-  return xy;
+/// Whether `xy` lies within `distance` of one of `places` (their xy: 2D or 3D points).
+template <typename Point>
+bool NearAny(const Eigen::Vector2d& xy, const std::vector<Point>& places, double distance) {
+  return std::any_of(places.begin(), places.end(),
+                     [&](const Point& p) { return (p.template head<2>() - xy).norm() < distance; });
 }
 
 }  // namespace
@@ -582,7 +579,7 @@ std::vector<Eigen::Vector3d> RootPlanner::GoalsToward(const TriangleMesh& terrai
     if (!p || !heights.At(xy + options.ahead_m * toward)) continue;
     ++evaluated;
     // Apart from the goals taken already: the next try is somewhere else.
-    if (NearAny(xy, Xy(goals), options.apart_m)) continue;
+    if (NearAny(xy, goals, options.apart_m)) continue;
     if (checker.IsValid(*p, std::atan2(toward.y(), toward.x()))) goals.push_back(*p);
   }
   return goals;
@@ -611,7 +608,7 @@ std::vector<Eigen::Vector3d> RootPlanner::FrontierGoals(const TriangleMesh& terr
   int evaluated = 0;
   for (const auto& [left, xy] : GridNearestTo(surfaces, options.spacing_m, goal_xy)) {
     if (static_cast<int>(goals.size()) >= options.max_goals || evaluated >= options.max_evaluations) break;
-    if (left <= 1e-9 || NearAny(xy, visited, options.visited_m) || NearAny(xy, Xy(goals), options.apart_m)) continue;
+    if (left <= 1e-9 || NearAny(xy, visited, options.visited_m) || NearAny(xy, goals, options.apart_m)) continue;
     const std::optional<double> z = heights.At(xy);
     if (!z || !at_frontier(xy)) continue;
     ++evaluated;

@@ -137,7 +137,6 @@ class RootPlannerNode {
   std::optional<rbcp_msgs::plan_request_t> active_;  ///< the request of the current path
   std::optional<rbcp_msgs::root_path_t> published_;  ///< the current path, republished by Heartbeat()
   std::optional<int64_t> checked_wait_;              ///< awaiting_since of the last wait checked
-  static constexpr std::size_t kMaxVisited = 1000;
   std::vector<Eigen::Vector2d> visited_;  ///< partial_map: where the robot stood when planned for, this goal
   std::vector<Eigen::Vector2d> dead_ends_;  ///< partial_map: where the map showed no way nearer this goal
   bool exploring_ = false;                ///< partial_map: the last plan goes to an edge of the map
