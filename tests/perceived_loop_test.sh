@@ -31,7 +31,10 @@ assert e["cells"] > 1000 and e["rms"] <= 0.02, "the map is off the true terrain"
 assert p["path_coverage"] >= 0.5, "the map does not cover the walked path"
 assert p["cloud_to_terrain_ms"]["count"] > 0, "no map of a capture's time"
 PY
-"$bin/map_replay" --log "$dir/run.lcmlog" | tee "$dir/map_replay.txt"
-grep -q "the replayed mapper sent the same" "$dir/map_replay.txt" \
+# Exit status 3: a cloud was lost on the way (UDP under load); the maps before it must still match.
+replay_status=0
+"$bin/map_replay" --log "$dir/run.lcmlog" > "$dir/map_replay.txt" || replay_status=$?
+cat "$dir/map_replay.txt"
+{ [ "$replay_status" -eq 0 ] || [ "$replay_status" -eq 3 ]; } && grep -Eq "the replayed mapper sent the same [1-9]" "$dir/map_replay.txt" \
   || { echo "perceived_loop_test: the log replayed into a mapper gives other maps" >&2; exit 1; }
 echo "perceived_loop_test: the robot walked to a goal beyond its cameras on the map it built"

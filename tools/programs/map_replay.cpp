@@ -4,7 +4,9 @@
 // replayed mapper may send more before the verdict: the run's was stopped with the pipeline while
 // clouds were on their way). The mapper's
 // inputs (POINT_CLOUD, ROBOT_STATE, CONTROLLER_STATUS) go in in the log's order, one at a time, as
-// they reached it.
+// they reached it. A cloud lost on the way (to the run's mapper or to the recorder: its mapper
+// counts the gap in the sensor's seq on ELEVATION_MAP) makes the maps after it incomparable; the
+// maps before the first difference are then compared and the loss reported (exit status 3).
 #include <iostream>
 #include <string>
 #include <utility>
@@ -19,6 +21,7 @@
 #include "rbcp/transport/channels.h"
 #include "rbcp/transport/latest_message.h"
 #include "rbcp/transport/wire_check.h"
+#include "rbcp_msgs/elevation_map_t.hpp"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
@@ -38,8 +41,9 @@ void AddOptions(CLI::App& app, Options& o) {
   app.description(
       "Replays a perceived run's LCM log into a terrain mapper of its own (in this process): every map the run's\n"
       "terrain_mapper sent on TERRAIN (utime and terrain_id) up to the simulator's verdict must come again, in the\n"
-      "same order. Reads a file;\n"
-      "talks no LCM. Exit status: 0 the same maps, 1 a map differs (the first difference is printed), 2 bad input.");
+      "same order. Reads a file; talks no LCM.\n"
+      "Exit status: 0 the same maps, 1 a map differs (the first difference is printed), 2 bad input, 3 the maps\n"
+      "differ after a cloud that the run's mapper or the recorder never received (the maps before are the same).");
 }
 
 /// A map as TERRAIN carries it; a repeat of the previous one (the mapper repeats its latest map
@@ -47,6 +51,16 @@ void AddOptions(CLI::App& app, Options& o) {
 using Map = std::pair<int64_t, int64_t>;  // utime, terrain_id
 void AddMap(std::vector<Map>& maps, const Map& map) {
   if (maps.empty() || maps.back() != map) maps.push_back(map);
+}
+
+/// The clouds a mapper missed (ELEVATION_MAP clouds_missed), the most it reported.
+void NoteMissed(int64_t& missed, const void* data, std::size_t size, long& malformed) {
+  rbcp_msgs::elevation_map_t msg;
+  if (transport::DecodeMessage(data, size, msg)) {
+    ++malformed;
+  } else {
+    missed = std::max(missed, msg.clouds_missed);
+  }
 }
 
 int Run(const Options& o) {
@@ -58,6 +72,7 @@ int Run(const Options& o) {
   std::vector<Map> recorded;
   bool perceived = false;
   long malformed = 0;
+  int64_t run_missed = 0;      // clouds the run's mapper never received
   int64_t verdict_utime = -1;  // the simulator's first OK or FAILED
   logs::ReadLogMessages(
       o.log_path,
@@ -72,6 +87,8 @@ int Run(const Options& o) {
           const bool decided = !transport::DecodeMessage(data, size, msg) && msg.process == "anymal_sim" &&
                                (msg.state == rbcp_msgs::process_status_t::OK || msg.state == rbcp_msgs::process_status_t::FAILED);
           if (decided && verdict_utime < 0) verdict_utime = msg.utime;
+        } else if (channel == channels::kElevationMap) {
+          NoteMissed(run_missed, data, size, malformed);
         } else if (channel == channels::kTerrain) {
           rbcp_msgs::terrain_mesh_t msg;
           if (transport::DecodeMessage(data, size, msg)) {
@@ -92,6 +109,11 @@ int Run(const Options& o) {
   std::vector<Map> replayed;
   transport::EveryMessage<rbcp_msgs::terrain_mesh_t> maps_out(
       lcm, channels::kTerrain, [&](const rbcp_msgs::terrain_mesh_t& m) { AddMap(replayed, {m.utime, m.terrain_id}); },
+      [&](const std::string&) { ++malformed; });
+  int64_t log_missed = 0;  // clouds the recorder never received (the replayed mapper's gaps)
+  transport::EveryMessage<rbcp_msgs::elevation_map_t> grids_out(
+      lcm, channels::kElevationMap,
+      [&](const rbcp_msgs::elevation_map_t& m) { log_missed = std::max(log_missed, m.clouds_missed); },
       [&](const std::string&) { ++malformed; });
   nodes::TerrainMapperNode node(lcm, config, robot);
   node.status().set_verbose(false);
@@ -125,7 +147,12 @@ int Run(const Options& o) {
     };
     std::cout << "map_replay: map " << i + 1 << " differs: the run's " << describe(recorded, i) << ", replayed "
               << describe(replayed, i) << "\n";
-    return 1;
+    if (run_missed == 0 && log_missed == 0) return 1;
+    // The two mappers did not hear the same clouds: the maps after the first lost one differ.
+    std::cout << "map_replay: clouds were lost on the way (" << run_missed << " never reached the run's mapper, " << log_missed
+              << " never reached the recorder): the replayed mapper sent the same " << i
+              << " maps before the first difference; the later ones are not comparable" << std::endl;
+    return 3;
   }
   std::cout << "map_replay: the replayed mapper sent the same " << recorded.size() << " maps"
             << (verdict_utime >= 0 ? " up to the simulator's verdict" : "") << std::endl;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <limits>
 
 #include "rbcp/core/error.h"
@@ -67,11 +68,12 @@ std::optional<std::string> CheckCloud(const rbcp_msgs::point_cloud_t& msg, int m
 }
 
 rbcp_msgs::elevation_map_t ToElevationMapMsg(const mapping::ElevationMap& grid, int64_t utime, int64_t terrain_id,
-                                             int64_t clouds_fused) {
+                                             int64_t clouds_fused, int64_t clouds_missed) {
   rbcp_msgs::elevation_map_t em;
   em.utime = utime;
   em.terrain_id = terrain_id;
   em.clouds_fused = clouds_fused;
+  em.clouds_missed = clouds_missed;
   em.origin[0] = grid.origin().x();
   em.origin[1] = grid.origin().y();
   em.resolution = grid.resolution();
@@ -142,7 +144,10 @@ TerrainMapperNode::TerrainMapperNode(lcm::LCM& lcm, const mapping::MapperConfig&
             clouds_rejected_ += 1;
             status_.Failed(newest_cloud_utime_, 0, 0.0, why);
           }),
-      controller_in_(lcm, channels_.controller_status) {
+      controller_in_(
+          lcm, channels_.controller_status,
+          [this](const rbcp_msgs::controller_status_t& m) { TakeControllerStatus(m); },
+          [this](const std::string& why) { status_.Failed(std::max<int64_t>(newest_cloud_utime_, 0), 0, 0.0, why); }) {
   config_.Validate();
 }
 
@@ -150,8 +155,10 @@ void TerrainMapperNode::Restart() {
   map_ = mapping::TerrainMap(config_);
   newest_state_utime_ = -1;
   pending_.clear();
-  wait_to_publish_.reset();
-  last_wait_published_ = -1;
+  pending_clouds_ = 0;
+  last_wait_heard_ = -1;
+  last_seq_.clear();
+  clouds_missed_ = 0;
   newest_cloud_utime_ = published_utime_ = -1;
   next_publish_utime_ = 0;
   dirty_ = false;
@@ -179,12 +186,38 @@ void TerrainMapperNode::TakeCloud(const rbcp_msgs::point_cloud_t& msg) {
     Reject(msg, *why);
     return;
   }
-  pending_.push_back(msg);
-  if (pending_.size() > options_.max_pending_clouds) {
-    Reject(pending_.front(), "no ROBOT_STATE for its time came while " + std::to_string(options_.max_pending_clouds) +
-                                 " newer clouds arrived");
-    pending_.pop_front();
+  CountMissed(msg);
+  pending_.emplace_back(msg);
+  if (++pending_clouds_ > options_.max_pending_clouds) {
+    // A flood between two steps: the oldest cloud goes.
+    const auto oldest = std::find_if(pending_.begin(), pending_.end(),
+                                     [](const Input& in) { return std::holds_alternative<rbcp_msgs::point_cloud_t>(in); });
+    Reject(std::get<rbcp_msgs::point_cloud_t>(*oldest),
+           "more than " + std::to_string(options_.max_pending_clouds) + " clouds came between two steps of the mapper");
+    pending_.erase(oldest);
+    --pending_clouds_;
   }
+}
+
+void TerrainMapperNode::CountMissed(const rbcp_msgs::point_cloud_t& msg) {
+  const auto last = last_seq_.find(msg.sensor);
+  if (last != last_seq_.end() && msg.seq > last->second + 1) {
+    const int64_t missed = msg.seq - last->second - 1;
+    clouds_missed_ += missed;
+    if (status_.verbose()) {
+      std::fprintf(stderr, "[%s] POINT_CLOUD '%s': %lld clouds before seq %lld never came (%lld missed in all)\n",
+                   kProcessName, msg.sensor.c_str(), static_cast<long long>(missed), static_cast<long long>(msg.seq),
+                   static_cast<long long>(clouds_missed_));
+    }
+  }
+  last_seq_[msg.sensor] = msg.seq;
+}
+
+void TerrainMapperNode::TakeControllerStatus(const rbcp_msgs::controller_status_t& msg) {
+  // A wait is heard once: the controller repeats its status while it waits.
+  if (!msg.awaiting_plan || msg.awaiting_since == last_wait_heard_) return;
+  last_wait_heard_ = msg.awaiting_since;
+  pending_.emplace_back(msg.awaiting_since);
 }
 
 void TerrainMapperNode::Reject(const rbcp_msgs::point_cloud_t& msg, const std::string& why) {
@@ -192,19 +225,14 @@ void TerrainMapperNode::Reject(const rbcp_msgs::point_cloud_t& msg, const std::s
   status_.Failed(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime, 0.0, why);
 }
 
-bool TerrainMapperNode::IntegratePending() {
-  bool worked = false;
-  for (; !pending_.empty(); pending_.pop_front(), worked = true) {
-    const rbcp_msgs::point_cloud_t& msg = pending_.front();
-    if (newest_state_utime_ >= 0 && msg.utime - newest_state_utime_ > static_cast<int64_t>(options_.max_cloud_lead_s * 1e6)) {
-      Reject(msg, "POINT_CLOUD '" + msg.sensor + "' " + std::to_string(msg.seq) + " is from " +
-                      FixedNumber(Seconds(msg.utime), 3) + " s, more than " + FixedNumber(options_.max_cloud_lead_s, 2) +
-                      " s after the newest ROBOT_STATE (" + FixedNumber(Seconds(newest_state_utime_), 3) + " s)");
-      continue;
-    }
-    Integrate(msg);
+void TerrainMapperNode::IntegrateIfPlaced(const rbcp_msgs::point_cloud_t& msg) {
+  if (newest_state_utime_ >= 0 && msg.utime - newest_state_utime_ > static_cast<int64_t>(options_.max_cloud_lead_s * 1e6)) {
+    Reject(msg, "POINT_CLOUD '" + msg.sensor + "' " + std::to_string(msg.seq) + " is from " +
+                    FixedNumber(Seconds(msg.utime), 3) + " s, more than " + FixedNumber(options_.max_cloud_lead_s, 2) +
+                    " s after the newest ROBOT_STATE (" + FixedNumber(Seconds(newest_state_utime_), 3) + " s)");
+    return;
   }
-  return worked;
+  Integrate(msg);
 }
 
 void TerrainMapperNode::Integrate(const rbcp_msgs::point_cloud_t& msg) {
@@ -254,7 +282,7 @@ void TerrainMapperNode::Publish(int64_t utime, double compute_ms) {
   const TriangleMesh mesh = map_.ToMesh();
   if (mesh.Empty()) return;
   const auto terrain = transport::ToTerrainMsg(mesh, utime, "");
-  const rbcp_msgs::elevation_map_t em = ToElevationMapMsg(grid, utime, terrain.terrain_id, clouds_fused_);
+  const rbcp_msgs::elevation_map_t em = ToElevationMapMsg(grid, utime, terrain.terrain_id, clouds_fused_, clouds_missed_);
   std::string problem = publisher_.Publish(channels_.terrain, terrain);
   if (problem.empty()) problem = publisher_.Publish(channels_.elevation_map, em);
   last_terrain_ = terrain;
@@ -270,29 +298,29 @@ void TerrainMapperNode::Publish(int64_t utime, double compute_ms) {
   maps_published_ += 1;
   status_.Ok(utime, utime, ms,
              std::to_string(grid.KnownCells()) + " cells known, " + std::to_string(mesh.NumTriangles()) +
-                 " triangles, " + std::to_string(clouds_fused_) + " clouds, " +
+                 " triangles, " + std::to_string(clouds_fused_) + " clouds" +
+                 (clouds_missed_ > 0 ? " (" + std::to_string(clouds_missed_) + " never came)" : std::string()) + ", " +
                  FixedNumber(static_cast<double>(map_.MemoryBytes()) / (1024.0 * 1024.0), 1) + " MB");
 }
 
 bool TerrainMapperNode::Step() {
-  bool worked = IntegratePending();
-  if (auto e = controller_in_.TakeDecodeError()) status_.Failed(std::max<int64_t>(newest_cloud_utime_, 0), 0, 0.0, *e);
-  if (const auto c = controller_in_.Take(); c && c->awaiting_plan && c->awaiting_since != last_wait_published_) {
-    wait_to_publish_ = c->awaiting_since;
-  }
-  // The robot waits at a step boundary: every cloud up to the wait is in (the simulator sends a
-  // tick's clouds before its status), and the map of the wait goes out (its utime the wait's), for
-  // the planners to answer the wait on.
-  if (wait_to_publish_ && (pending_.empty() || pending_.front().utime > *wait_to_publish_)) {
-    const int64_t wait = *wait_to_publish_;
-    wait_to_publish_.reset();
-    last_wait_published_ = wait;
-    if (published_utime_ != wait || dirty_) {
-      Publish(wait, integrate_ms_);
-      worked = true;
+  const bool worked = !pending_.empty();
+  for (; !pending_.empty(); pending_.pop_front()) {
+    if (const auto* cloud = std::get_if<rbcp_msgs::point_cloud_t>(&pending_.front())) {
+      --pending_clouds_;
+      IntegrateIfPlaced(*cloud);
+    } else {
+      PublishWait(std::get<int64_t>(pending_.front()));
     }
   }
   return worked;
+}
+
+void TerrainMapperNode::PublishWait(int64_t wait) {
+  // The robot waits at a step boundary: every cloud up to the wait is in (the simulator sends a
+  // tick's clouds before its status), and the map of the wait goes out (its utime the wait's), for
+  // the planners to answer the wait on.
+  if (published_utime_ != wait || dirty_) Publish(wait, integrate_ms_);
 }
 
 void TerrainMapperNode::Heartbeat() {

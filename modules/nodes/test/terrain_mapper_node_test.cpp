@@ -8,6 +8,7 @@
 
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/convert.h"
+#include "rbcp/transport/latest_message.h"
 #include "rbcp_msgs/process_status_t.hpp"
 #include "rbcp_msgs/terrain_mesh_t.hpp"
 
@@ -31,7 +32,7 @@ rbcp_msgs::point_cloud_t FlatGroundCloud(int64_t utime, double x, double ground 
   rbcp_msgs::point_cloud_t c{};
   c.utime = utime;
   c.sensor = "front_camera";
-  c.seq = utime / 1000 + 1;
+  c.seq = utime / 100000 + 1;  // a capture every 0.1 s
   const Eigen::Isometry3d mount = Mount();
   const Eigen::Quaterniond q(mount.linear());
   c.base_position[0] = x;
@@ -130,7 +131,9 @@ TEST_F(TerrainMapperNodeTest, ACloudOfFlatGroundBecomesTerrainAtTheGroundsHeight
       const auto a = sent.At(ix, iy);
       const auto b = back.At(ix, iy);
       ASSERT_EQ(a.has_value(), b.has_value());
-      if (a) EXPECT_NEAR(a->height, b->height, 1e-6);
+      if (a) {
+        EXPECT_NEAR(a->height, b->height, 1e-6);
+      }
     }
   }
   EXPECT_EQ(node_.clouds_fused(), 1);
@@ -277,6 +280,74 @@ TEST_F(TerrainMapperNodeTest, AWaitAtAStepBoundaryGetsTheMapOfItsTime) {
   lcm_.publish(channels::kControllerStatus, &controller);
   Run();
   EXPECT_FALSE(terrain_.Take().has_value());
+}
+
+/// The maps a mapper sent, as (utime, clouds fused) from ELEVATION_MAP.
+std::vector<std::pair<int64_t, int64_t>> MapsSent(bool one_step_per_message) {
+  lcm::LCM lcm("memq://");
+  const RobotModel robot = RobotModel::LoadDefault(kConfig);
+  TerrainMapperNode node(lcm, mapping::MapperConfig::LoadFile(kConfig + "/mapper.yaml"), robot);
+  node.status().set_verbose(false);
+  std::vector<std::pair<int64_t, int64_t>> maps;
+  transport::EveryMessage<rbcp_msgs::elevation_map_t> maps_in(
+      lcm, channels::kElevationMap, [&](const rbcp_msgs::elevation_map_t& m) { maps.emplace_back(m.utime, m.clouds_fused); },
+      nullptr);
+  const auto run = [&] {
+    for (int i = 0; i < 10; ++i) {
+      while (lcm.handleTimeout(0) > 0) {
+      }
+      if (!node.Step()) break;
+    }
+  };
+  // What the simulator sends from 0.1 s to 0.3 s: each tick's cloud, then its controller status
+  // (the robot waits from 0.2 s on), then its state.
+  for (int64_t t : {100000, 200000, 300000}) {
+    const auto cloud = FlatGroundCloud(t, 0.1 * static_cast<double>(t) / 100000.0);
+    lcm.publish(channels::kPointCloud, &cloud);
+    rbcp_msgs::controller_status_t controller{};
+    controller.utime = t;
+    controller.awaiting_plan = t >= 200000;
+    controller.awaiting_since = controller.awaiting_plan ? 200000 : 0;
+    lcm.publish(channels::kControllerStatus, &controller);
+    RobotState s;
+    s.t = static_cast<double>(t) * 1e-6;
+    s.q = robot.ReferenceConfiguration();
+    const auto state = transport::ToRobotStateMsg(s);
+    lcm.publish(channels::kRobotState, &state);
+    if (one_step_per_message) run();
+  }
+  run();
+  return maps;
+}
+
+TEST(TerrainMapperNodeOrder, TheMapsDoNotDependOnHowManyMessagesCameBetweenTwoSteps) {
+  const auto one_at_a_time = MapsSent(true);
+  ASSERT_EQ(one_at_a_time.size(), 2u);
+  EXPECT_EQ(one_at_a_time[1], std::make_pair(int64_t{200000}, int64_t{2})) << "the wait's map has the clouds up to it";
+  // A busy mapper hears the three ticks at once: the wait's map still has the clouds heard before
+  // the wait, not the one after it.
+  EXPECT_EQ(MapsSent(false), one_at_a_time);
+}
+
+TEST_F(TerrainMapperNodeTest, ACloudThatNeverCameIsCountedAsMissed) {
+  for (int64_t t : {100000, 400000}) {  // the captures at 0.2 s and 0.3 s were lost
+    const auto cloud = FlatGroundCloud(t, 0.0);
+    lcm_.publish(channels::kPointCloud, &cloud);
+    const auto state = State(t);
+    lcm_.publish(channels::kRobotState, &state);
+    Run();
+  }
+  EXPECT_EQ(node_.clouds_fused(), 2);
+  EXPECT_EQ(node_.clouds_missed(), 2);
+  rbcp_msgs::controller_status_t controller{};
+  controller.utime = controller.awaiting_since = 400000;
+  controller.awaiting_plan = true;
+  lcm_.publish(channels::kControllerStatus, &controller);
+  Run();
+  const auto map = map_.Take();
+  ASSERT_TRUE(map.has_value());
+  EXPECT_EQ(map->clouds_missed, 2);
+  EXPECT_NE(LastReason().find("2 never came"), std::string::npos) << LastReason();
 }
 
 TEST_F(TerrainMapperNodeTest, ANewRunStartsANewMap) {

@@ -115,7 +115,7 @@ const WireLayout kPointCloud{"point_cloud_t",
 
 const WireLayout kElevationMap{"elevation_map_t",
                                {Bytes("utime", kInt64), Bytes("terrain_id", kInt64), Bytes("clouds_fused", kInt64),
-                                Bytes("origin", 2 * kDouble), Bytes("resolution", kDouble), Bytes("num_x", kInt32),
+                                Bytes("clouds_missed", kInt64), Bytes("origin", 2 * kDouble), Bytes("resolution", kDouble), Bytes("num_x", kInt32),
                                 Bytes("num_y", kInt32), Count("num_cells"), Array("height", "num_cells", kFloat),
                                 Array("variance", "num_cells", kFloat)}};
 
