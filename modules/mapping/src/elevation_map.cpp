@@ -339,10 +339,10 @@ std::vector<float> ElevationMap::MeshHeights() const {
   return out;
 }
 
-TriangleMesh ElevationMap::ToMesh() const {
+TriangleMesh ElevationMap::MeshOf(const std::vector<float>& heights) const {
   TriangleMesh mesh;
+  RBCP_CHECK(heights.size() == height_.size(), "one height per cell");
   if (!placed_ || known_ == 0) return mesh;
-  const std::vector<float> heights = MeshHeights();
   const auto known = [&](int ix, int iy) { return !std::isnan(heights[Flat(ix, iy)]); };
   // Vertex of a cell, made the first time a triangle uses it (only used cells become vertices).
   std::vector<int> vertex(height_.size(), -1);

@@ -284,6 +284,54 @@ void TerrainMap::InitializeFootprint(const std::vector<Eigen::Vector3d>& feet, d
   }
 }
 
+TriangleMesh TerrainMap::ToMesh() const {
+  std::vector<float> heights = elevation_.MeshHeights();
+  const octomap::OcTree& tree = occupancy_->tree;
+  const double r = elevation_.resolution();
+  const int n = elevation_.num_x();
+  const Eigen::Vector2d origin = elevation_.origin();
+  constexpr float kNone = std::numeric_limits<float>::quiet_NaN();
+  // In the octree column through each known cell's centre: the lowest occupied voxel's centre and
+  // the highest one's top.
+  std::vector<float> bottom(heights.size(), kNone), top(heights.size(), kNone);
+  // The cells whose centre lies in [lo, hi) along one axis.
+  const auto centres_in = [&](double lo, double hi, double o) {
+    const int first = static_cast<int>(std::ceil((lo - o) / r - 0.5));
+    const int last = static_cast<int>(std::ceil((hi - o) / r - 0.5)) - 1;
+    return std::make_pair(std::max(first, 0), std::min(last, n - 1));
+  };
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (!tree.isNodeOccupied(*it)) continue;
+    const double half = 0.5 * it.getSize();
+    const float z = static_cast<float>(it.getZ()), z_top = static_cast<float>(it.getZ() + half);
+    const auto [x0, x1] = centres_in(it.getX() - half, it.getX() + half, origin.x());
+    const auto [y0, y1] = centres_in(it.getY() - half, it.getY() + half, origin.y());
+    for (int iy = y0; iy <= y1; ++iy) {
+      for (int ix = x0; ix <= x1; ++ix) {
+        const std::size_t i = static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix);
+        if (std::isnan(heights[i])) continue;
+        if (std::isnan(bottom[i]) || z < bottom[i]) bottom[i] = z;
+        if (std::isnan(top[i]) || z_top > top[i]) top[i] = z_top;
+      }
+    }
+  }
+  // A column standing more than obstacle_rise_m above the cell's height or its own foot (a face
+  // seen from the side) is an obstacle: the cell goes to its top, and higher when no ray ever
+  // showed what is above that top.
+  const float half_voxel = static_cast<float>(0.5 * config_.occupancy.resolution_m);
+  const float rise = static_cast<float>(config_.occupancy.obstacle_rise_m);
+  for (int iy = 0; iy < n; ++iy) {
+    for (int ix = 0; ix < n; ++ix) {
+      const std::size_t i = static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix);
+      if (std::isnan(top[i]) || top[i] - half_voxel - std::min(heights[i], bottom[i]) <= rise) continue;
+      const Eigen::Vector2d c = elevation_.CellCentre(ix, iy);
+      const bool top_seen = tree.search(c.x(), c.y(), top[i] + half_voxel) != nullptr;
+      heights[i] = std::max(heights[i], top[i]) + (top_seen ? 0.0f : static_cast<float>(config_.occupancy.unseen_top_m));
+    }
+  }
+  return elevation_.MeshOf(heights);
+}
+
 std::size_t TerrainMap::MemoryBytes() const {
   const Occupancy& occ = *occupancy_;
   return sizeof(*this) + elevation_.MemoryBytes() + sizeof(Occupancy) + occ.tree.memoryUsage() +

@@ -83,6 +83,49 @@ TEST(TerrainMap, UnseenTerrainStaysUnknownAndOutOfTheMesh) {
   }
 }
 
+TEST(TerrainMap, AWallWhoseTopWasNeverSeenIsMeshedHighAboveItsFace) {
+  // A wall 2 cm thick and 1.4 m high across the camera's view: the camera, at 0.5 m and pitched
+  // down, sees its face up to about 0.37 m and never its top.
+  const Scene scene{{Box{{1.0, -1.0, 0.0}, {1.02, 1.0, 1.4}}}};
+  TerrainMap map{MapperConfig()};
+  map.Recenter({0, 0});
+  std::mt19937 rng(5);
+  for (int i = 0; i < 3; ++i) map.Integrate(Capture(scene, Camera(), kNoise, rng));
+  double face_top = 0.0;  // the highest known cell at the wall
+  for (int iy = 0; iy < map.elevation().num_y(); ++iy) {
+    for (int ix = 0; ix < map.elevation().num_x(); ++ix) {
+      const Eigen::Vector2d c = map.elevation().CellCentre(ix, iy);
+      const auto cell = map.elevation().At(ix, iy);
+      if (cell && std::abs(c.x() - 1.01) < 0.03) face_top = std::max(face_top, cell->height);
+    }
+  }
+  EXPECT_LT(face_top, 0.5) << "the elevation map keeps what was measured: the face";
+  int at_wall = 0;
+  const TriangleMesh mesh = map.ToMesh();
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    if (std::abs(v.x() - 1.01) < 0.02 && std::abs(v.y()) < 0.3) {
+      ++at_wall;
+      EXPECT_GT(v.z(), 1.2) << "the mesh stands the wall a metre above its face: " << v.transpose();
+    }
+    if (v.x() < 0.9) EXPECT_NEAR(v.z(), 0.0, 0.02) << "the ground before it is untouched: " << v.transpose();
+  }
+  EXPECT_GT(at_wall, 5);
+}
+
+TEST(TerrainMap, ABlockWhoseTopWasSeenIsMeshedNoHigherThanItsTop) {
+  const Scene scene{{Box{{0.9, -0.15, 0.0}, {1.2, 0.15, 0.3}}}};
+  TerrainMap map{MapperConfig()};
+  map.Recenter({0, 0});
+  std::mt19937 rng(5);
+  for (int i = 0; i < 3; ++i) map.Integrate(Capture(scene, Camera(), kNoise, rng));
+  const TriangleMesh mesh = map.ToMesh();
+  ASSERT_FALSE(mesh.Empty());
+  double highest = 0.0;
+  for (const Eigen::Vector3d& v : mesh.vertices) highest = std::max(highest, v.z());
+  EXPECT_GT(highest, 0.28);
+  EXPECT_LT(highest, 0.36) << "the top was seen: it is no obstacle of unknown height";
+}
+
 /// The RMS height error of the known cells whose centres lie within `band` of a box's side (xy),
 /// and of the others.
 std::pair<double, double> EdgeAndOtherRms(const ElevationMap& map, const Scene& scene, double band) {

@@ -46,6 +46,8 @@ struct OccupancyConfig {
   double resolution_m = 0.05;   ///< side of the octree's smallest voxel
   double max_range_m = 4.0;     ///< rays are integrated up to this far from the sensor
   double clear_probability = 0.3;  ///< a cell whose height lies in a voxel at most this likely occupied is forgotten
+  double obstacle_rise_m = 0.25;   ///< TerrainMap::ToMesh: an occupied voxel this far above a cell is an obstacle standing there
+  double unseen_top_m = 1.0;       ///< TerrainMap::ToMesh: an obstacle with nothing known above it is meshed this much higher
 
   template <class Visitor>
   void Serialize(Visitor* v);
@@ -139,9 +141,11 @@ class ElevationMap {
   /// plane within the noise (plane_step_m, plane_max_rms_m, plane_min_cells) is meshed exactly on
   /// its least-squares plane: the planners look for planar regions, which the noise of single
   /// returns would break into pieces.
-  TriangleMesh ToMesh() const;
+  TriangleMesh ToMesh() const { return MeshOf(MeshHeights()); }
   /// The heights ToMesh meshes, per cell (NaN: not in the mesh).
   std::vector<float> MeshHeights() const;
+  /// The mesh of `heights` (one per cell, as MeshHeights gives them; NaN: not in the mesh).
+  TriangleMesh MeshOf(const std::vector<float>& heights) const;
 
  private:
   std::size_t Flat(int ix, int iy) const { return static_cast<std::size_t>(iy) * static_cast<std::size_t>(n_) + static_cast<std::size_t>(ix); }
@@ -191,7 +195,14 @@ class TerrainMap {
   void InitializeFootprint(const std::vector<Eigen::Vector3d>& feet, double margin_m, double variance);
 
   const ElevationMap& elevation() const { return elevation_; }
-  TriangleMesh ToMesh() const { return elevation_.ToMesh(); }
+  /// The known terrain as a mesh: the elevation map's (ElevationMap::ToMesh), with the cells
+  /// under an obstacle raised. A depth camera sees a wall's face from the side: its cells hold
+  /// face heights, and its top may never come into view. Where the octree holds an occupied
+  /// voxel more than obstacle_rise_m above a cell's height in the cell's column, the cell is
+  /// meshed at that voxel's top, and unseen_top_m higher when the voxel above it is unknown (the
+  /// top never seen), so that planners checking collisions against the mesh keep clear of it.
+  /// The elevation map itself keeps the measured heights.
+  TriangleMesh ToMesh() const;
   /// Both maps' memory, as their containers hold it.
   std::size_t MemoryBytes() const;
   std::size_t OccupancyNodes() const;
@@ -255,6 +266,11 @@ void OccupancyConfig::Serialize(Visitor* v) {
   v->Visit("max_range_m", &max_range_m, "m", bounds::Positive(), "rays are integrated up to this far from the sensor");
   v->Visit("clear_probability", &clear_probability, "-", bounds::Open(0.0, 0.5),
            "a cell whose height lies in a voxel at most this likely occupied is forgotten");
+  v->Visit("obstacle_rise_m", &obstacle_rise_m, "m", bounds::Positive(),
+           "the mesh raises a cell to the top of the occupied voxels standing more than this above its height in its "
+           "column (a wall's face seen from the side)");
+  v->Visit("unseen_top_m", &unseen_top_m, "m", bounds::NonNegative(),
+           "... and this much higher when the voxel above that top is unknown (a top the sensors never saw)");
 }
 
 template <class Visitor>
