@@ -312,6 +312,54 @@ TEST(PlanExecution, UpTheStairsTheDynamicWalkInPiecesWalksAsTheWholePlan) {
   EXPECT_LT(torque_ratio[1], 0.95);
 }
 
+TEST(PlanExecution, APieceOfPlanThatStepsElsewhereIsWalkedFromRest) {
+  // At a step boundary of the dynamic walk a piece of plan comes that does not take the step the
+  // CoM was headed for (the map changed and the planner started again from the measured stance):
+  // the crawl turns back. The CoM comes to rest over its capture point first, then walks the
+  // piece from rest as the planner checked it; it went on from the ZMP it followed, which asked
+  // for tens of m/s^2 and held the hind legs at the torque limit while a foot slid.
+  const Models& g = Get();
+  const Scenario scenario = LoadScenario(ScenarioPath("flat_ground"));
+  const ContactPlan forward = BuildFlatGroundPlan(g.robot, 8, 0.08);
+  constexpr int kTurnAfter = 3;
+  // Back the way it came: the legs that stepped, in the reverse order, to their earlier footholds.
+  ContactPlan back;
+  for (int i = kTurnAfter; i >= 0; --i) {
+    WholeBodyState s = forward.states[static_cast<std::size_t>(i)];
+    if (i == kTurnAfter) {
+      s.MarkAsStart();
+    } else {
+      s.moving_leg = forward.states[static_cast<std::size_t>(i) + 1].moving_leg;
+    }
+    back.states.push_back(s);
+  }
+  back.reaches_goal = false;
+  ASSERT_NE(back.states[1].moving_leg, forward.states[kTurnAfter + 1].moving_leg);
+  PlanExecution run(g.robot, scenario, g.sim, DynamicWalk(), g.stance);
+  run.SetAwaitPlans(true);
+  run.Start(forward);
+  double torque_ratio = 0.0;
+  bool turned = false;
+  while (run.Tick()) {
+    if (run.Time() > 0.5) {
+      torque_ratio = std::max(torque_ratio, run.State().tau.cwiseAbs().maxCoeff() / g.robot.ContinuousTorqueLimit());
+    }
+    if (!run.Awaiting()) continue;
+    if (run.Controller().Status().steps_done == kTurnAfter && !turned) {
+      run.GivePlan(back);
+      turned = true;
+    } else if (run.Controller().Status().steps_done >= kTurnAfter + 3) {
+      break;  // back where it started
+    } else {
+      run.ContinuePlan();
+    }
+  }
+  ASSERT_TRUE(turned);
+  ASSERT_FALSE(run.Outcome().failure) << Why(run.Outcome());
+  EXPECT_EQ(run.Controller().Status().steps_done, kTurnAfter + 3);
+  EXPECT_LT(torque_ratio, 0.95);
+}
+
 TEST(PlanExecution, AFootThatRollsOverItsContactHasNotSlipped) {
   // As the trunk moves over a stance foot, its sphere rolls: the centre moves by the radius times
   // the shank's rotation without any sliding. The judge measures the sliding only.

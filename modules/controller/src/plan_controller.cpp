@@ -69,6 +69,24 @@ struct PlanController::Measured {
   Eigen::Vector3d com_W = Eigen::Vector3d::Zero();
 };
 
+namespace {
+
+constexpr double kSameFootholdM = 0.02;  // [m] a foothold of a new plan this near the old one's is the same
+
+/// Whether `next` (a plan from the stance after step `step` of `walked`) takes the step `walked`
+/// takes next: the same leg to the same foothold. Past the last step there is none to miss.
+bool GoesOn(const ContactPlan& walked, int step, const ContactPlan& next) {
+  const std::size_t after = static_cast<std::size_t>(step) + 1;
+  if (step < 0 || after >= walked.states.size() || next.states.size() < 2) return true;
+  const WholeBodyState& planned = walked.states[after];
+  const WholeBodyState& taken = next.states[1];
+  if (planned.moving_leg != taken.moving_leg || taken.moving_leg < 0 || taken.moving_leg >= kNumLegs) return false;
+  const std::size_t leg = static_cast<std::size_t>(taken.moving_leg);
+  return (planned.feet[leg].position - taken.feet[leg].position).norm() <= kSameFootholdM;
+}
+
+}  // namespace
+
 bool PlanController::OnFoothold(const Measured& m, std::size_t leg) const {
   // A touchdown is a contact at the foothold's height, or one that pushes along its normal (the
   // terrain is higher than planned). A foot that meets the terrain sideways above its foothold
@@ -160,7 +178,7 @@ void PlanController::MoveBaseOver(const Eigen::Vector3d& p, const Eigen::Quatern
   segment_ = s;
 }
 
-void PlanController::StartPattern(const Measured& m) {
+void PlanController::StartPattern(const Measured& m, bool come_to_rest) {
   PatternStart start;
   if (pattern_ && pattern_time_s_ < pattern_->Duration()) {
     start.com = pattern_->ComAt(pattern_time_s_);  // walking: go on from where the CoM is headed
@@ -168,6 +186,12 @@ void PlanController::StartPattern(const Measured& m) {
     // A foot down before its swing's end: the rest of the swing's time goes on.
     if (status_.step >= 1 && status_.step <= pattern_->Steps()) {
       start.hold_s = std::max(0.0, pattern_->SwingOf(status_.step).end_s - pattern_time_s_);
+    }
+    // Headed for a step the plan does not take: the CoM comes to rest as from a stand (the time
+    // a walk from rest gives the ZMP to settle under it), and the plan is walked from there.
+    if (come_to_rest) {
+      start.come_to_rest = true;
+      start.hold_s = std::max(start.hold_s, 0.5 * stance_.Config().dynamic_walk.gait.start_s);
     }
   } else {
     start.com.position = m.com_W.head<2>();
@@ -227,10 +251,11 @@ void PlanController::RampLoads(const Measured& m) {
 }
 
 void PlanController::TakePendingPlan(const Measured& m) {
+  const bool goes_on = GoesOn(plan_, status_.step, *pending_);
   plan_ = std::move(*pending_);
   pending_.reset();
   status_.plan_start_s = m.t;
-  if (Dynamic() && plan_.states.size() > 1) StartPattern(m);
+  if (Dynamic() && plan_.states.size() > 1) StartPattern(m, !goes_on);
 }
 
 void PlanController::EvaluateReference(double t) {

@@ -57,6 +57,33 @@ Eigen::Vector2d NearestWithMargin(const std::array<Eigen::Vector2d, 3>& tri, dou
   return shrunk ? ClosestPointInTriangle(*shrunk, p) : TriangleIncentre(tri);
 }
 
+namespace {
+
+/// g / h of the pendulum of `model` [1/s^2].
+double OmegaSquared(const ZmpPreviewModel& model) { return model.Params().gravity_mps2 / model.Params().com_height_m; }
+
+/// The capture point of `com` on the pendulum of `model` (where a ZMP held still brings the CoM
+/// to rest), or where the segment from it to the centre of the four feet of `state` first lies
+/// `margin` inside them (the centre when none does).
+Eigen::Vector2d CaptureWithin(const WholeBodyState& state, const ZmpPreviewModel& model, const ComState& com,
+                              double margin) {
+  const Eigen::Vector2d capture = com.position + com.velocity / std::sqrt(OmegaSquared(model));
+  const std::vector<Eigen::Vector3d> four = FeetDown(state, -1);
+  const auto margin_at = [&](const Eigen::Vector2d& p) { return SupportPolygonMargin(four, Eigen::Vector3d(p.x(), p.y(), 0.0)); };
+  if (margin_at(capture) >= margin) return capture;
+  const Eigen::Vector2d centre = Centre(four);
+  if (margin_at(centre) < margin) return centre;
+  // The margin rises along the segment towards the centre (the polygon is convex): bisect.
+  double outside = 0.0, inside = 1.0;
+  for (int i = 0; i < 30; ++i) {
+    const double mid = 0.5 * (outside + inside);
+    (margin_at(capture + mid * (centre - capture)) >= margin ? inside : outside) = mid;
+  }
+  return capture + inside * (centre - capture);
+}
+
+}  // namespace
+
 const SupportPhase& WalkingPattern::PhaseAt(double t) const {
   RBCP_CHECK(!phases.empty(), "a walking pattern has phases");
   const auto it = std::upper_bound(phases.begin(), phases.end(), t,
@@ -146,7 +173,7 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     throw InputError("walking pattern: expected a CoM per step (" + std::to_string(plan.states.size() - 1) + "), got " +
                      std::to_string(start.step_com.size()));
   }
-  const ComState& com = start.com;
+  ComState com = start.com;
   if (!com.position.allFinite() || !com.velocity.allFinite() || !com.acceleration.allFinite() ||
       !com.zmp_error_sum.allFinite() || (start.zmp && !start.zmp->allFinite())) {
     throw InputError("walking pattern: expected a finite CoM start");
@@ -159,8 +186,16 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
   // the ZMP it follows.
   std::vector<std::pair<double, Eigen::Vector2d>> knots;
   if (start.zmp) {
-    knots = {{0.0, *start.zmp}};
-    if (start.hold_s > 0.0) knots.emplace_back(start.hold_s, *start.zmp);
+    Eigen::Vector2d first = *start.zmp;
+    if (start.come_to_rest) {
+      // The ZMP steps to the capture point (the feet's forces change at once; the pendulum's
+      // acceleration with it), so the CoM it follows slows to rest with no transient of the
+      // preview's own: its state agrees with the reference from the start.
+      first = CaptureWithin(plan.states.front(), model, com, timing.zmp_margin_m);
+      com.acceleration = OmegaSquared(model) * (com.position - first);
+    }
+    knots = {{0.0, first}};
+    if (start.hold_s > 0.0) knots.emplace_back(start.hold_s, first);
   } else {
     knots = {{0.0, com.position}, {timing.start_s / 2.0, com.position}};
   }
@@ -228,6 +263,10 @@ WalkingPattern PlanWalkingPattern(const ContactPlan& plan, const GaitTiming& tim
     const auto& [t1, p1] = knots[knot + 1];
     const double s = t1 > t0 ? std::clamp((time - t0) / (t1 - t0), 0.0, 1.0) : 1.0;
     pattern.zmp_reference.push_back(p0 + s * (p1 - p0));
+  }
+  if (start.zmp && start.come_to_rest) {
+    // The ZMP held still: the pendulum's own jerk, omega^2 times the velocity.
+    com.zmp_error_sum = ZmpErrorSumForJerk(model, com, pattern.zmp_reference, OmegaSquared(model) * com.velocity);
   }
   pattern.com = PreviewCom(model, com, pattern.zmp_reference);
   return pattern;

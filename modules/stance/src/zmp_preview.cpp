@@ -91,8 +91,9 @@ ComTrajectory PreviewCom(const ZmpPreviewModel& model, const Eigen::Vector2d& st
   return PreviewCom(model, rest, zmp_reference);
 }
 
-ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
-                         const std::vector<Eigen::Vector2d>& zmp_reference) {
+namespace {
+
+void CheckPreviewInput(const ComState& start, const std::vector<Eigen::Vector2d>& zmp_reference) {
   if (zmp_reference.empty()) throw InputError("ZMP preview: expected a reference of at least one sample, got none");
   if (!start.position.allFinite() || !start.velocity.allFinite() || !start.acceleration.allFinite() ||
       !start.zmp_error_sum.allFinite()) {
@@ -103,8 +104,38 @@ ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
       throw InputError("ZMP preview: reference sample " + std::to_string(k) + " is not finite");
     }
   }
-  const std::size_t n = zmp_reference.size();
+}
+
+/// `jerk` less the preview's share at sample k along `axis`, sum_j G_j p_ref[k + 1 + j].
+double LessPreview(double jerk, const ZmpPreviewModel& model, const std::vector<Eigen::Vector2d>& zmp_reference,
+                   std::size_t k, int axis) {
   const std::vector<double>& preview = model.PreviewGains();
+  const std::size_t n = zmp_reference.size();
+  for (std::size_t j = 0; j < preview.size(); ++j) jerk -= preview[j] * zmp_reference[std::min(k + 1 + j, n - 1)][axis];
+  return jerk;
+}
+
+}  // namespace
+
+Eigen::Vector2d ZmpErrorSumForJerk(const ZmpPreviewModel& model, const ComState& start,
+                                   const std::vector<Eigen::Vector2d>& zmp_reference, const Eigen::Vector2d& jerk) {
+  CheckPreviewInput(start, zmp_reference);
+  if (!jerk.allFinite()) throw InputError("ZMP preview: expected a finite jerk");
+  Eigen::Vector2d sum;
+  for (int axis = 0; axis < 2; ++axis) {
+    const Eigen::Vector3d x(start.position[axis], start.velocity[axis], start.acceleration[axis]);
+    // PreviewCom's first jerk, -Ki (sum + e0) - Kx x + preview, solved for the sum.
+    const double e0 = model.C() * x - zmp_reference[0][axis];
+    const double rest = LessPreview(-model.StateGain() * x, model, zmp_reference, 0, axis);
+    sum[axis] = (rest - jerk[axis]) / model.IntegralGain() - e0;
+  }
+  return sum;
+}
+
+ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
+                         const std::vector<Eigen::Vector2d>& zmp_reference) {
+  CheckPreviewInput(start, zmp_reference);
+  const std::size_t n = zmp_reference.size();
   ComTrajectory out;
   out.position.resize(n);
   out.velocity.resize(n);
@@ -122,10 +153,8 @@ ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
       out.zmp[k][axis] = zmp;
       out.zmp_error_sum[k][axis] = error_sum;
       error_sum += zmp - zmp_reference[k][axis];
-      double jerk = -model.IntegralGain() * error_sum - model.StateGain() * x;
-      for (std::size_t j = 0; j < preview.size(); ++j) {
-        jerk -= preview[j] * zmp_reference[std::min(k + 1 + j, n - 1)][axis];
-      }
+      const double jerk =
+          LessPreview(-model.IntegralGain() * error_sum - model.StateGain() * x, model, zmp_reference, k, axis);
       x = model.A() * x + model.B() * jerk;
     }
   }

@@ -144,6 +144,51 @@ TEST(WalkingPattern, APatternContinuedWhenAFootTouchesDownEarlyGoesOnAsTheWholeO
   EXPECT_LT(largest_mps2, 0.1);
 }
 
+TEST(WalkingPattern, APlanThatStepsElsewhereIsWalkedFromRestAfterTheComComesToRest) {
+  // The crawl forward is at its third touchdown, its CoM on the way to the triangle of step 4,
+  // when a plan comes that steps back instead: another leg first. Going on from the ZMP the CoM
+  // followed asks, within tens of milliseconds, for more acceleration than friction gives; from
+  // the CoM's capture point it comes to rest, then walks the new plan.
+  const ContactPlan plan = Crawl(8, 0.1);
+  GaitTiming timing = Timing();
+  timing.zmp_speed_mps = 1.0;
+  timing.start_s = 0.6;
+  const WalkingPattern whole = PlanWalkingPattern(plan, timing, Model(), Eigen::Vector2d::Zero());
+  const double touchdown_s = whole.SwingOf(3).end_s;
+  ContactPlan back;
+  back.states.push_back(plan.states[3]);
+  back.states.front().MarkAsStart();
+  const std::array<Leg, 4> order = {Leg::kRH, Leg::kLF, Leg::kLH, Leg::kRF};  // step 4 is LH
+  for (Leg leg : order) {
+    WholeBodyState next = back.states.back();
+    next.moving_leg = Index(leg);
+    next.feet[static_cast<std::size_t>(next.moving_leg)].position.x() -= 0.1;
+    back.states.push_back(next);
+  }
+  ASSERT_NE(back.states[1].moving_leg, plan.states[4].moving_leg);
+  PatternStart start;
+  start.com = whole.ComAt(touchdown_s);
+  start.zmp = whole.ZmpReferenceAt(touchdown_s);
+  ASSERT_GT(start.com.velocity.norm(), 0.05) << "the CoM is moving";
+  const auto peak_acceleration = [&](const WalkingPattern& p, double until_s) {
+    double peak = 0.0;
+    for (double t = 0.0; t <= until_s; t += p.time_step_s) peak = std::max(peak, p.ComAt(t).acceleration.norm());
+    return peak;
+  };
+  const double friction_mps2 = 0.8 * 9.81;
+  const WalkingPattern going_on = PlanWalkingPattern(back, timing, Model(), start);
+  EXPECT_GT(peak_acceleration(going_on, going_on.SwingOf(1).start_s), friction_mps2);
+  start.come_to_rest = true;
+  start.hold_s = timing.start_s / 2;
+  const WalkingPattern from_rest = PlanWalkingPattern(back, timing, Model(), start);
+  EXPECT_LT(peak_acceleration(from_rest, from_rest.Duration()), 0.5 * friction_mps2);
+  EXPECT_GT(from_rest.MinZmpMargin(), 0.0);
+  // Its ZMP starts at the CoM's capture point, which the CoM then heads for.
+  const double omega = std::sqrt(9.81 / 0.46);
+  EXPECT_LT((from_rest.ZmpAt(0.0) - (start.com.position + start.com.velocity / omega)).norm(), 1e-9);
+  EXPECT_GT((from_rest.ComAt(start.hold_s).position - start.com.position).dot(start.com.velocity), 0.0);
+}
+
 TEST(WalkingPattern, DuringASwingTheReferenceKeepsTheMarginNearestTheCentreOfTheFeet) {
   const ContactPlan plan = Crawl(1, 0.1);  // LF swings: RF, LH, RH stay down
   const WalkingPattern pattern = PlanWalkingPattern(plan, Timing(), Model(), Eigen::Vector2d::Zero());

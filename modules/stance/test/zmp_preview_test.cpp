@@ -91,6 +91,28 @@ TEST(ZmpPreview, AMovingComIsBroughtToTheReferenceAndTheRestStartIsTheZeroState)
   EXPECT_EQ(PreviewCom(model, rest, ref).position, PreviewCom(model, Eigen::Vector2d(0.1, 0.0), ref).position);
 }
 
+TEST(ZmpPreview, TheErrorSumForAJerkGivesTheFirstSampleThatJerk) {
+  const ZmpPreviewModel model(Params());
+  const double dt = model.Params().time_step_s;
+  std::vector<Eigen::Vector2d> ref(400, Eigen::Vector2d(0.05, -0.02));
+  for (std::size_t k = 100; k < ref.size(); ++k) ref[k] = Eigen::Vector2d(0.2, 0.1);  // a step later on
+  ComState moving;
+  moving.position = Eigen::Vector2d(0.0, 0.01);
+  moving.velocity = Eigen::Vector2d(0.2, -0.15);
+  moving.acceleration = Eigen::Vector2d(-0.5, 0.8);
+  const Eigen::Vector2d jerk(3.0, -4.0);
+  moving.zmp_error_sum = ZmpErrorSumForJerk(model, moving, ref, jerk);
+  const ComTrajectory com = PreviewCom(model, moving, ref);
+  const Eigen::Vector2d first_jerk = (com.acceleration[1] - com.acceleration[0]) / dt;
+  EXPECT_NEAR(first_jerk.x(), jerk.x(), 1e-6);
+  EXPECT_NEAR(first_jerk.y(), jerk.y(), 1e-6);
+  // Another sum gives another jerk: the sum is what sets it.
+  moving.zmp_error_sum.setZero();
+  const ComTrajectory other = PreviewCom(model, moving, ref);
+  EXPECT_GT(((other.acceleration[1] - other.acceleration[0]) / dt - jerk).norm(), 1.0);
+  EXPECT_THROW(ZmpErrorSumForJerk(model, moving, ref, Eigen::Vector2d(NAN, 0.0)), InputError);
+}
+
 TEST(ZmpPreview, BadParametersAndReferencesAreRejected) {
   ZmpPreviewParams p = Params();
   p.com_height_m = 0.0;

@@ -203,7 +203,8 @@ class PlanController {
   bool Dynamic() const { return config_.mode == WalkMode::kDynamic; }
   /// Dynamic walk: the pattern of the current plan, from the pattern's CoM where one is being
   /// walked, else from the measured CoM at rest.
-  void StartPattern(const Measured& m);
+  /// `come_to_rest`: the CoM's motion is for a step the new plan does not take (PatternStart).
+  void StartPattern(const Measured& m, bool come_to_rest = false);
   /// Dynamic walk: the pattern's clock follows the tick, up to the current step's swing end
   /// until its touchdown.
   void AdvanceClock(const Measured& m);

@@ -106,6 +106,13 @@ struct PatternStart {
   /// rest of that swing's time, as the pattern walked before did: the CoM's motion was timed for
   /// it, and dropping it asks for the next shift at once (tens of m/s^2 from the preview).
   double hold_s = 0.0;
+  /// With `zmp`: the CoM moves for a walk this plan does not go on with (its first step is not
+  /// the one the CoM was headed for). The reference starts at the CoM's capture point instead,
+  /// where a ZMP held still brings it to rest (moved towards the centre of the first state's four
+  /// feet until it lies the ZMP margin inside them), and stays there hold_s; the CoM starts with
+  /// the acceleration and the preview's integral of a ZMP already there. The plan is then walked
+  /// from rest, as the planner checked it.
+  bool come_to_rest = false;
   /// Per step (plan states 1..n): the CoM (x, y) the plan holds during the step's swing (its
   /// base pose's, where the planner checked the swing). The ZMP reference of a swing stands at
   /// the point of the shrunk support triangle nearest it, and the CoM stays near the plan's; the

@@ -114,6 +114,11 @@ struct ComState {
 /// non-finite reference or start.
 ComTrajectory PreviewCom(const ZmpPreviewModel& model, const ComState& start,
                          const std::vector<Eigen::Vector2d>& zmp_reference);
+/// The integral of the ZMP error with which PreviewCom's first jerk from `start` (its own integral
+/// aside) on `zmp_reference` is `jerk` [m/s^3]: a CoM whose motion the reference takes up as it
+/// is, with no step of its jerk. Throws InputError as PreviewCom does.
+Eigen::Vector2d ZmpErrorSumForJerk(const ZmpPreviewModel& model, const ComState& start,
+                                   const std::vector<Eigen::Vector2d>& zmp_reference, const Eigen::Vector2d& jerk);
 /// The same from rest at `start`.
 ComTrajectory PreviewCom(const ZmpPreviewModel& model, const Eigen::Vector2d& start,
                          const std::vector<Eigen::Vector2d>& zmp_reference);
