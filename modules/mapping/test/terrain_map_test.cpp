@@ -112,6 +112,86 @@ TEST(TerrainMap, AWallWhoseTopWasNeverSeenIsMeshedHighAboveItsFace) {
   EXPECT_GT(at_wall, 5);
 }
 
+TEST(BodySolid, TheLowestPointOverAPlaceIsWhereAVerticalLineEntersTheSolid) {
+  BodySolid knee;  // a cylinder lying along y at x = 1, z = 0.2, radius 0.06
+  knee.kind = BodySolid::Kind::kCylinder;
+  knee.pose_W.translation() = Eigen::Vector3d(1.0, 0.0, 0.2);
+  knee.pose_W.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  knee.radius = 0.06;
+  knee.half_length = 0.05;
+  EXPECT_NEAR(*LowestPointOver(knee, {1.0, 0.0}), 0.14, 1e-9);
+  EXPECT_NEAR(*LowestPointOver(knee, {1.03, 0.04}), 0.2 - std::sqrt(0.06 * 0.06 - 0.03 * 0.03), 1e-9);
+  EXPECT_FALSE(LowestPointOver(knee, {1.07, 0.0})) << "beyond the radius";
+  EXPECT_FALSE(LowestPointOver(knee, {1.0, 0.06})) << "beyond the end cap";
+  const auto [lo, hi] = FootprintBox(knee);
+  EXPECT_NEAR(lo.x(), 0.94, 1e-9);
+  EXPECT_NEAR(hi.y(), 0.05, 1e-9);
+
+  BodySolid box;  // 0.2 x 0.1 x 0.1, turned 90 degrees about z
+  box.pose_W.translation() = Eigen::Vector3d(0.0, 0.0, 0.5);
+  box.pose_W.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  box.half_extents = Eigen::Vector3d(0.1, 0.05, 0.05);
+  EXPECT_NEAR(*LowestPointOver(box, {0.04, 0.09}), 0.45, 1e-9);
+  EXPECT_FALSE(LowestPointOver(box, {0.09, 0.0})) << "the box's short side lies along x once turned";
+
+  BodySolid ball;
+  ball.kind = BodySolid::Kind::kSphere;
+  ball.pose_W.translation() = Eigen::Vector3d(0.0, 0.0, 0.3);
+  ball.radius = 0.05;
+  EXPECT_NEAR(*LowestPointOver(ball, {0.03, 0.0}), 0.26, 1e-9);
+}
+
+TEST(TerrainMap, NoTerrainIsMeshedWhereTheRobotsBodyIs) {
+  // A wall 2 cm thick, its face smeared towards the camera by the range noise, and a knee in
+  // front of the face, as close as a leg stands to a wall.
+  const Scene scene{{Box{{1.0, -1.0, 0.0}, {1.02, 1.0, 1.4}}}};
+  TerrainMap map{MapperConfig()};
+  map.Recenter({0, 0});
+  std::mt19937 rng(5);
+  for (int i = 0; i < 3; ++i) map.Integrate(Capture(scene, Camera(), kNoise, rng));
+  BodySolid knee;
+  knee.kind = BodySolid::Kind::kCylinder;
+  knee.pose_W.translation() = Eigen::Vector3d(0.935, 0.0, 0.15);
+  knee.pose_W.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  knee.radius = 0.06;
+  knee.half_length = 0.06;
+  const double clearance = MapperConfig().body_clearance_m;
+  const TriangleMesh before = map.ToMesh();
+  const auto under_knee = [&](const Eigen::Vector3d& v) { return LowestPointOver(knee, v.head<2>()); };
+  int in_knee_before = 0;
+  for (const Eigen::Vector3d& v : before.vertices) {
+    if (const auto z = under_knee(v); z && v.z() > *z) ++in_knee_before;
+  }
+  EXPECT_GT(in_knee_before, 0) << "the smeared face stands where the knee is";
+
+  EXPECT_GT(map.CarveBody({knee}), 0u);
+  int under = 0, wall = 0;
+  for (const Eigen::Vector3d& v : map.ToMesh().vertices) {
+    if (const auto z = under_knee(v)) {
+      ++under;
+      EXPECT_LE(v.z(), *z - clearance + 1e-6) << v.transpose();
+    }
+    if (std::abs(v.x() - 1.02) < 0.005 && std::abs(v.y()) < 0.3) {
+      ++wall;
+      EXPECT_GT(v.z(), 1.2) << "the wall beyond the knee stays: " << v.transpose();
+    }
+  }
+  EXPECT_GT(under, 4);
+  EXPECT_GT(wall, 5);
+  // The elevation map keeps the lowered heights; the mesh's obstacles come back once the body left.
+  for (int iy = 0; iy < map.elevation().num_y(); ++iy) {
+    for (int ix = 0; ix < map.elevation().num_x(); ++ix) {
+      const Eigen::Vector2d c = map.elevation().CellCentre(ix, iy);
+      const auto z = LowestPointOver(knee, c);
+      const auto cell = map.elevation().At(ix, iy);
+      if (z && cell) EXPECT_LE(cell->height, *z - clearance + 1e-6);
+    }
+  }
+  BodySolid bad = knee;
+  bad.radius = std::nan("");
+  EXPECT_THROW(map.CarveBody({bad}), InputError);
+}
+
 TEST(TerrainMap, ABlockWhoseTopWasSeenIsMeshedNoHigherThanItsTop) {
   const Scene scene{{Box{{0.9, -0.15, 0.0}, {1.2, 0.15, 0.3}}}};
   TerrainMap map{MapperConfig()};
