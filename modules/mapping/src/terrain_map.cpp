@@ -319,17 +319,10 @@ std::size_t TerrainMap::CarveBody(const std::vector<BodySolid>& body) {
     const bool sized = (s.half_extents.array() >= 0.0).all() && s.radius >= 0.0 && s.half_length >= 0.0;
     if (!finite || !sized) throw InputError("TerrainMap::CarveBody: a body solid is not finite or has a negative size");
   }
-  // The terrain keeps body_clearance_m from the body on every side: the solids grown by it.
-  const double c = config_.body_clearance_m;
   body_ = body;
-  for (BodySolid& s : body_) {
-    s.half_extents.array() += c;
-    s.radius += c;
-    s.half_length += c;
-  }
   std::size_t lowered = 0;
   ForEachCellUnder(elevation_, body_, [&](int ix, int iy, double z) {
-    if (elevation_.Lower(ix, iy, z)) ++lowered;
+    if (elevation_.Lower(ix, iy, z - config_.body_clearance_m)) ++lowered;
   });
   return lowered;
 }
@@ -382,7 +375,7 @@ TriangleMesh TerrainMap::ToMesh() const {
   // Nothing stands where the robot's body is.
   ForEachCellUnder(elevation_, body_, [&](int ix, int iy, double z) {
     float& h = heights[static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix)];
-    if (!std::isnan(h)) h = std::min(h, static_cast<float>(z));
+    if (!std::isnan(h)) h = std::min(h, static_cast<float>(z - config_.body_clearance_m));
   });
   return elevation_.MeshOf(heights);
 }

@@ -60,7 +60,7 @@ struct MapperConfig {
   double publish_period_s = 0.5;     ///< TERRAIN and ELEVATION_MAP go out this often, of the clouds' (simulated) time
   int max_points_per_cloud = 100000; ///< a larger cloud is rejected whole
   double foot_patch_radius_m = 0.03; ///< a stance foot's sole marks the cells within this radius of its contact point
-  double body_clearance_m = 0.02;    ///< TerrainMap::CarveBody: the terrain stays this far from the robot's body
+  double body_clearance_m = 0.02;    ///< TerrainMap::CarveBody: the terrain under the robot's body stays this far below it
 
   template <class Visitor>
   void Serialize(Visitor* v);
@@ -214,12 +214,11 @@ class TerrainMap {
   void InitializeFootprint(const std::vector<Eigen::Vector3d>& feet, double margin_m, double variance);
 
   /// The robot's body fills space that no terrain is in: its sensors may smear a block's edge or a
-  /// wall's face a cell wide, but where the robot's knee is there is no block. With each solid of
-  /// `body` grown by body_clearance_m on every side, every known cell whose centre lies under one
-  /// is lowered to its lowest point over that centre when it is higher, and ToMesh raises no
-  /// obstacle there above that height until the next CarveBody (whose body replaces this one).
-  /// Returns the number of cells lowered. Throws InputError when a solid is not finite or has a
-  /// negative size.
+  /// wall's face a cell wide, but where the robot's knee is there is no block. Every known cell
+  /// whose centre lies under a solid of `body` is lowered to body_clearance_m below the lowest
+  /// point of the body over that centre when it is higher, and ToMesh raises no obstacle there
+  /// above that height until the next CarveBody (whose body replaces this one). Returns the number
+  /// of cells lowered. Throws InputError when a solid is not finite or has a negative size.
   std::size_t CarveBody(const std::vector<BodySolid>& body);
 
   const ElevationMap& elevation() const { return elevation_; }
@@ -314,7 +313,7 @@ void MapperConfig::Serialize(Visitor* v) {
   v->Visit("foot_patch_radius_m", &foot_patch_radius_m, "m", bounds::Closed(0.0, 0.5),
            "a stance foot's sole marks the cells within this radius of its contact point");
   v->Visit("body_clearance_m", &body_clearance_m, "m", bounds::Closed(0.0, 0.2),
-           "the robot's body fills space no terrain is in: the map keeps this far from it on every side");
+           "the robot's body fills space no terrain is in: a cell under it is at least this far below it");
 }
 
 inline MapperConfig MapperConfig::Load(const YamlMap& map) { return LoadConfig<MapperConfig>(map); }
