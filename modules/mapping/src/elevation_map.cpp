@@ -156,14 +156,6 @@ void ElevationMap::Clear(int ix, int iy) {
   --known_;
 }
 
-bool ElevationMap::Lower(int ix, int iy, double z) {
-  if (ix < 0 || iy < 0 || ix >= n_ || iy >= n_) return false;
-  float& h = height_[Flat(ix, iy)];
-  if (std::isnan(h) || h <= static_cast<float>(z)) return false;
-  h = static_cast<float>(z);
-  return true;
-}
-
 std::size_t ElevationMap::MemoryBytes() const {
   return sizeof(*this) + (height_.capacity() + variance_.capacity() + support_.capacity()) * sizeof(float);
 }

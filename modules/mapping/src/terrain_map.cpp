@@ -284,49 +284,6 @@ void TerrainMap::InitializeFootprint(const std::vector<Eigen::Vector3d>& feet, d
   }
 }
 
-namespace {
-
-/// Calls f(ix, iy, z) for every cell of `map` whose centre lies under a solid of `body`, z the
-/// lowest point of that solid over the centre (once per solid over the cell).
-template <class F>
-void ForEachCellUnder(const ElevationMap& map, const std::vector<BodySolid>& body, F f) {
-  const double r = map.resolution();
-  const Eigen::Vector2d origin = map.origin();
-  // The cells whose centre lies in [lo, hi] along one axis.
-  const auto centres_in = [&](double lo, double hi, double o) {
-    const int first = static_cast<int>(std::ceil((lo - o) / r - 0.5));
-    const int last = static_cast<int>(std::floor((hi - o) / r - 0.5));
-    return std::make_pair(std::max(first, 0), std::min(last, map.num_x() - 1));
-  };
-  for (const BodySolid& solid : body) {
-    const auto [lo, hi] = FootprintBox(solid);
-    const auto [x0, x1] = centres_in(lo.x(), hi.x(), origin.x());
-    const auto [y0, y1] = centres_in(lo.y(), hi.y(), origin.y());
-    for (int iy = y0; iy <= y1; ++iy) {
-      for (int ix = x0; ix <= x1; ++ix) {
-        if (const auto z = LowestPointOver(solid, map.CellCentre(ix, iy))) f(ix, iy, *z);
-      }
-    }
-  }
-}
-
-}  // namespace
-
-std::size_t TerrainMap::CarveBody(const std::vector<BodySolid>& body) {
-  for (const BodySolid& s : body) {
-    const bool finite = s.pose_W.matrix().allFinite() && s.half_extents.allFinite() && std::isfinite(s.radius) &&
-                        std::isfinite(s.half_length);
-    const bool sized = (s.half_extents.array() >= 0.0).all() && s.radius >= 0.0 && s.half_length >= 0.0;
-    if (!finite || !sized) throw InputError("TerrainMap::CarveBody: a body solid is not finite or has a negative size");
-  }
-  body_ = body;
-  std::size_t lowered = 0;
-  ForEachCellUnder(elevation_, body_, [&](int ix, int iy, double z) {
-    if (elevation_.Lower(ix, iy, z - config_.body_clearance_m)) ++lowered;
-  });
-  return lowered;
-}
-
 TriangleMesh TerrainMap::ToMesh() const {
   std::vector<float> heights = elevation_.MeshHeights();
   const octomap::OcTree& tree = occupancy_->tree;
@@ -372,11 +329,6 @@ TriangleMesh TerrainMap::ToMesh() const {
       heights[i] = std::max(heights[i], top[i]) + (top_seen ? 0.0f : static_cast<float>(config_.occupancy.unseen_top_m));
     }
   }
-  // Nothing stands where the robot's body is.
-  ForEachCellUnder(elevation_, body_, [&](int ix, int iy, double z) {
-    float& h = heights[static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix)];
-    if (!std::isnan(h)) h = std::min(h, static_cast<float>(z - config_.body_clearance_m));
-  });
   return elevation_.MeshOf(heights);
 }
 

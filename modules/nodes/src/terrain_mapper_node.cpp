@@ -129,7 +129,6 @@ TerrainMapperNode::TerrainMapperNode(lcm::LCM& lcm, const mapping::MapperConfig&
                                      TerrainMapperNodeOptions options, TerrainMapperNodeChannels channels)
     : config_(config),
       robot_(robot),
-      collision_model_(robot),
       options_(options),
       channels_(std::move(channels)),
       lcm_(lcm),
@@ -164,7 +163,6 @@ void TerrainMapperNode::Restart() {
   next_publish_utime_ = 0;
   dirty_ = false;
   footprint_done_ = false;
-  body_.reset();
 }
 
 void TerrainMapperNode::TakeState(const rbcp_msgs::robot_state_t& msg) {
@@ -181,43 +179,6 @@ void TerrainMapperNode::TakeState(const rbcp_msgs::robot_state_t& msg) {
     Restart();
   }
   newest_state_utime_ = std::max(newest_state_utime_, msg.utime);
-  RobotState state;
-  try {
-    state = transport::FromRobotStateMsg(msg);
-  } catch (const InputError& e) {
-    status_.Failed(std::max<int64_t>(newest_cloud_utime_, 0), msg.utime, 0.0, std::string("ROBOT_STATE: ") + e.what());
-    return;
-  }
-  BodyPose body;
-  body.base_W.linear() = state.base_orientation_W.normalized().toRotationMatrix();
-  body.base_W.translation() = state.base_position_W;
-  body.q = state.q;
-  // In order with the clouds and waits; of a row of states only the newest counts.
-  if (!pending_.empty() && std::holds_alternative<BodyPose>(pending_.back())) {
-    pending_.back() = body;
-  } else {
-    pending_.emplace_back(body);
-  }
-}
-
-std::vector<mapping::BodySolid> TerrainMapperNode::BodySolids(const BodyPose& body) const {
-  const std::vector<Eigen::Isometry3d> links_B = robot_.LinkPoses(body.q);
-  std::vector<mapping::BodySolid> solids;
-  for (const CollisionPrimitive& p : collision_model_.Primitives()) {
-    if (p.body == RobotBody::kShank) continue;
-    mapping::BodySolid solid;
-    solid.pose_W = body.base_W * links_B[static_cast<std::size_t>(p.link_index)] * p.pose_link;
-    solid.half_extents = p.half_extents;
-    solid.radius = p.radius;
-    solid.half_length = p.half_length;
-    switch (p.kind) {
-      case CollisionShape::Kind::kBox: solid.kind = mapping::BodySolid::Kind::kBox; break;
-      case CollisionShape::Kind::kCylinder: solid.kind = mapping::BodySolid::Kind::kCylinder; break;
-      case CollisionShape::Kind::kSphere: solid.kind = mapping::BodySolid::Kind::kSphere; break;
-    }
-    solids.push_back(solid);
-  }
-  return solids;
 }
 
 void TerrainMapperNode::TakeCloud(const rbcp_msgs::point_cloud_t& msg) {
@@ -318,7 +279,6 @@ void TerrainMapperNode::Publish(int64_t utime, double compute_ms) {
   const auto start = std::chrono::steady_clock::now();
   const mapping::ElevationMap& grid = map_.elevation();
   if (grid.KnownCells() == 0) return;
-  if (body_) map_.CarveBody(BodySolids(*body_));
   const TriangleMesh mesh = map_.ToMesh();
   if (mesh.Empty()) return;
   const auto terrain = transport::ToTerrainMsg(mesh, utime, "");
@@ -349,8 +309,6 @@ bool TerrainMapperNode::Step() {
     if (const auto* cloud = std::get_if<rbcp_msgs::point_cloud_t>(&pending_.front())) {
       --pending_clouds_;
       IntegrateIfPlaced(*cloud);
-    } else if (const auto* body = std::get_if<BodyPose>(&pending_.front())) {
-      body_ = *body;
     } else {
       PublishWait(std::get<int64_t>(pending_.front()));
     }

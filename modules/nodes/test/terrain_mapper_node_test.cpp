@@ -158,39 +158,6 @@ TEST_F(TerrainMapperNodeTest, ANewMapStartsWithTheGroundUnderTheStandingRobot) {
   EXPECT_NEAR(under_trunk->height, kBaseHeight + robot_.ReferenceFootPosition(Leg::kLF).z(), 0.01);
 }
 
-TEST_F(TerrainMapperNodeTest, NoTerrainIsSentWhereTheRobotsBodyIs) {
-  // Returns of something 0.45 m high under the base, inside the trunk (its main body's bottom is
-  // 0.41 m up): wrong, since the robot's body is there (an edge smeared by the noise, say).
-  const auto state = State(0);
-  lcm_.publish(channels::kRobotState, &state);
-  auto cloud = FlatGroundCloud(0, 0.0);
-  const Eigen::Isometry3d sensor_W =
-      Eigen::Translation3d(0.0, 0.0, kBaseHeight) * Mount();
-  for (double x = -0.1; x <= 0.1; x += 0.01) {
-    for (double y = -0.05; y <= 0.05; y += 0.01) {
-      const Eigen::Vector3f p = (sensor_W.inverse() * Eigen::Vector3d(x, y, 0.45)).cast<float>();
-      cloud.points.push_back({p.x(), p.y(), p.z()});
-    }
-  }
-  cloud.num_points = static_cast<int32_t>(cloud.points.size());
-  lcm_.publish(channels::kPointCloud, &cloud);
-  Run();
-  const auto terrain = terrain_.Take();
-  ASSERT_TRUE(terrain.has_value()) << LastReason();
-  int under_trunk = 0;
-  for (const Eigen::Vector3d& v : transport::FromTerrainMsg(*terrain).vertices) {
-    if (std::abs(v.x()) > 0.1 || std::abs(v.y()) > 0.05) continue;
-    ++under_trunk;
-    EXPECT_LT(v.z(), 0.40) << v.transpose();
-  }
-  EXPECT_GT(under_trunk, 5);
-  const auto grid = map_.Take();
-  ASSERT_TRUE(grid.has_value());
-  const auto cell = FromElevationMapMsg(*grid).At(Eigen::Vector2d(0.0, 0.0));
-  ASSERT_TRUE(cell.has_value());
-  EXPECT_LT(cell->height, 0.40) << "the elevation map keeps the body's bound";
-}
-
 TEST_F(TerrainMapperNodeTest, ACloudIsPlacedWithTheBasePoseItCarries) {
   // The base pose at capture travels with the cloud: the map does not depend on which states the
   // mapper heard. The same capture carried from 0.5 m further on is mapped 0.5 m further on.

@@ -60,7 +60,6 @@ struct MapperConfig {
   double publish_period_s = 0.5;     ///< TERRAIN and ELEVATION_MAP go out this often, of the clouds' (simulated) time
   int max_points_per_cloud = 100000; ///< a larger cloud is rejected whole
   double foot_patch_radius_m = 0.03; ///< a stance foot's sole marks the cells within this radius of its contact point
-  double body_clearance_m = 0.02;    ///< TerrainMap::CarveBody: the terrain under the robot's body stays this far below it
 
   template <class Visitor>
   void Serialize(Visitor* v);
@@ -85,22 +84,6 @@ struct IntegrateReport {
   std::size_t points_invalid = 0;   ///< not finite: skipped
   std::size_t cells_cleared = 0;    ///< known cells forgotten because rays passed through their height
 };
-
-/// A convex piece of the robot's body placed in the world frame (TerrainMap::CarveBody): a box,
-/// a cylinder with its axis along its frame's z, or a sphere.
-struct BodySolid {
-  enum class Kind { kBox, kCylinder, kSphere };
-  Kind kind = Kind::kBox;
-  Eigen::Isometry3d pose_W = Eigen::Isometry3d::Identity();
-  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  ///< [m] (box)
-  double radius = 0.0;                                     ///< [m] (cylinder, sphere)
-  double half_length = 0.0;                                ///< [m] along z (cylinder)
-};
-
-/// The lowest world z of `solid` on the vertical line through `xy`; nullopt when the line misses it.
-std::optional<double> LowestPointOver(const BodySolid& solid, const Eigen::Vector2d& xy);
-/// The world xy box [lo, hi] that `solid` covers seen from above.
-std::pair<Eigen::Vector2d, Eigen::Vector2d> FootprintBox(const BodySolid& solid);
 
 struct Cell {
   double height = 0.0;    ///< [m] world z of the terrain's top
@@ -134,8 +117,6 @@ class ElevationMap {
   FuseOutcome FuseCell(int ix, int iy, double z, double variance, double offset_m, bool gate = true);
   /// Forgets one cell.
   void Clear(int ix, int iy);
-  /// Lowers a known cell's height to z when it is above z (its variance kept); returns whether it did.
-  bool Lower(int ix, int iy, double z);
 
   std::optional<Cell> At(const Eigen::Vector2d& xy) const;
   std::optional<Cell> At(int ix, int iy) const;
@@ -213,14 +194,6 @@ class TerrainMap {
   /// there.
   void InitializeFootprint(const std::vector<Eigen::Vector3d>& feet, double margin_m, double variance);
 
-  /// The robot's body fills space that no terrain is in: its sensors may smear a block's edge or a
-  /// wall's face a cell wide, but where the robot's knee is there is no block. Every known cell
-  /// whose centre lies under a solid of `body` is lowered to body_clearance_m below the lowest
-  /// point of the body over that centre when it is higher, and ToMesh raises no obstacle there
-  /// above that height until the next CarveBody (whose body replaces this one). Returns the number
-  /// of cells lowered. Throws InputError when a solid is not finite or has a negative size.
-  std::size_t CarveBody(const std::vector<BodySolid>& body);
-
   const ElevationMap& elevation() const { return elevation_; }
   /// The known terrain as a mesh: the elevation map's (ElevationMap::ToMesh), with the cells
   /// under an obstacle raised. A depth camera sees a wall's face from the side: its cells hold
@@ -228,8 +201,7 @@ class TerrainMap {
   /// voxel more than obstacle_rise_m above a cell's height in the cell's column, the cell is
   /// meshed at that voxel's top, and unseen_top_m higher when the voxel above it is unknown (the
   /// top never seen), so that planners checking collisions against the mesh keep clear of it.
-  /// The elevation map itself keeps the measured heights. No cell is meshed above the body of the
-  /// last CarveBody.
+  /// The elevation map itself keeps the measured heights.
   TriangleMesh ToMesh() const;
   /// Both maps' memory, as their containers hold it.
   std::size_t MemoryBytes() const;
@@ -240,7 +212,6 @@ class TerrainMap {
   ElevationMap elevation_;
   struct Occupancy;
   std::unique_ptr<Occupancy> occupancy_;  ///< the octomap::OcTree (kept out of this header)
-  std::vector<BodySolid> body_;           ///< the last CarveBody's
 };
 
 /// The map judged against the true terrain: at the centre of every known cell, the map's height
@@ -312,8 +283,6 @@ void MapperConfig::Serialize(Visitor* v) {
            "a larger cloud is rejected whole");
   v->Visit("foot_patch_radius_m", &foot_patch_radius_m, "m", bounds::Closed(0.0, 0.5),
            "a stance foot's sole marks the cells within this radius of its contact point");
-  v->Visit("body_clearance_m", &body_clearance_m, "m", bounds::Closed(0.0, 0.2),
-           "the robot's body fills space no terrain is in: a cell under it is at least this far below it");
 }
 
 inline MapperConfig MapperConfig::Load(const YamlMap& map) { return LoadConfig<MapperConfig>(map); }

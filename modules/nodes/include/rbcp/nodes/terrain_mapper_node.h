@@ -30,7 +30,6 @@
 #include <string>
 #include <variant>
 
-#include "rbcp/collision/robot_collision_model.h"
 #include "rbcp/mapping/terrain_map.h"
 #include "rbcp/robot/robot_model.h"
 #include "rbcp/transport/channels.h"
@@ -118,7 +117,6 @@ class TerrainMapperNode {
 
   mapping::MapperConfig config_;
   const RobotModel& robot_;
-  RobotCollisionModel collision_model_;
   TerrainMapperNodeOptions options_;
   TerrainMapperNodeChannels channels_;
   lcm::LCM& lcm_;
@@ -127,17 +125,8 @@ class TerrainMapperNode {
   mapping::TerrainMap map_;
   std::optional<rbcp_msgs::terrain_mesh_t> last_terrain_;  ///< the latest map sent
   int64_t newest_state_utime_ = -1;                 ///< of the ROBOT_STATE messages heard
-  /// Where the robot's body is, as a ROBOT_STATE gives it.
-  struct BodyPose {
-    Eigen::Isometry3d base_W = Eigen::Isometry3d::Identity();
-    JointVector q = JointVector::Zero();
-  };
-  /// The body's solids for TerrainMap::CarveBody: the primitives of the robot's collision model
-  /// on the trunk, hips and thighs. The shanks' reach down to the feet, which stand on the terrain.
-  std::vector<mapping::BodySolid> BodySolids(const BodyPose& body) const;
-  /// What Step() has to handle, in the order heard: a cloud, the start of a wait (its utime), or
-  /// the body's pose (the newest of a row of states).
-  using Input = std::variant<rbcp_msgs::point_cloud_t, int64_t, BodyPose>;
+  /// What Step() has to handle, in the order heard: a cloud, or the start of a wait (its utime).
+  using Input = std::variant<rbcp_msgs::point_cloud_t, int64_t>;
   std::deque<Input> pending_;
   std::size_t pending_clouds_ = 0;    ///< clouds in pending_
   int64_t last_wait_heard_ = -1;      ///< awaiting_since of the newest wait heard
@@ -152,7 +141,6 @@ class TerrainMapperNode {
   double integrate_ms_ = 0.0;  ///< wall time integrating since the last map
   bool dirty_ = false;         ///< clouds integrated since the last map
   bool footprint_done_ = false;  ///< this map started with the terrain under the trunk
-  std::optional<BodyPose> body_;  ///< the newest state's, of the inputs handled (in order)
   transport::EveryMessage<rbcp_msgs::robot_state_t> state_in_;
   transport::EveryMessage<rbcp_msgs::point_cloud_t> cloud_in_;
   transport::EveryMessage<rbcp_msgs::controller_status_t> controller_in_;
