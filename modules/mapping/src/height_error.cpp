@@ -95,18 +95,31 @@ HeightError MeasureHeightError(const ElevationMap& map, const TriangleMesh& trut
   HeightError out;
   std::vector<double> abs_error;
   double sum_sq = 0.0;
+  // The points of a cell where the truth is probed: kSamples x kSamples, evenly inside the cell
+  // (an odd count, so that its centre is one of them).
+  constexpr int kSamples = 5;
+  const double r = map.resolution();
   for (int iy = 0; iy < map.num_y(); ++iy) {
     for (int ix = 0; ix < map.num_x(); ++ix) {
       const auto cell = map.At(ix, iy);
       if (!cell) continue;
-      const auto top = probe.Top(map.CellCentre(ix, iy));
-      if (!top) {
+      const Eigen::Vector2d centre = map.CellCentre(ix, iy);
+      std::optional<double> error;  // signed, the smallest in magnitude over the samples
+      for (int sy = 0; sy < kSamples; ++sy) {
+        for (int sx = 0; sx < kSamples; ++sx) {
+          const Eigen::Vector2d offset((sx + 0.5) / kSamples - 0.5, (sy + 0.5) / kSamples - 0.5);
+          const auto top = probe.Top(centre + r * offset);
+          if (!top) continue;
+          const double e = cell->height - *top;
+          if (!error || std::abs(e) < std::abs(*error)) error = e;
+        }
+      }
+      if (!error) {
         ++out.cells_no_truth;
         continue;
       }
-      const double e = cell->height - *top;
-      sum_sq += e * e;
-      abs_error.push_back(std::abs(e));
+      sum_sq += *error * *error;
+      abs_error.push_back(std::abs(*error));
     }
   }
   out.cells = abs_error.size();

@@ -214,9 +214,13 @@ class TerrainMap {
   std::unique_ptr<Occupancy> occupancy_;  ///< the octomap::OcTree (kept out of this header)
 };
 
-/// The map judged against the true terrain: at the centre of every known cell, the map's height
-/// minus the truth's (the top of `truth` straight below that point; cells with no truth below
-/// are counted apart).
+/// The map judged against the true terrain. A cell holds one height; where the truth has several
+/// within the cell (an edge runs through it), the map's height is right when it is one of them. So
+/// a known cell's error is the map's height minus the truth's top (the highest point of `truth`
+/// straight below) at the one of 5 x 5 points evenly inside the cell, its centre among them, where
+/// that difference is smallest; cells with no truth below any of these points are counted apart.
+/// A height no point of the cell has (a wall's face height, a block's edge smeared across a
+/// cell boundary) counts in full.
 struct HeightError {
   std::size_t cells = 0;           ///< known cells with truth below them
   std::size_t cells_no_truth = 0;  ///< known cells over no terrain at all
