@@ -304,8 +304,12 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
     start_yaw = YawOf(state.base_orientation);
     if (!start_xy.allFinite() || !std::isfinite(start_yaw)) return failed(0.0, "robot state: base pose is not finite");
   }
+  // A requested start stands on the terrain at its xy. The measured base is where the robot is, at
+  // the height it stands at: over the edge of a block with its fore feet up and its hind feet on
+  // the floor it stands lower than the block's top plus the nominal height, where its hind legs
+  // would not reach the floor. One inside the terrain is not lifted onto its top.
+  std::optional<Eigen::Vector3d> measured_base;
   if (!request.use_start) {
-    // The measured base is where the robot is: one inside the terrain is not lifted onto its top.
     const auto& state = *robot_state_.Latest();
     const Eigen::Vector3d base(state.base_position[0], state.base_position[1], state.base_position[2]);
     std::optional<std::string> problem;
@@ -315,13 +319,19 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
       problem = bad->Describe();
     }
     if (problem) return failed(0.0, "start_invalid: " + *problem);
+    measured_base = base;
   }
   RootPlanResult result;
   try {
     const Eigen::Vector2d goal_xy(request.goal_position[0], request.goal_position[1]);
-    const auto start = planner_.StandingPosition(*world_.terrain(), start_xy);
-    const double budget = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
-    const unsigned seed = GuideSeed(static_cast<unsigned>(request.seed), guide_);
+    const std::optional<Eigen::Vector3d> start =
+        measured_base ? measured_base : planner_.StandingPosition(*world_.terrain(), start_xy);
+    RootPlanRequest query;
+    query.start_yaw = start_yaw;
+    query.time_budget_s = request.time_budget > 0.0 ? request.time_budget : options_.default_time_budget_s;
+    query.seed = GuideSeed(static_cast<unsigned>(request.seed), guide_);
+    query.start_is_measured = measured_base.has_value();
+    if (start) query.start.p = *start;
     if (options_.partial_map) {
       if (!start) return failed(0.0, "no terrain under the start on the map");
       // The goal, or the standing positions nearest it on the known terrain, until one has a path.
@@ -341,7 +351,9 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
         last_reaches_goal_ = (goals[i].head<2>() - goal_xy).norm() < 1e-9;
         const Eigen::Vector2d way = goal_xy - goals[i].head<2>();  // at a partial goal the robot faces the goal
         const double yaw = last_reaches_goal_ ? request.goal_yaw : std::atan2(way.y(), way.x());
-        result = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, goals[i], yaw, seed, budget);
+        query.goal = goals[i];
+        query.goal_yaw = yaw;
+        result = planner_.Plan(*world_.terrain(), *world_.surfaces(), query);
         // A candidate the search cannot reach (the map between is not known well enough): the next.
         if (result.ok() || result.status == RootPlanStatus::kInvalidInput || result.status == RootPlanStatus::kStartInvalid) {
           break;
@@ -351,8 +363,9 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
       const auto goal = planner_.StandingPosition(*world_.terrain(), goal_xy);
       if (!start || !goal) return failed(0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
       last_reaches_goal_ = true;
-      result = planner_.Plan(*world_.terrain(), *world_.surfaces(), *start, start_yaw, *goal, request.goal_yaw, seed,
-                             budget);
+      query.goal = *goal;
+      query.goal_yaw = request.goal_yaw;
+      result = planner_.Plan(*world_.terrain(), *world_.surfaces(), query);
     }
   } catch (const std::exception& e) {
     // A request the planner refuses is answered with a status (below). What it throws is a
@@ -367,6 +380,10 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
   lcm_.publish(options_.root_path_channel, &*published_);
   active_ = request;
   std::string summary = why.empty() ? "" : "replanned from the measured base: " + why;
+  if (last_result_->start_join_m > 0.0) {
+    summary += std::string(summary.empty() ? "" : "; ") + "the path joins the measured base to the nearest start " +
+               "that satisfies the reachability condition, " + FixedNumber(last_result_->start_join_m, 2) + " m away";
+  }
   if (!last_reaches_goal_) {
     const Eigen::Vector3d end = last_result_->samples.back().p;
     summary += std::string(summary.empty() ? "" : "; ") + "towards the goal, to (" + FixedNumber(end.x(), 2) + ", " +

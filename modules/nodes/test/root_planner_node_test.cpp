@@ -174,6 +174,35 @@ goal: {position: [3, 0], yaw: 0}
   EXPECT_TRUE(PathAfter(state).has_value());
 }
 
+TEST_F(RootPlannerNodeTest, PlansFromTheHeightTheRobotStandsAtAcrossAStepEdge) {
+  // A 0.2 m step from x = 0.5; the base just over its edge with the fore feet on it and the hind
+  // feet on the floor 0.45 m behind, half way up. At the step's top plus the nominal height the
+  // hind legs would not reach the floor.
+  test::PublishWorld(lcm_, ParseScenario(R"(name: step_edge
+terrain:
+  - box: {size: [3, 3, 0.5], position: [-1.0, 0, -0.25], rpy: [0, 0, 0]}
+  - box: {size: [3, 3, 0.7], position: [2.0, 0, -0.15], rpy: [0, 0, 0]}
+start: {position: [-1, 0], yaw: 0}
+goal: {position: [2, 0], yaw: 0}
+)",
+                                                 ""),
+                     kConfig);
+  auto request = Request(0.0, 2.0, 11);
+  request.use_start = false;
+  lcm_.publish(channels::kPlanRequest, &request);
+  rbcp_msgs::robot_state_t state{};
+  state.utime = 300;
+  state.base_position[0] = 0.55;
+  state.base_position[2] = 0.1 + robot_.NominalBaseHeight();
+  state.base_orientation[0] = 1.0;
+  const auto path = PathAfter(state);
+  ASSERT_TRUE(path.has_value());
+  EXPECT_NEAR(path->points.front().position[0], 0.55, 1e-9);
+  // At the measured height, or raised a few centimetres where the trunk would touch the edge.
+  EXPECT_GE(path->points.front().position[2], state.base_position[2] - 1e-9);
+  EXPECT_LE(path->points.front().position[2], state.base_position[2] + 0.05 + 1e-9);
+}
+
 TEST_F(RootPlannerNodeTest, ReplansWhenTheRobotLeavesThePathOrTheTerrainChanges) {
   PublishWorld("flat_ground");
   const auto request = Request(0.0, 1.5, 9);

@@ -6,6 +6,7 @@
 #include <ompl/base/goals/GoalState.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -251,6 +252,10 @@ struct PlanEnds {
 
   // The goal is the start and the base is at rest there: the path only turns on the spot.
   bool AtStart() const { return (goal.p - start.p).norm() < 1e-6 && start.v.norm() < 1e-9; }
+
+  // A measured start where the reachability condition fails: the path joins it (at rest) to
+  // `start`, the nearest state where it holds (RootPlanRequest::start_is_measured).
+  std::optional<Eigen::Vector3d> joined_from;
 };
 
 PlanEnds EndsOf(const RootPlannerConfig& config, const RootPlanRequest& request) {
@@ -281,11 +286,40 @@ std::optional<PlanFailure> StartVelocityProblem(const KinodynamicLimits& limits,
 // lowest height at most this much above it, in centimetre steps, where the condition holds.
 constexpr double kStartRaiseM = 0.05;
 
-// Checks before any search: the start (raised as above) and the goal satisfy the reachability
-// condition, and a chain of contact surfaces joins the surfaces in reach at the start to those at
-// the goal.
+// Where a measured start's joining move may end: on rings kStartJoinStepM apart up to
+// kMaxStartJoinM, in 8 headings from `yaw` (ahead first, then alternately left and right), at
+// heights kStartJoinStepM apart from two steps below to four above (the start's height only when
+// the vertical axis is fixed); the nearest first.
+constexpr double kStartJoinStepM = 0.05;
+
+std::vector<Eigen::Vector3d> StartJoinCandidates(const Eigen::Vector3d& start, double yaw, bool vertical_fixed) {
+  std::vector<std::pair<double, Eigen::Vector3d>> candidates;
+  const int rings = static_cast<int>(std::lround(kMaxStartJoinM / kStartJoinStepM));
+  const std::array<int, 8> headings{0, 1, -1, 2, -2, 3, -3, 4};
+  for (int dz = vertical_fixed ? 0 : -2; dz <= (vertical_fixed ? 0 : 4); ++dz) {
+    for (int ring = 0; ring <= rings; ++ring) {
+      for (int k : headings) {
+        const double a = yaw + k * M_PI / 4.0;
+        const Eigen::Vector3d offset(ring * kStartJoinStepM * std::cos(a), ring * kStartJoinStepM * std::sin(a),
+                                     dz * kStartJoinStepM);
+        if (offset.norm() > kMaxStartJoinM + 1e-9) break;
+        candidates.emplace_back(offset.norm(), start + offset);
+        if (ring == 0) break;  // one candidate at the start's xy
+      }
+    }
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first - 1e-9; });
+  std::vector<Eigen::Vector3d> points;
+  for (const auto& c : candidates) points.push_back(c.second);
+  return points;
+}
+
+// Checks before any search: the start (raised as above; a measured one joined to the nearest
+// state where the condition holds) and the goal satisfy the reachability condition, and a chain
+// of contact surfaces joins the surfaces in reach at the start to those at the goal.
 std::optional<PlanFailure> EndsProblem(const RootPlannerConfig& config, const std::vector<AffordanceSurface>& surfaces,
-                                       PlanEnds& ends, ReachabilityChecker& checker) {
+                                       bool start_is_measured, PlanEnds& ends, ReachabilityChecker& checker) {
   const double start_yaw = config.yaw.Yaw(ends.start.v.head<2>(), ends.rest_start);
   ReachabilityReport start_report = checker.Check(ends.start.p, start_yaw);
   for (int cm = 1; start_report.trunk_collision && cm <= std::lround(kStartRaiseM * 100); ++cm) {
@@ -295,6 +329,16 @@ std::optional<PlanFailure> EndsProblem(const RootPlannerConfig& config, const st
     ends.start.p = raised;
     if (config.limits.VerticalFixed()) ends.goal.p.z() = raised.z();
     start_report = report;
+  }
+  if (!start_report.Valid() && start_is_measured && ends.start.v.norm() < 1e-9) {
+    for (const Eigen::Vector3d& p : StartJoinCandidates(ends.start.p, start_yaw, config.limits.VerticalFixed())) {
+      const ReachabilityReport report = checker.Check(p, start_yaw);
+      if (!report.Valid()) continue;
+      ends.joined_from = ends.start.p;
+      ends.start.p = p;
+      start_report = report;
+      break;
+    }
   }
   if (!start_report.Valid()) return PlanFailure{RootPlanStatus::kStartInvalid, "start: " + start_report.Reason()};
   const ReachabilityReport goal_report = checker.Check(ends.goal.p, ends.rest_goal);
@@ -307,6 +351,19 @@ std::optional<PlanFailure> EndsProblem(const RootPlannerConfig& config, const st
                      "no chain of contact surfaces, each within " + ConfigNumber(config.max_surface_gap) +
                          " m of the next, joins the start's surfaces to the goal's (" +
                          std::to_string(graph.ComponentCount()) + " separate groups of surfaces)"};
+}
+
+// `path` after the straight move at rest from a measured start to where the search started.
+RootPath WithStartJoin(const RootPlannerConfig& config, const PlanEnds& ends, const RootPath& path) {
+  if (!ends.joined_from) return path;
+  const std::optional<DoubleIntegratorTrajectory> join =
+      Steer(PointState{*ends.joined_from, Eigen::Vector3d::Zero()}, PointState{ends.start.p, Eigen::Vector3d::Zero()},
+            config.limits, config.time_step);
+  RBCP_CHECK(join.has_value(), "a move between two states at rest steers");
+  RootPath joined(config.yaw);
+  joined.Append(RootSegment::Whole(*join, ends.rest_start, ends.rest_start));
+  for (const RootSegment& segment : path.Segments()) joined.Append(segment);
+  return joined;
 }
 
 // A goal at the start: the base stays where it is while its heading turns from the start's rest
@@ -564,7 +621,17 @@ std::vector<Eigen::Vector3d> RootPlanner::GoalsToward(const TriangleMesh& terrai
     if (!z) return std::nullopt;
     return Eigen::Vector3d(xy.x(), xy.y(), *z + nominal_base_height_);
   };
-  if (const auto at_goal = standing(goal_xy); at_goal && checker.IsValid(*at_goal, goal_yaw)) {
+  // A candidate the robot can walk to: some surface in reach of it joined to one under the start.
+  const SurfaceGraph graph(surfaces, config_.max_surface_gap);
+  std::vector<int> at_start;
+  if (const std::optional<double> z = heights.At(start_xy)) {
+    at_start = graph.SurfacesNear(Eigen::Vector3d(start_xy.x(), start_xy.y(), *z), options.start_surfaces_m);
+  }
+  const auto reachable_goal = [&](const Eigen::Vector3d& p, double yaw) {
+    const ReachabilityReport report = checker.Check(p, yaw);
+    return report.Valid() && graph.Joined(at_start, std::vector<int>(report.leg_surface.begin(), report.leg_surface.end()));
+  };
+  if (const auto at_goal = standing(goal_xy); at_goal && reachable_goal(*at_goal, goal_yaw)) {
     goals.push_back(*at_goal);
   }
   // Candidates on a grid over the contact surfaces, the nearest to the goal first, each facing the
@@ -580,7 +647,7 @@ std::vector<Eigen::Vector3d> RootPlanner::GoalsToward(const TriangleMesh& terrai
     ++evaluated;
     // Apart from the goals taken already: the next try is somewhere else.
     if (NearAny(xy, goals, options.apart_m)) continue;
-    if (checker.IsValid(*p, std::atan2(toward.y(), toward.x()))) goals.push_back(*p);
+    if (reachable_goal(*p, std::atan2(toward.y(), toward.x()))) goals.push_back(*p);
   }
   return goals;
 }
@@ -663,12 +730,15 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   if (auto failure = StartVelocityProblem(config_.limits, ends.start)) return done(failure->status, failure->reason);
   if (surfaces.empty()) return done(RootPlanStatus::kStartInvalid, "no contact surfaces");
   ReachabilityChecker checker = MakeChecker(terrain, surfaces);
-  if (auto failure = EndsProblem(config_, surfaces, ends, checker)) return done(failure->status, failure->reason);
+  if (auto failure = EndsProblem(config_, surfaces, request.start_is_measured, ends, checker)) {
+    return done(failure->status, failure->reason);
+  }
+  if (ends.joined_from) result.start_join_m = (ends.start.p - *ends.joined_from).norm();
 
   if (ends.AtStart()) {
     const RootPath turn = TurnOnTheSpot(config_, ends);
     if (auto failure = TurnProblem(config_, turn, checker)) return done(failure->status, failure->reason);
-    result.path = turn;
+    result.path = WithStartJoin(config_, ends, turn);
     result.samples = turn.SampleEvery(config_.time_step);
     result.validity_checks = checker.Queries();
     return done(RootPlanStatus::kOk, "");
@@ -685,7 +755,7 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
 
   const RootPath& found = problem.pdef->getSolutionPath()->as<detail::RootTrajectoryPath>()->Path();
   result.duration_before_shortcut_s = found.Duration();
-  result.path = Smooth(found, *problem.validator, config_, request.seed, ptc);
+  result.path = WithStartJoin(config_, ends, Smooth(found, *problem.validator, config_, request.seed, ptc));
   result.validity_checks = checker.Queries();
   if (ptc()) {
     // Cut short, the smoothing would give a path that depends on the machine's load.

@@ -306,6 +306,67 @@ TEST(RootPlannerTest, AStartALittleLowBeginsItsPathAtTheLowestValidHeight) {
   EXPECT_EQ(deep.status, RootPlanStatus::kStartInvalid) << deep.reason;
 }
 
+TEST(RootPlannerTest, AMeasuredStartWhereTheConditionFailsIsJoinedToTheNearestStateWhereItHolds) {
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms ground = test::MakePlatforms({{-3.0, 3.0}});
+  const double h = Robot().NominalBaseHeight();
+  ReachabilityChecker checker = planner.MakeChecker(ground.terrain, ground.surfaces);
+  // Crouched lower than a 5 cm raise can mend.
+  double lowest = h;  // the lowest valid height, by centimetres below the nominal one
+  while (checker.Check({-1.0, 0.0, lowest - 0.01}, 0.0).Valid()) lowest -= 0.01;
+  const Eigen::Vector3d crouched(-1.0, 0.0, lowest - 0.10);
+  for (int cm = 0; cm <= 5; ++cm) ASSERT_FALSE(checker.Check(crouched + Eigen::Vector3d(0, 0, 0.01 * cm), 0.0).Valid());
+  RootPlanRequest request;
+  request.start.p = crouched;
+  request.goal = {1.0, 0.0, h};
+  request.time_budget_s = 5.0;
+  const RootPlanResult requested = planner.Plan(ground.terrain, ground.surfaces, request);
+  EXPECT_EQ(requested.status, RootPlanStatus::kStartInvalid) << "a requested start must satisfy the condition";
+
+  request.start_is_measured = true;
+  const RootPlanResult measured = planner.Plan(ground.terrain, ground.surfaces, request);
+  ASSERT_TRUE(measured.ok()) << measured.reason;
+  EXPECT_LT((measured.samples.front().p - crouched).norm(), 1e-9) << "the path starts where the robot stands";
+  EXPECT_LT(measured.samples.front().v.norm(), 1e-9);
+  EXPECT_GT(measured.start_join_m, 0.0);
+  EXPECT_LE(measured.start_join_m, kMaxStartJoinM + 1e-9);
+  EXPECT_LT((measured.samples.back().p - request.goal).norm(), 1e-6);
+  // The joining move is the path's first segment, straight and at rest at both ends; the rest
+  // of the path satisfies the condition.
+  ASSERT_GE(measured.path.Segments().size(), 2u);
+  const double join_end = measured.path.Segments().front().Duration();
+  const RootPathSample joined = measured.path.Sample(join_end);
+  EXPECT_NEAR((joined.p - crouched).norm(), measured.start_join_m, 1e-9);
+  EXPECT_LT(joined.v.norm(), 1e-9);
+  for (const RootPathSample& s : measured.samples) {
+    if (s.t >= join_end - 1e-9) EXPECT_TRUE(checker.Check(s.p, s.yaw).Valid()) << "t " << s.t;
+  }
+
+  // Over the middle of a wide pit no state within reach of a short move holds: still refused.
+  const test::Platforms pit = test::MakePlatforms({{-3.0, -1.0}, {1.0, 3.0}});
+  request.start.p = {0.0, 0.0, h};
+  request.goal = {2.0, 0.0, h};
+  const RootPlanResult over_pit = planner.Plan(pit.terrain, pit.surfaces, request);
+  EXPECT_EQ(over_pit.status, RootPlanStatus::kStartInvalid) << over_pit.reason;
+  EXPECT_EQ(over_pit.reason, "start: no contact surface in reach of LF, RF, LH, RH");
+}
+
+TEST(RootPlannerTest, GoalsTowardAGoalBeyondAGapAreOnlyWhereTheRobotCanWalkTo) {
+  // A platform the robot stands on and, 1 m beyond it (more than a step bridges), an island of
+  // the map that reaches the goal: the island is no goal; the near platform's end is.
+  const RootPlanner planner(Robot(), DefaultConfig());
+  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.0, 3.0}});
+  const std::vector<Eigen::Vector3d> goals =
+      planner.GoalsToward(world.terrain, world.surfaces, {-2.0, 0.0}, {2.5, 0.0}, 0.0, GoalsTowardOptions{});
+  ASSERT_FALSE(goals.empty());
+  for (const Eigen::Vector3d& g : goals) EXPECT_LT(g.x(), 0.0) << "a goal on the island at x " << g.x();
+  // Standing on the island, the goal itself is one.
+  const std::vector<Eigen::Vector3d> on_island =
+      planner.GoalsToward(world.terrain, world.surfaces, {1.5, 0.0}, {2.5, 0.0}, 0.0, GoalsTowardOptions{});
+  ASSERT_FALSE(on_island.empty());
+  EXPECT_NEAR(on_island.front().x(), 2.5, 1e-9);
+}
+
 TEST(RootPlannerTest, AMeasuredBaseInsideTheTerrainOrOverNoneIsNamed) {
   const RootPlanner planner(Robot(), DefaultConfig());
   const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});

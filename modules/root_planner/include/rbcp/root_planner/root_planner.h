@@ -178,7 +178,17 @@ struct RootPlanRequest {
   double goal_yaw = 0.0;
   unsigned seed = 1;             ///< same seed and inputs, same path (or a timeout)
   double time_budget_s = 1.0;    ///< wall-clock safety limit of the whole query [s]
+  /// The start is where the robot stands, measured, at rest. The reachability condition is
+  /// conservative: a robot stretched over an edge (fore feet on a block, hind feet on the floor)
+  /// or standing low can violate it where it stands. Such a start is not refused: the path begins
+  /// with a straight joining move, at most kMaxStartJoinM long, to the nearest state where the
+  /// condition holds (RootPlanResult::start_join_m). A requested start (false) must satisfy it.
+  bool start_is_measured = false;
 };
+
+/// The longest joining move from a measured start that violates the reachability condition to
+/// the state the search starts from [m] (RootPlanRequest::start_is_measured).
+inline constexpr double kMaxStartJoinM = 0.25;
 
 /// The answer to a query.
 struct RootPlanResult {
@@ -192,6 +202,9 @@ struct RootPlanResult {
   int iterations = 0;                  ///< RRT iterations
   int tree_states = 0;                 ///< states in both trees at the end
   long validity_checks = 0;            ///< reachability tests (search, sampling, shortcut)
+  /// Length of the joining move the path begins with from a measured start where the
+  /// reachability condition fails [m]; 0 when the path starts with the search's own path.
+  double start_join_m = 0.0;
   bool ok() const { return status == RootPlanStatus::kOk; }
 };
 
@@ -221,6 +234,9 @@ struct GoalsTowardOptions {
   int max_evaluations = 2000;   ///< candidates checked at most
   double frontier_m = 0.3;      ///< FrontierGoals: unknown terrain this near a candidate [m]
   double visited_m = 0.5;       ///< FrontierGoals: a candidate at least this far from where the robot waited [m]
+  /// The robot's feet at the start lie within this distance of the terrain under its base (the
+  /// hips 0.28 m ahead and behind, a foot up to ~0.25 m from below its hip) [m].
+  double start_surfaces_m = 0.6;
 };
 
 class RootPlanner {
@@ -253,8 +269,11 @@ class RootPlanner {
   /// goal first, that are at least min_progress_m nearer the goal than the start, have known
   /// terrain ahead_m further towards the goal (the front feet stand ahead of the base), lie
   /// apart_m from those already taken, lie visited_m from every one of `dead_ends` (where the map
-  /// showed no way nearer the goal before) and satisfy the condition facing the goal. At most
-  /// max_goals; empty when nothing qualifies: the map shows no way on yet.
+  /// showed no way nearer the goal before) and satisfy the condition facing the goal with some
+  /// surface in reach joined (a chain of surfaces, each within max_surface_gap of the next) to one
+  /// within start_surfaces_m of the terrain under the start: a patch of the map seen beyond a
+  /// gap the robot cannot step across is no goal. At most max_goals; empty when nothing
+  /// qualifies: the map shows no way on yet.
   std::vector<Eigen::Vector3d> GoalsToward(const TriangleMesh& terrain, const std::vector<AffordanceSurface>& surfaces,
                                            const Eigen::Vector2d& start_xy, const Eigen::Vector2d& goal_xy,
                                            double goal_yaw, const GoalsTowardOptions& options,
