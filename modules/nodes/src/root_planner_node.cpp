@@ -347,18 +347,25 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
         Remember(&dead_ends_, start_xy);
       }
       if (goals.empty()) return failed(0.0, "the map shows no standing position nearer the goal yet, nor an edge of the map the robot has not stood at");
+      // The candidates share the request's budget (each the rest of it over the candidates left):
+      // a map that shows no way costs the waiting robot one budget, not one per candidate.
+      const double budget = query.time_budget_s;
+      double spent = 0.0;
       for (std::size_t i = 0; i < goals.size(); ++i) {
         last_reaches_goal_ = (goals[i].head<2>() - goal_xy).norm() < 1e-9;
         const Eigen::Vector2d way = goal_xy - goals[i].head<2>();  // at a partial goal the robot faces the goal
         const double yaw = last_reaches_goal_ ? request.goal_yaw : std::atan2(way.y(), way.x());
         query.goal = goals[i];
         query.goal_yaw = yaw;
+        query.time_budget_s = std::max(1e-3, (budget - spent) / static_cast<double>(goals.size() - i));
         result = planner_.Plan(*world_.terrain(), *world_.surfaces(), query);
+        spent += result.planning_time_s;
         // A candidate the search cannot reach (the map between is not known well enough): the next.
         if (result.ok() || result.status == RootPlanStatus::kInvalidInput || result.status == RootPlanStatus::kStartInvalid) {
           break;
         }
       }
+      result.planning_time_s = spent;
     } else {
       const auto goal = planner_.StandingPosition(*world_.terrain(), goal_xy);
       if (!start || !goal) return failed(0.0, std::string("no terrain under the ") + (start ? "goal" : "start"));
