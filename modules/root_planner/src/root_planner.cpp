@@ -739,7 +739,7 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
     const RootPath turn = TurnOnTheSpot(config_, ends);
     if (auto failure = TurnProblem(config_, turn, checker)) return done(failure->status, failure->reason);
     result.path = WithStartJoin(config_, ends, turn);
-    result.samples = turn.SampleEvery(config_.time_step);
+    result.samples = result.path.SampleEvery(config_.time_step);
     result.validity_checks = checker.Queries();
     return done(RootPlanStatus::kOk, "");
   }
