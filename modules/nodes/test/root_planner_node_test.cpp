@@ -39,6 +39,16 @@ class RootPlannerNodeTest : public ::testing::Test {
     return r;
   }
 
+  /// The robot's measured state at utime 300, level and facing +x, its base at (x, 0, z).
+  static rbcp_msgs::robot_state_t StandingAt(double x, double z) {
+    rbcp_msgs::robot_state_t state{};
+    state.utime = 300;
+    state.base_position[0] = x;
+    state.base_position[2] = z;
+    state.base_orientation[0] = 1.0;
+    return state;
+  }
+
   /// The robot's measured state, and its controller's status at the same time.
   struct Robot {
     rbcp_msgs::robot_state_t state{};
@@ -126,11 +136,7 @@ TEST_F(RootPlannerNodeTest, ReplansFromTheMeasuredRobotState) {
   request.use_start = false;
   lcm_.publish(channels::kPlanRequest, &request);
   EXPECT_EQ(WaitingFor(), "waiting for ROBOT_STATE: the request starts where the robot stands");
-  rbcp_msgs::robot_state_t state{};
-  state.utime = 300;
-  state.base_position[0] = 0.5;
-  state.base_position[2] = 0.45;
-  state.base_orientation[0] = 1.0;
+  auto state = StandingAt(0.5, 0.45);
   const auto path = PathAfter(state);
   ASSERT_TRUE(path.has_value());
   EXPECT_NEAR(path->points.front().position[0], 0.5, 1e-9);
@@ -151,11 +157,7 @@ goal: {position: [3, 0], yaw: 0}
   auto request = Request(0.0, 3.0, 9);
   request.use_start = false;
   lcm_.publish(channels::kPlanRequest, &request);
-  rbcp_msgs::robot_state_t state{};
-  state.utime = 300;
-  state.base_position[0] = 0.5;
-  state.base_position[2] = 0.45;
-  state.base_orientation[0] = 1.0;
+  auto state = StandingAt(0.5, 0.45);
   lcm_.publish(channels::kRobotState, &state);
   Pump();
   ASSERT_TRUE(node_.Step());
@@ -190,11 +192,7 @@ goal: {position: [2, 0], yaw: 0}
   auto request = Request(0.0, 2.0, 11);
   request.use_start = false;
   lcm_.publish(channels::kPlanRequest, &request);
-  rbcp_msgs::robot_state_t state{};
-  state.utime = 300;
-  state.base_position[0] = 0.55;
-  state.base_position[2] = 0.1 + robot_.NominalBaseHeight();
-  state.base_orientation[0] = 1.0;
+  auto state = StandingAt(0.55, 0.1 + robot_.NominalBaseHeight());
   const auto path = PathAfter(state);
   ASSERT_TRUE(path.has_value());
   EXPECT_NEAR(path->points.front().position[0], 0.55, 1e-9);

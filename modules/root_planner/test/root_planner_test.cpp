@@ -282,6 +282,14 @@ TEST(RootPlannerTest, InvalidStartOrGoalIsReported) {
   EXPECT_EQ(ToString(sunk.status), "start_invalid");
 }
 
+// The lowest height at `xy` (heading 0), by centimetres below `from`, where the reachability
+// condition holds.
+double LowestValidHeight(ReachabilityChecker& checker, const Eigen::Vector2d& xy, double from) {
+  double lowest = from;
+  while (checker.Check({xy.x(), xy.y(), lowest - 0.01}, 0.0).Valid()) lowest -= 0.01;
+  return lowest;
+}
+
 TEST(RootPlannerTest, AStartALittleLowBeginsItsPathAtTheLowestValidHeight) {
   // A robot standing lower than the conservative trunk volume allows: its path begins at most
   // 5 cm higher, at the lowest height (centimetre steps) where the reachability condition holds.
@@ -289,8 +297,7 @@ TEST(RootPlannerTest, AStartALittleLowBeginsItsPathAtTheLowestValidHeight) {
   const test::Platforms ground = test::MakePlatforms({{-3.0, 3.0}});
   const double h = Robot().NominalBaseHeight();
   ReachabilityChecker checker = planner.MakeChecker(ground.terrain, ground.surfaces);
-  double lowest = h;  // the lowest valid height, by centimetres below the nominal one
-  while (checker.Check({-1.0, 0.0, lowest - 0.01}, 0.0).Valid()) lowest -= 0.01;
+  const double lowest = LowestValidHeight(checker, {-1.0, 0.0}, h);
   const double low = lowest - 0.03;
   ASSERT_TRUE(checker.Check({-1.0, 0.0, low}, 0.0).trunk_collision);
   int raise_cm = 1;
@@ -312,9 +319,7 @@ TEST(RootPlannerTest, AMeasuredStartWhereTheConditionFailsIsJoinedToTheNearestSt
   const double h = Robot().NominalBaseHeight();
   ReachabilityChecker checker = planner.MakeChecker(ground.terrain, ground.surfaces);
   // Crouched lower than a 5 cm raise can mend.
-  double lowest = h;  // the lowest valid height, by centimetres below the nominal one
-  while (checker.Check({-1.0, 0.0, lowest - 0.01}, 0.0).Valid()) lowest -= 0.01;
-  const Eigen::Vector3d crouched(-1.0, 0.0, lowest - 0.10);
+  const Eigen::Vector3d crouched(-1.0, 0.0, LowestValidHeight(checker, {-1.0, 0.0}, h) - 0.10);
   for (int cm = 0; cm <= 5; ++cm) ASSERT_FALSE(checker.Check(crouched + Eigen::Vector3d(0, 0, 0.01 * cm), 0.0).Valid());
   RootPlanRequest request;
   request.start.p = crouched;
