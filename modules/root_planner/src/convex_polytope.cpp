@@ -132,6 +132,67 @@ TriangleMesh ConvexPolytope::ToMesh() const {
   return mesh;
 }
 
+PolytopeTriangleTest::PolytopeTriangleTest(const ConvexPolytope& polytope) : vertices_(polytope.vertices) {
+  // Directions equal up to this (1 - cosine) are one axis.
+  constexpr double kSame = 1e-9;
+  const auto known = [](const std::vector<Eigen::Vector3d>& axes, const Eigen::Vector3d& d, bool up_to_sign) {
+    return std::any_of(axes.begin(), axes.end(), [&](const Eigen::Vector3d& a) {
+      const double c = a.dot(d);
+      return (up_to_sign ? std::abs(c) : c) > 1.0 - kSame;
+    });
+  };
+  for (const auto& [n, offset] : FacePlanes(polytope)) {
+    if (known(face_normals_, n, /*up_to_sign=*/false)) continue;
+    face_normals_.push_back(n);
+    face_offsets_.push_back(offset);
+  }
+  for (const auto& tri : polytope.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d d = polytope.vertices[static_cast<std::size_t>(tri[(k + 1) % 3])] -
+                          polytope.vertices[static_cast<std::size_t>(tri[k])];
+      const double norm = d.norm();
+      if (norm <= 0.0) continue;
+      d /= norm;
+      if (!known(edge_directions_, d, /*up_to_sign=*/true)) edge_directions_.push_back(d);
+    }
+  }
+}
+
+bool PolytopeTriangleTest::Overlaps(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) const {
+  // Separated along `axis` when the triangle's and the polytope's projections do not meet.
+  const auto separated = [&](const Eigen::Vector3d& axis) {
+    const double pa = axis.dot(a), pb = axis.dot(b), pc = axis.dot(c);
+    const double t_lo = std::min({pa, pb, pc});
+    const double t_hi = std::max({pa, pb, pc});
+    double p_lo = std::numeric_limits<double>::infinity();
+    double p_hi = -p_lo;
+    for (const Eigen::Vector3d& v : vertices_) {
+      const double pv = axis.dot(v);
+      p_lo = std::min(p_lo, pv);
+      p_hi = std::max(p_hi, pv);
+    }
+    return t_lo > p_hi || t_hi < p_lo;
+  };
+  for (std::size_t f = 0; f < face_normals_.size(); ++f) {
+    const Eigen::Vector3d& n = face_normals_[f];
+    if (std::min({n.dot(a), n.dot(b), n.dot(c)}) > face_offsets_[f]) return false;
+  }
+  // Axes shorter than this carry no direction: parallel edges, or a degenerate triangle.
+  constexpr double kTiny = 1e-12;
+  const std::array<Eigen::Vector3d, 3> edges = {b - a, c - b, a - c};
+  const Eigen::Vector3d normal = edges[0].cross(-edges[2]);
+  if (normal.squaredNorm() > kTiny * kTiny && separated(normal)) return false;
+  for (const Eigen::Vector3d& e : edge_directions_) {
+    for (const Eigen::Vector3d& f : edges) {
+      const Eigen::Vector3d axis = e.cross(f);
+      if (axis.squaredNorm() > kTiny * kTiny && separated(axis)) return false;
+    }
+  }
+  // A degenerate triangle needs no more axes: a segment is separated (if at all) along a face
+  // normal or an edge cross product, a point along a face normal.
+  return true;
+}
+
 ConvexPolytope ConvexHull(const std::vector<Eigen::Vector3d>& points) {
   if (points.size() < 4) {
     throw InputError("convex hull: expected at least 4 points, got " + std::to_string(points.size()));

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 
@@ -91,8 +92,7 @@ struct ReachabilityChecker::Impl {
   };
 
   Aabb terrain_box;
-  std::shared_ptr<fcl::Convexd> trunk_geometry;
-  std::unique_ptr<fcl::CollisionObjectd> trunk;
+  std::optional<PolytopeTriangleTest> trunk;
   Aabb trunk_local_box;
   std::array<Rom, kNumLegs> roms;
   std::vector<Surface> surfaces;
@@ -106,11 +106,10 @@ struct ReachabilityChecker::Impl {
   std::vector<std::array<Eigen::Vector3d, 3>> ray_triangles;
   std::vector<double> ray_normal_z;
   std::unordered_map<std::uint64_t, std::vector<int>> grid;
-  // Every terrain triangle as a flat convex shape with its bounding box, listed by xy grid cell:
-  // the trunk is tested (GJK) only against triangles whose boxes overlap its own.
+  // Every terrain triangle with its bounding box, listed by xy grid cell: the trunk is tested
+  // (separating axes) only against triangles whose boxes overlap its own.
   std::vector<Aabb> triangle_boxes;
-  std::vector<std::shared_ptr<fcl::Convexd>> triangle_geometries;
-  std::vector<std::unique_ptr<fcl::CollisionObjectd>> triangle_objects;
+  std::vector<std::array<Eigen::Vector3d, 3>> triangles;
   std::unordered_map<std::uint64_t, std::vector<int>> box_grid;
   std::vector<long> triangle_stamp;  // last query that tested each triangle
   long stamp = 0;
@@ -151,10 +150,7 @@ struct ReachabilityChecker::Impl {
       const Aabb box = Bounds(corners);
       const int index = static_cast<int>(triangle_boxes.size());
       triangle_boxes.push_back(box);
-      // A flat convex (both faces) per triangle: convex-convex tests need no per-query fitting.
-      triangle_geometries.push_back(MakeConvex(corners, {{0, 1, 2}, {0, 2, 1}}));
-      triangle_objects.push_back(std::make_unique<fcl::CollisionObjectd>(triangle_geometries.back()));
-      triangle_objects.back()->computeAABB();
+      triangles.push_back({corners[0], corners[1], corners[2]});
       for (long ix = CellIndex(box.lo.x()); ix <= CellIndex(box.hi.x()); ++ix) {
         for (long iy = CellIndex(box.lo.y()); iy <= CellIndex(box.hi.y()); ++iy) box_grid[Key(ix, iy)].push_back(index);
       }
@@ -162,8 +158,10 @@ struct ReachabilityChecker::Impl {
     triangle_stamp.assign(triangle_boxes.size(), -1);
   }
 
-  // Exact test of the placed trunk against the terrain triangles whose boxes overlap `box`.
-  bool TrunkTouchesTriangles(const Aabb& box) {
+  // Exact test of the trunk placed at (R, p) against the terrain triangles whose boxes overlap
+  // `box`, its bounds.
+  bool TrunkTouchesTriangles(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, const Aabb& box) {
+    const Eigen::Matrix3d Rt = R.transpose();
     ++stamp;
     for (long ix = CellIndex(box.lo.x()); ix <= CellIndex(box.hi.x()); ++ix) {
       for (long iy = CellIndex(box.lo.y()); iy <= CellIndex(box.hi.y()); ++iy) {
@@ -174,9 +172,8 @@ struct ReachabilityChecker::Impl {
           if (triangle_stamp[i] == stamp) continue;
           triangle_stamp[i] = stamp;
           if (!triangle_boxes[i].Overlaps(box)) continue;
-          fcl::CollisionRequestd request;
-          fcl::CollisionResultd result;
-          if (fcl::collide(trunk.get(), triangle_objects[i].get(), request, result) > 0) return true;
+          const auto& t = triangles[i];
+          if (trunk->Overlaps(Rt * (t[0] - p), Rt * (t[1] - p), Rt * (t[2] - p))) return true;
         }
       }
     }
@@ -240,9 +237,7 @@ struct ReachabilityChecker::Impl {
     const Aabb box = Moved(trunk_local_box, R, p);
     if (InsideTerrain(p)) return true;
     if (!box.Overlaps(terrain_box)) return false;
-    trunk->setTransform(R, p);
-    trunk->computeAABB();
-    return TrunkTouchesTriangles(box);
+    return TrunkTouchesTriangles(R, p, box);
   }
 
   bool Touches(Rom& rom, const Aabb& box, int surface) {
@@ -286,8 +281,7 @@ ReachabilityChecker::ReachabilityChecker(const TriangleMesh& terrain, const std:
   m.BuildRayGrid(terrain);
   m.BuildBoxGrid(terrain);
 
-  m.trunk_geometry = MakeConvex(trunk);
-  m.trunk = std::make_unique<fcl::CollisionObjectd>(m.trunk_geometry);
+  m.trunk.emplace(trunk);
   m.trunk_local_box = Bounds(trunk.vertices);
   for (Leg leg : kAllLegs) {
     const std::size_t l = static_cast<std::size_t>(Index(leg));

@@ -111,6 +111,69 @@ TEST(ObjTest, RoundTripAndValidation) {
   EXPECT_THROW(LoadConvexObj(path), InputError);
 }
 
+// Reference overlap test: the triangle clipped by every face plane of the polytope (Sutherland-
+// Hodgman) is non-empty exactly when the two share a point.
+bool ClippedTriangleRemains(const ConvexPolytope& poly, const std::array<Eigen::Vector3d, 3>& tri) {
+  std::vector<Eigen::Vector3d> polygon(tri.begin(), tri.end());
+  for (const auto& t : poly.triangles) {
+    const Eigen::Vector3d& a = poly.vertices[static_cast<std::size_t>(t[0])];
+    const Eigen::Vector3d n =
+        (poly.vertices[static_cast<std::size_t>(t[1])] - a).cross(poly.vertices[static_cast<std::size_t>(t[2])] - a).normalized();
+    std::vector<Eigen::Vector3d> kept;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Eigen::Vector3d& p = polygon[i];
+      const Eigen::Vector3d& q = polygon[(i + 1) % polygon.size()];
+      const double dp = n.dot(p - a), dq = n.dot(q - a);
+      if (dp <= 0.0) kept.push_back(p);
+      if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0)) kept.push_back(p + dp / (dp - dq) * (q - p));
+    }
+    polygon = std::move(kept);
+    if (polygon.empty()) return false;
+  }
+  return true;
+}
+
+TEST(PolytopeTriangleTest, AgreesWithClippingTheTriangleOnRandomTriangles) {
+  TrunkShapeConfig config;
+  const std::vector<ConvexPolytope> shapes = {MakeTrunkShape(config), ConvexHull(CubeCorners(0.4, {0.1, -0.2, 0.3}))};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coordinate(-0.6, 0.6);
+  std::normal_distribution<double> offset(0.0, 0.15);
+  for (const ConvexPolytope& shape : shapes) {
+    const PolytopeTriangleTest test(shape);
+    int overlapping = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      // Triangles of every size near the shape: small ones about a random point, large slabs.
+      const Eigen::Vector3d c(coordinate(rng), coordinate(rng), coordinate(rng));
+      const double scale = (i % 3 == 0) ? 5.0 : 1.0;
+      std::array<Eigen::Vector3d, 3> tri;
+      for (auto& v : tri) v = c + scale * Eigen::Vector3d(offset(rng), offset(rng), offset(rng));
+      const bool expected = ClippedTriangleRemains(shape, tri);
+      overlapping += expected ? 1 : 0;
+      ASSERT_EQ(test.Overlaps(tri[0], tri[1], tri[2]), expected) << "triangle " << i;
+    }
+    // Both answers are well represented.
+    EXPECT_GT(overlapping, n / 10);
+    EXPECT_LT(overlapping, n - n / 10);
+  }
+}
+
+TEST(PolytopeTriangleTest, ATriangleThroughTheMiddleWithNoCornerInsideOverlaps) {
+  const ConvexPolytope cube = ConvexHull(CubeCorners(1.0, Eigen::Vector3d::Zero()));
+  const PolytopeTriangleTest test(cube);
+  // A large horizontal triangle slicing the cube: no vertex of either inside the other.
+  EXPECT_TRUE(test.Overlaps({-5.0, -5.0, 0.1}, {5.0, -5.0, 0.1}, {0.0, 5.0, 0.1}));
+  EXPECT_FALSE(test.Overlaps({-5.0, -5.0, 0.6}, {5.0, -5.0, 0.6}, {0.0, 5.0, 0.6}));
+  // An edge-on triangle passing a cube edge diagonally, just clear of it.
+  EXPECT_FALSE(test.Overlaps({0.6, 0.5, -1.0}, {0.5, 0.6, -1.0}, {0.55, 0.55, 1.0}));
+  EXPECT_TRUE(test.Overlaps({0.45, 0.5, -1.0}, {0.5, 0.45, -1.0}, {0.47, 0.47, 1.0}));
+  // Degenerate triangles: a segment through the cube, a point inside, a point outside.
+  EXPECT_TRUE(test.Overlaps({-2.0, 0.0, 0.0}, {2.0, 0.0, 0.0}, {2.0, 0.0, 0.0}));
+  EXPECT_TRUE(test.Overlaps({0.1, 0.1, 0.1}, {0.1, 0.1, 0.1}, {0.1, 0.1, 0.1}));
+  EXPECT_FALSE(test.Overlaps({0.1, 0.1, 0.6}, {0.1, 0.1, 0.6}, {0.1, 0.1, 0.6}));
+}
+
 TEST(TrunkShapeTest, BoxWithKeel) {
   TrunkShapeConfig config;  // the bare trunk's width
   config.box_min = {-0.30, -0.165, -0.15};

@@ -29,6 +29,24 @@ struct ConvexPolytope {
   TriangleMesh ToMesh() const;
 };
 
+/// A convex polytope prepared for exact overlap tests with triangles by the separating axis
+/// theorem: the polytope and a triangle are disjoint exactly when their projections are disjoint
+/// on one of the polytope's face normals, the triangle's normal, or a cross product of a polytope
+/// edge and a triangle edge. No allocation per test: a path planner makes millions of them.
+class PolytopeTriangleTest {
+ public:
+  explicit PolytopeTriangleTest(const ConvexPolytope& polytope);
+  /// True when the triangle (a, b, c), given in the polytope's frame, and the closed polytope
+  /// share a point (touching counts). A degenerate triangle is tested as its segment or point.
+  bool Overlaps(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) const;
+
+ private:
+  std::vector<Eigen::Vector3d> vertices_;
+  std::vector<Eigen::Vector3d> face_normals_;  ///< unit, one per distinct face plane
+  std::vector<double> face_offsets_;           ///< n.x <= offset inside
+  std::vector<Eigen::Vector3d> edge_directions_;  ///< unit, one per direction (up to sign)
+};
+
 /// Convex hull of a point set with Qhull (triangulated facets). Throws InputError when the points
 /// do not span a volume (fewer than four points, or all coplanar).
 ConvexPolytope ConvexHull(const std::vector<Eigen::Vector3d>& points);
