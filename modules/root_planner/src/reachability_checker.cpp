@@ -110,7 +110,11 @@ struct ReachabilityChecker::Impl {
   // (separating axes) only against triangles whose boxes overlap its own.
   std::vector<Aabb> triangle_boxes;
   std::vector<std::array<Eigen::Vector3d, 3>> triangles;
-  std::unordered_map<std::uint64_t, std::vector<int>> box_grid;
+  struct BoxCell {
+    std::vector<int> triangles;
+    double z_max = -std::numeric_limits<double>::infinity();  ///< highest point of its triangles
+  };
+  std::unordered_map<std::uint64_t, BoxCell> box_grid;
   std::vector<long> triangle_stamp;  // last query that tested each triangle
   long stamp = 0;
 
@@ -152,7 +156,11 @@ struct ReachabilityChecker::Impl {
       triangle_boxes.push_back(box);
       triangles.push_back({corners[0], corners[1], corners[2]});
       for (long ix = CellIndex(box.lo.x()); ix <= CellIndex(box.hi.x()); ++ix) {
-        for (long iy = CellIndex(box.lo.y()); iy <= CellIndex(box.hi.y()); ++iy) box_grid[Key(ix, iy)].push_back(index);
+        for (long iy = CellIndex(box.lo.y()); iy <= CellIndex(box.hi.y()); ++iy) {
+          BoxCell& c = box_grid[Key(ix, iy)];
+          c.triangles.push_back(index);
+          c.z_max = std::max(c.z_max, box.hi.z());
+        }
       }
     }
     triangle_stamp.assign(triangle_boxes.size(), -1);
@@ -166,8 +174,9 @@ struct ReachabilityChecker::Impl {
     for (long ix = CellIndex(box.lo.x()); ix <= CellIndex(box.hi.x()); ++ix) {
       for (long iy = CellIndex(box.lo.y()); iy <= CellIndex(box.hi.y()); ++iy) {
         const auto it = box_grid.find(Key(ix, iy));
-        if (it == box_grid.end()) continue;
-        for (int index : it->second) {
+        // A cell whose triangles all lie below the trunk (the floor under it) has none to test.
+        if (it == box_grid.end() || it->second.z_max < box.lo.z()) continue;
+        for (int index : it->second.triangles) {
           const std::size_t i = static_cast<std::size_t>(index);
           if (triangle_stamp[i] == stamp) continue;
           triangle_stamp[i] = stamp;
