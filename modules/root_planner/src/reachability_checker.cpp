@@ -59,6 +59,65 @@ Aabb Moved(const Aabb& local, const Eigen::Matrix3d& R, const Eigen::Vector3d& p
   return {center - half, center + half};
 }
 
+// The xy bounds of a convex polytope's cross-sections: over each of `bins` horizontal slabs of
+// equal height between its lowest and highest point, the xy box of the part of it inside the slab
+// (exact: that part's corners are the polytope's corners inside the slab and its edges' crossings
+// of the slab's planes). A cheap and exact-conservative reject before a GJK test: a shape whose xy
+// box, over the heights it spans, misses the slabs' boxes cannot touch the polytope.
+class SlabBounds {
+ public:
+  SlabBounds() = default;
+  SlabBounds(const ConvexPolytope& poly, int bins) : bins_(bins) {
+    const auto [lo, hi] = poly.Bounds();
+    z0_ = lo.z();
+    dz_ = std::max(hi.z() - lo.z(), 1e-9) / bins;
+    lo_.assign(static_cast<std::size_t>(bins), Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()));
+    hi_.assign(static_cast<std::size_t>(bins), Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity()));
+    for (const auto& t : poly.triangles) {
+      for (int k = 0; k < 3; ++k) {
+        AddSegment(poly.vertices[static_cast<std::size_t>(t[k])], poly.vertices[static_cast<std::size_t>(t[(k + 1) % 3])]);
+      }
+    }
+  }
+  /// False when nothing of the polytope within heights [z_lo, z_hi] lies in the xy box [lo, hi].
+  bool MayOverlap(double z_lo, double z_hi, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) const {
+    const int first = std::max(0, Bin(z_lo)), last = std::min(bins_ - 1, Bin(z_hi));
+    for (int b = first; b <= last; ++b) {
+      const std::size_t i = static_cast<std::size_t>(b);
+      if ((lo.array() <= hi_[i].array()).all() && (lo_[i].array() <= hi.array()).all()) return true;
+    }
+    return false;
+  }
+
+ private:
+  int Bin(double z) const { return static_cast<int>(std::floor((z - z0_) / dz_)); }
+  // Adds the part of segment ab within each slab it crosses (its ends clipped to the slab).
+  void AddSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const double za = a.z(), zb = b.z();
+    const int first = std::clamp(Bin(std::min(za, zb)), 0, bins_ - 1);
+    const int last = std::clamp(Bin(std::max(za, zb)), 0, bins_ - 1);
+    for (int k = first; k <= last; ++k) {
+      const double s0 = z0_ + k * dz_, s1 = s0 + dz_;
+      double t0 = 0.0, t1 = 1.0;
+      if (std::abs(zb - za) > 1e-15) {
+        const double ta = (s0 - za) / (zb - za), tb = (s1 - za) / (zb - za);
+        t0 = std::max(0.0, std::min(ta, tb));
+        t1 = std::min(1.0, std::max(ta, tb));
+        if (t0 > t1) continue;
+      }
+      const std::size_t i = static_cast<std::size_t>(k);
+      for (double t : {t0, t1}) {
+        const Eigen::Vector2d q = (a + t * (b - a)).head<2>();
+        lo_[i] = lo_[i].cwiseMin(q);
+        hi_[i] = hi_[i].cwiseMax(q);
+      }
+    }
+  }
+  int bins_ = 0;
+  double z0_ = 0.0, dz_ = 1.0;
+  std::vector<Eigen::Vector2d> lo_, hi_;
+};
+
 Eigen::Matrix3d YawRotation(double yaw) { return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
 
 }  // namespace
@@ -84,12 +143,16 @@ struct ReachabilityChecker::Impl {
     std::shared_ptr<fcl::Convexd> geometry;
     std::unique_ptr<fcl::CollisionObjectd> object;
     Aabb box;
+    std::vector<Eigen::Vector3d> corners;  ///< the prism's
   };
   struct Rom {
     std::shared_ptr<fcl::Convexd> geometry;
     std::unique_ptr<fcl::CollisionObjectd> object;
     Aabb local_box;
+    SlabBounds slabs;  ///< in the ROM's (base) frame
   };
+  // Slabs of a ROM's cross-section bounds: ~1.5 cm each over a leg's ~0.5 m reach.
+  static constexpr int kRomSlabs = 32;
 
   Aabb terrain_box;
   std::optional<PolytopeTriangleTest> trunk;
@@ -249,9 +312,17 @@ struct ReachabilityChecker::Impl {
     return TrunkTouchesTriangles(R, p, box);
   }
 
-  bool Touches(Rom& rom, const Aabb& box, int surface) {
+  bool Touches(Rom& rom, const Aabb& box, const Eigen::Matrix3d& R, const Eigen::Vector3d& p, int surface) {
     const Surface& s = surfaces[static_cast<std::size_t>(surface)];
     if (!box.Overlaps(s.box)) return false;
+    // The prism in the ROM's frame against the ROM's cross-sections over the heights it spans.
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Eigen::Vector3d& c : s.corners) {
+      const Eigen::Vector3d q = R.transpose() * (c - p);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    if (!rom.slabs.MayOverlap(lo.z(), hi.z(), lo.head<2>(), hi.head<2>())) return false;
     fcl::CollisionRequestd request;
     fcl::CollisionResultd result;
     return fcl::collide(rom.object.get(), s.object.get(), request, result) > 0;
@@ -266,9 +337,9 @@ struct ReachabilityChecker::Impl {
     rom.object->setTransform(R, p);
     rom.object->computeAABB();
     const int last = last_surface[l];
-    if (last >= 0 && Touches(rom, box, last)) return last;
+    if (last >= 0 && Touches(rom, box, R, p, last)) return last;
     for (int s = 0; s < static_cast<int>(surfaces.size()); ++s) {
-      if (s != last && Touches(rom, box, s)) {
+      if (s != last && Touches(rom, box, R, p, s)) {
         last_surface[l] = s;
         return s;
       }
@@ -297,6 +368,7 @@ ReachabilityChecker::ReachabilityChecker(const TriangleMesh& terrain, const std:
     m.roms[l].geometry = MakeConvex(roms[l]);
     m.roms[l].object = std::make_unique<fcl::CollisionObjectd>(m.roms[l].geometry);
     m.roms[l].local_box = Bounds(roms[l].vertices);
+    m.roms[l].slabs = SlabBounds(roms[l], Impl::kRomSlabs);
   }
   m.surfaces.reserve(surfaces.size());
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
@@ -325,6 +397,7 @@ ReachabilityChecker::ReachabilityChecker(const TriangleMesh& terrain, const std:
     surface.object = std::make_unique<fcl::CollisionObjectd>(surface.geometry);
     surface.object->computeAABB();
     surface.box = Bounds(prism);
+    surface.corners = prism;
     m.surfaces.push_back(std::move(surface));
   }
 }
