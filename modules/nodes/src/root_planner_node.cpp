@@ -347,19 +347,25 @@ void RootPlannerNode::Plan(const rbcp_msgs::plan_request_t& request, const std::
         Remember(&dead_ends_, start_xy);
       }
       if (goals.empty()) return failed(0.0, "the map shows no standing position nearer the goal yet, nor an edge of the map the robot has not stood at");
-      // The candidates share the request's budget (each the rest of it over the candidates left):
-      // a map that shows no way costs the waiting robot one budget, not one per candidate.
+      // The candidates share one query's RRT iterations (each the rest of them over the candidates
+      // left), so a map that shows no way costs the waiting robot one search, not one per
+      // candidate, and the path depends on the map and the seed only. The request's time budget
+      // stays the safety limit of them all.
       const double budget = query.time_budget_s;
+      const int iterations = planner_.config().max_iterations;
       double spent = 0.0;
+      int used = 0;
       for (std::size_t i = 0; i < goals.size(); ++i) {
         last_reaches_goal_ = (goals[i].head<2>() - goal_xy).norm() < 1e-9;
         const Eigen::Vector2d way = goal_xy - goals[i].head<2>();  // at a partial goal the robot faces the goal
         const double yaw = last_reaches_goal_ ? request.goal_yaw : std::atan2(way.y(), way.x());
         query.goal = goals[i];
         query.goal_yaw = yaw;
-        query.time_budget_s = std::max(1e-3, (budget - spent) / static_cast<double>(goals.size() - i));
+        query.max_iterations = std::max(1, (iterations - used) / static_cast<int>(goals.size() - i));
+        query.time_budget_s = std::max(1e-3, budget - spent);
         result = planner_.Plan(*world_.terrain(), *world_.surfaces(), query);
         spent += result.planning_time_s;
+        used += result.iterations;
         // A candidate the search cannot reach (the map between is not known well enough): the next.
         if (result.ok() || result.status == RootPlanStatus::kInvalidInput || result.status == RootPlanStatus::kStartInvalid) {
           break;

@@ -442,7 +442,7 @@ detail::SamplerSettings SamplerSettingsOf(const RootPlannerConfig& config, doubl
 // `checker` and `surfaces` must outlive the problem.
 SearchProblem MakeSearchProblem(const RootPlannerConfig& config, double standing_height,
                                 const std::vector<AffordanceSurface>& surfaces, ReachabilityChecker& checker,
-                                const PlanEnds& ends, unsigned seed) {
+                                const PlanEnds& ends, unsigned seed, int max_iterations) {
   namespace ob = ompl::base;
   SearchProblem problem;
   const auto [lo, hi] = PositionBounds(config, standing_height, surfaces, ends);
@@ -473,23 +473,22 @@ SearchProblem MakeSearchProblem(const RootPlannerConfig& config, double standing
                                                                &surfaces, problem.validity.get(), &checker, seed);
   problem.planner->setProblemDefinition(problem.pdef);
   problem.planner->setup();
-  problem.planner->SetMaxIterations(config.max_iterations);
+  problem.planner->SetMaxIterations(max_iterations);
   return problem;
 }
 
 // Runs the search and records its time and counters in `result`; a timeout when it finds no path
 // (within max_iterations or the time budget).
-std::optional<PlanFailure> Search(const SearchProblem& problem, const RootPlannerConfig& config,
-                                  const RootPlanRequest& request, const ompl::base::PlannerTerminationCondition& ptc,
-                                  RootPlanResult& result) {
+std::optional<PlanFailure> Search(const SearchProblem& problem, int max_iterations, const RootPlanRequest& request,
+                                  const ompl::base::PlannerTerminationCondition& ptc, RootPlanResult& result) {
   const Clock::time_point search_start = Clock::now();
   const ompl::base::PlannerStatus status = problem.planner->solve(ptc);
   result.search_time_s = Seconds(search_start);
   result.iterations = problem.planner->Stats().iterations;
   result.tree_states = problem.planner->Stats().start_tree_states + problem.planner->Stats().goal_tree_states;
   if (status == ompl::base::PlannerStatus::EXACT_SOLUTION && problem.pdef->hasExactSolution()) return std::nullopt;
-  const std::string within = result.iterations >= config.max_iterations
-                                 ? std::to_string(config.max_iterations) + " iterations"
+  const std::string within = result.iterations >= max_iterations
+                                 ? std::to_string(max_iterations) + " iterations"
                                  : "the time budget of " + ConfigNumber(request.time_budget_s) + " s";
   return PlanFailure{RootPlanStatus::kTimeout, "no path found within " + within + " (" +
                                                    std::to_string(result.iterations) + " iterations, " +
@@ -745,10 +744,13 @@ RootPlanResult RootPlanner::Plan(const TriangleMesh& terrain, const std::vector<
   }
 
   // The search, in what is left of the time budget.
-  const SearchProblem problem = MakeSearchProblem(config_, nominal_base_height_, surfaces, checker, ends, request.seed);
+  const int max_iterations =
+      request.max_iterations > 0 ? std::min(request.max_iterations, config_.max_iterations) : config_.max_iterations;
+  const SearchProblem problem =
+      MakeSearchProblem(config_, nominal_base_height_, surfaces, checker, ends, request.seed, max_iterations);
   const double remaining = request.time_budget_s - Seconds(t0);
   const ob::PlannerTerminationCondition ptc = ob::timedPlannerTerminationCondition(std::max(0.0, remaining));
-  if (auto failure = Search(problem, config_, request, ptc, result)) {
+  if (auto failure = Search(problem, max_iterations, request, ptc, result)) {
     result.validity_checks = checker.Queries();
     return done(failure->status, failure->reason);
   }

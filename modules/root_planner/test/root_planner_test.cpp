@@ -226,14 +226,21 @@ TEST(RootPlannerTest, IslandBeyondAWidePitHasNoPathWhenTheGapIsNotRuledOut) {
   EXPECT_GT(result.iterations, 0);
 }
 
-TEST(RootPlannerTest, TheSearchEndsAfterItsIterationLimitNotOnTheClock) {
-  // Joined surfaces across the pit (the search runs) and a generous budget: the search ends
-  // after max_iterations, every time the same way.
+/// A planner of at most 60 iterations whose surfaces are joined across any gap: over the pit
+/// between PitAndIsland()'s two platforms the search runs and finds no path.
+RootPlanner SixtyIterationsAcrossAnyGap() {
   RootPlannerConfig config = DefaultConfig();
   config.max_surface_gap = 2.0;
   config.max_iterations = 60;
-  const RootPlanner planner(Robot(), config);
-  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  return RootPlanner(Robot(), config);
+}
+
+test::Platforms PitAndIsland() { return test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}}); }
+
+TEST(RootPlannerTest, TheSearchEndsAfterItsIterationLimitNotOnTheClock) {
+  // A generous budget: the search ends after max_iterations, every time the same way.
+  const RootPlanner planner = SixtyIterationsAcrossAnyGap();
+  const test::Platforms world = PitAndIsland();
   const double h = Robot().NominalBaseHeight();
   for (int run = 0; run < 2; ++run) {
     const RootPlanResult result =
@@ -242,6 +249,26 @@ TEST(RootPlannerTest, TheSearchEndsAfterItsIterationLimitNotOnTheClock) {
     EXPECT_EQ(result.iterations, 60);
     EXPECT_NE(result.reason.find("no path found within 60 iterations"), std::string::npos) << result.reason;
   }
+}
+
+TEST(RootPlannerTest, ARequestsIterationLimitBoundsItsSearchBelowTheConfigs) {
+  const RootPlanner planner = SixtyIterationsAcrossAnyGap();
+  const test::Platforms world = PitAndIsland();
+  const double h = Robot().NominalBaseHeight();
+  RootPlanRequest request;
+  request.start.p = {-1.0, 0.0, h};
+  request.goal = {2.2, 0.0, h};
+  request.seed = 3;
+  request.time_budget_s = 60.0;
+  request.max_iterations = 25;
+  RootPlanResult result = planner.Plan(world.terrain, world.surfaces, request);
+  EXPECT_EQ(result.status, RootPlanStatus::kTimeout);
+  EXPECT_EQ(result.iterations, 25);
+  EXPECT_NE(result.reason.find("no path found within 25 iterations"), std::string::npos) << result.reason;
+  // Above the config's limit, the config's holds.
+  request.max_iterations = 1000;
+  result = planner.Plan(world.terrain, world.surfaces, request);
+  EXPECT_EQ(result.iterations, 60);
 }
 
 TEST(RootPlannerTest, AGoalAtTheStartWithAnotherHeadingTurnsOnTheSpot) {

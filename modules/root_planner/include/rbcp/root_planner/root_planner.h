@@ -178,6 +178,9 @@ struct RootPlanRequest {
   double goal_yaw = 0.0;
   unsigned seed = 1;             ///< same seed and inputs, same path (or a timeout)
   double time_budget_s = 1.0;    ///< wall-clock safety limit of the whole query [s]
+  /// RRT iterations at most, when > 0 and below RootPlannerConfig::max_iterations (which bounds
+  /// every query): a caller trying several goals shares one query's iterations among them.
+  int max_iterations = 0;
   /// The start is where the robot stands, measured, at rest. The reachability condition is
   /// conservative: a robot stretched over an edge (fore feet on a block, hind feet on the floor)
   /// or standing low can violate it where it stands. Such a start is not refused: the path begins
