@@ -317,8 +317,12 @@ TriangleMesh TerrainMap::ToMesh() const {
   }
   // A column standing more than obstacle_rise_m above the cell's height or its own foot (a face
   // seen from the side) is an obstacle: the cell goes to its top, and higher when no ray ever
-  // showed what is above that top.
-  const float half_voxel = static_cast<float>(0.5 * config_.occupancy.resolution_m);
+  // showed what is above that top. A column whose top was seen within a voxel of the cell's
+  // height is that surface, not something standing on it: a voxel straddling a block's edge holds
+  // the floor at the block's foot and the block's top, and its top is the top's returns rounded
+  // up to the voxel (up to 5 cm above the top the elevation map measured).
+  const float voxel = static_cast<float>(config_.occupancy.resolution_m);
+  const float half_voxel = 0.5f * voxel;
   const float rise = static_cast<float>(config_.occupancy.obstacle_rise_m);
   for (int iy = 0; iy < n; ++iy) {
     for (int ix = 0; ix < n; ++ix) {
@@ -326,6 +330,7 @@ TriangleMesh TerrainMap::ToMesh() const {
       if (std::isnan(top[i]) || top[i] - half_voxel - std::min(heights[i], bottom[i]) <= rise) continue;
       const Eigen::Vector2d c = elevation_.CellCentre(ix, iy);
       const bool top_seen = tree.search(c.x(), c.y(), top[i] + half_voxel) != nullptr;
+      if (top_seen && top[i] - half_voxel - heights[i] <= voxel) continue;
       heights[i] = std::max(heights[i], top[i]) + (top_seen ? 0.0f : static_cast<float>(config_.occupancy.unseen_top_m));
     }
   }

@@ -147,6 +147,31 @@ TEST(TerrainMap, ABlockWhoseTopWasSeenIsMeshedNoHigherThanItsTop) {
   EXPECT_LT(highest, 0.36) << "the top was seen: it is no obstacle of unknown height";
 }
 
+TEST(TerrainMap, AVoxelAcrossABlocksEdgeDoesNotRaiseTheBlocksTop) {
+  // A rubble block 0.24 m high whose near side lies inside an octree voxel column (5 cm): that
+  // column holds the floor at the block's foot and the top's returns, some of which the noise
+  // puts into the voxel above 0.25 m. A camera walking up to it sees over its top.
+  const double top = 0.24;
+  const Scene scene{{Box{{0.92, -0.15, 0.0}, {1.22, 0.15, top}}}};
+  TerrainMap map{MapperConfig()};
+  map.Recenter({0, 0});
+  std::mt19937 rng(5);
+  for (int i = 0; i < 8; ++i) {
+    Camera cam;
+    cam.origin.x() = 0.1 * i;
+    cam.cols = 160;
+    cam.rows = 120;
+    map.Integrate(Capture(scene, cam, kNoise, rng));
+  }
+  int on_block = 0;
+  for (const Eigen::Vector3d& v : map.ToMesh().vertices) {
+    if (v.x() < 0.9 || v.x() > 1.25 || std::abs(v.y()) > 0.17) continue;
+    ++on_block;
+    EXPECT_LT(v.z(), top + 0.03) << "no higher than the top the cells measured: " << v.transpose();
+  }
+  EXPECT_GT(on_block, 20);
+}
+
 /// The RMS height error of the known cells whose centres lie within `band` of a box's side (xy),
 /// and of the others.
 std::pair<double, double> EdgeAndOtherRms(const ElevationMap& map, const Scene& scene, double band) {
