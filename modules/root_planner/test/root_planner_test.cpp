@@ -197,10 +197,12 @@ TEST(RootPlannerTest, TurnsFromTheStartYawToTheGoalYawWithoutJumps) {
   }
 }
 
+/// Ground x in [-3, 0], a 1.5 m pit, an island x in [1.5, 3].
+test::Platforms PitAndIsland() { return test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}}); }
+
 TEST(RootPlannerTest, IslandBeyondAWidePitIsUnreachableBeforeAnySearch) {
   const RootPlanner planner(Robot(), DefaultConfig());
-  // Ground x in [-3, 0], a 1.5 m pit, an island x in [1.5, 3].
-  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const test::Platforms world = PitAndIsland();
   const double h = Robot().NominalBaseHeight();
   const RootPlanResult result =
       planner.Plan(world.terrain, world.surfaces, {-1.0, 0.0, h}, 0.0, {2.2, 0.0, h}, 0.0, 1, 5.0);
@@ -216,7 +218,7 @@ TEST(RootPlannerTest, IslandBeyondAWidePitHasNoPathWhenTheGapIsNotRuledOut) {
   RootPlannerConfig config = DefaultConfig();
   config.max_surface_gap = 2.0;
   const RootPlanner planner(Robot(), config);
-  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const test::Platforms world = PitAndIsland();
   const double h = Robot().NominalBaseHeight();
   const RootPlanResult result =
       planner.Plan(world.terrain, world.surfaces, {-1.0, 0.0, h}, 0.0, {2.2, 0.0, h}, 0.0, 1, 0.5);
@@ -234,8 +236,6 @@ RootPlanner SixtyIterationsAcrossAnyGap() {
   config.max_iterations = 60;
   return RootPlanner(Robot(), config);
 }
-
-test::Platforms PitAndIsland() { return test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}}); }
 
 TEST(RootPlannerTest, TheSearchEndsAfterItsIterationLimitNotOnTheClock) {
   // A generous budget: the search ends after max_iterations, every time the same way.
@@ -295,7 +295,7 @@ TEST(RootPlannerTest, AGoalAtTheStartWithAnotherHeadingTurnsOnTheSpot) {
 
 TEST(RootPlannerTest, InvalidStartOrGoalIsReported) {
   const RootPlanner planner(Robot(), DefaultConfig());
-  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const test::Platforms world = PitAndIsland();
   const double h = Robot().NominalBaseHeight();
   // Goal above the middle of the pit: no leg reaches ground.
   const RootPlanResult over_pit =
@@ -401,7 +401,7 @@ TEST(RootPlannerTest, GoalsTowardAGoalBeyondAGapAreOnlyWhereTheRobotCanWalkTo) {
 
 TEST(RootPlannerTest, AMeasuredBaseInsideTheTerrainOrOverNoneIsNamed) {
   const RootPlanner planner(Robot(), DefaultConfig());
-  const test::Platforms world = test::MakePlatforms({{-3.0, 0.0}, {1.5, 3.0}});
+  const test::Platforms world = PitAndIsland();
   const double h = Robot().NominalBaseHeight();
   EXPECT_FALSE(planner.CheckMeasuredBase(world.terrain, {-1.0, 0.0, h}).has_value());
   const auto inside = planner.CheckMeasuredBase(world.terrain, {-1.0, 0.0, -0.1});
