@@ -371,7 +371,9 @@ TEST(RootPlannerTest, AMeasuredStartWhereTheConditionFailsIsJoinedToTheNearestSt
   EXPECT_NEAR((joined.p - crouched).norm(), measured.start_join_m, 1e-9);
   EXPECT_LT(joined.v.norm(), 1e-9);
   for (const RootPathSample& s : measured.samples) {
-    if (s.t >= join_end - 1e-9) EXPECT_TRUE(checker.Check(s.p, s.yaw).Valid()) << "t " << s.t;
+    if (s.t >= join_end - 1e-9) {
+      EXPECT_TRUE(checker.Check(s.p, s.yaw).Valid()) << "t " << s.t;
+    }
   }
 
   // Over the middle of a wide pit no state within reach of a short move holds: still refused.
